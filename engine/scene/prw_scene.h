@@ -1,0 +1,175 @@
+/* prw_scene — the scene graph: meshes, materials, textures, nodes, cameras, lights.
+ *
+ * Promises:
+ *  - The scene owns everything it holds (create/destroy); add_* functions copy their inputs and
+ *    return the new element's index.
+ *  - Transforms are double precision: node TRS -> local matrix T*R*S (glTF order) -> world matrix.
+ *    prw_scene_update() recomputes world matrices and world bounds (AABB of the transformed mesh
+ *    AABBs, including descendants).  Call it after editing nodes.
+ *  - Units (DESIGN.md §5): metres; colours linear Rec.709; light `intensity` is cd (point, spot),
+ *    lux at normal incidence (directional) or cd/m^2 (rect, one-sided); a light's `color` is a
+ *    chromaticity normalised by prw_scene to luminance Y = 1, so `intensity` alone carries the
+ *    photometric amount.  Material emission is in cd/m^2.  Base-colour and emissive textures are
+ *    sRGB-encoded 8-bit and are decoded before filtering (the GPU samples them as *_SRGB).
+ *  - Lights and cameras sit on nodes and look down their node's local -Z (glTF); a rect light
+ *    spans local x in [-w/2, w/2] and y in [-h/2, h/2] and emits towards local -Z.
+ */
+#ifndef PRW_SCENE_H
+#define PRW_SCENE_H
+
+#include "prw_core.h"
+#include "prw_math.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PRW_NAME_MAX 64
+
+typedef struct prw_mesh {
+    char name[PRW_NAME_MAX];
+    uint32_t vertex_count, index_count;
+    float *positions; /* 3 per vertex, object space */
+    float *normals;   /* 3 per vertex, unit */
+    float *uvs;       /* 2 per vertex (zeros when the source has none) */
+    float *tangents;  /* 4 per vertex: xyz unit, w = bitangent sign (+-1) */
+    uint32_t *indices;/* triangle list, counter-clockwise front faces */
+    int material;     /* index into materials */
+    prw_dvec3 bounds_min, bounds_max; /* object space */
+} prw_mesh;
+
+/* A glTF mesh: several primitives drawn together by a node. */
+typedef struct prw_mesh_group {
+    char name[PRW_NAME_MAX];
+    uint32_t first, count; /* range in meshes[] */
+} prw_mesh_group;
+
+typedef struct prw_texture {
+    char name[PRW_NAME_MAX];
+    int width, height;
+    uint8_t *rgba8; /* width*height*4, row 0 at the top */
+    bool srgb;      /* base colour and emissive: true */
+} prw_texture;
+
+typedef struct prw_material {
+    char name[PRW_NAME_MAX];
+    float base_color[4];    /* linear */
+    int base_color_tex;     /* -1: none */
+    float metallic, roughness; /* roughness is perceptual (alpha = roughness^2) */
+    int metal_rough_tex;    /* glTF: G = roughness, B = metallic; -1: none */
+    int normal_tex;         /* -1: none */
+    float normal_scale;
+    float emission[3];      /* cd/m^2, linear RGB */
+    int emissive_tex;       /* -1: none (multiplies emission) */
+    bool double_sided;
+} prw_material;
+
+typedef struct prw_node {
+    char name[PRW_NAME_MAX];
+    int parent;           /* -1: root */
+    prw_dvec3 translation;
+    prw_dquat rotation;
+    prw_dvec3 scale;
+    int mesh_group;       /* -1: none */
+    int camera;           /* -1: none */
+    int light;            /* -1: none */
+    /* computed by prw_scene_update */
+    prw_dmat4 world;
+    bool has_bounds;
+    prw_dvec3 world_min, world_max; /* this node's meshes and all descendants */
+} prw_node;
+
+typedef struct prw_camera {
+    char name[PRW_NAME_MAX];
+    int node;
+    double yfov;    /* radians, vertical */
+    double znear;   /* metres */
+    double aspect;  /* 0: from the image */
+    double ev100;   /* exposure value at ISO 100 */
+} prw_camera;
+
+typedef enum prw_light_type {
+    PRW_LIGHT_POINT = 0,
+    PRW_LIGHT_SPOT,
+    PRW_LIGHT_DIRECTIONAL,
+    PRW_LIGHT_RECT,
+} prw_light_type;
+
+typedef struct prw_light {
+    char name[PRW_NAME_MAX];
+    prw_light_type type;
+    int node;
+    float color[3];      /* chromaticity, normalised to Y = 1 on add */
+    double intensity;    /* cd | lux | cd/m^2, see header comment */
+    double range;        /* 0: infinite */
+    double inner_cone, outer_cone; /* spot half-angles, radians */
+    double width, height;          /* rect, metres */
+    bool cast_shadows;
+} prw_light;
+
+typedef struct prw_scene {
+    prw_mesh *meshes;
+    uint32_t mesh_count;
+    prw_mesh_group *groups;
+    uint32_t group_count;
+    prw_material *materials;
+    uint32_t material_count;
+    prw_texture *textures;
+    uint32_t texture_count;
+    prw_node *nodes;
+    uint32_t node_count;
+    prw_camera *cameras;
+    uint32_t camera_count;
+    prw_light *lights;
+    uint32_t light_count;
+    bool has_bounds;
+    prw_dvec3 bounds_min, bounds_max; /* world */
+    char source[256]; /* manifest path or "demo" */
+} prw_scene;
+
+prw_scene *prw_scene_create(void);
+void prw_scene_destroy(prw_scene *s);
+
+/* Copies the arrays of m (positions, indices required; normals, uvs, tangents optional: normals are
+ * computed area-weighted when absent, tangents by prw_mesh_generate_tangents when absent). Computes
+ * bounds.  Returns the index, or -1 with e set on invalid input (index out of range, NaN/Inf). */
+int prw_scene_add_mesh(prw_scene *s, const prw_mesh *m, prw_error *e);
+int prw_scene_add_group(prw_scene *s, const char *name, uint32_t first, uint32_t count);
+int prw_scene_add_material(prw_scene *s, const prw_material *m);
+int prw_scene_add_texture(prw_scene *s, const prw_texture *t); /* copies pixels */
+int prw_scene_add_node(prw_scene *s, const prw_node *n);       /* parent must already exist */
+int prw_scene_add_camera(prw_scene *s, const prw_camera *c);
+int prw_scene_add_light(prw_scene *s, const prw_light *l);
+
+/* Defaults: identity TRS, no parent/mesh/camera/light; material: white, roughness 1, no textures. */
+prw_node prw_node_default(void);
+prw_material prw_material_default(void);
+
+/* Convenience: a node at `position` whose -Z axis looks at `target` (up hint `up`). */
+prw_node prw_node_look_at(const char *name, prw_dvec3 position, prw_dvec3 target, prw_dvec3 up);
+
+void prw_scene_update(prw_scene *s);
+
+/* Finds a camera by name (NULL or "" -> first camera); -1 when absent. */
+int prw_scene_find_camera(const prw_scene *s, const char *name);
+
+/* Per-vertex tangents from uvs (accumulated per triangle, Gram-Schmidt against the normal; a
+ * consistent fallback frame where uvs are degenerate). Allocates m->tangents if NULL. */
+void prw_mesh_generate_tangents(prw_mesh *m);
+
+/* Content hash of everything that affects an image (geometry, materials, lights, cameras). */
+uint64_t prw_scene_hash(const prw_scene *s);
+
+/* ---- loaders ---- */
+/* Scene manifest (JSON): see engine/scene/manifest.md. Relative paths resolve against the manifest. */
+bool prw_scene_load_manifest(prw_scene *s, const char *path, prw_error *e);
+/* Manifest text already in memory (path is used for messages and relative paths). */
+bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const char *path, prw_error *e);
+/* glTF 2.0 (.gltf or .glb) under node `parent` (-1: root); meshes, hierarchy, metallic-roughness
+ * materials, textures, cameras, KHR_lights_punctual. */
+bool prw_scene_import_gltf(prw_scene *s, const char *path, int parent, prw_error *e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,63 @@
+/* prw_test — a minimal test harness: CHECK macros that count failures, PRW_TEST cases run by
+ * prw_test_main(), and the closing line "N passed, N failed".  Each case prints its wall time. */
+#ifndef PRW_TEST_H
+#define PRW_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+
+#include "prw_core.h"
+
+extern int prw_test_failures;
+
+#define CHECK(cond)                                                                          \
+    do {                                                                                     \
+        if (!(cond)) {                                                                       \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);         \
+            prw_test_failures++;                                                             \
+        }                                                                                    \
+    } while (0)
+
+#define CHECK_MSG(cond, ...)                                                                 \
+    do {                                                                                     \
+        if (!(cond)) {                                                                       \
+            fprintf(stderr, "%s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond);         \
+            fprintf(stderr, __VA_ARGS__);                                                    \
+            fputc('\n', stderr);                                                             \
+            prw_test_failures++;                                                             \
+        }                                                                                    \
+    } while (0)
+
+#define CHECK_NEAR(a, b, tol)                                                                \
+    do {                                                                                     \
+        double _a = (double)(a), _b = (double)(b), _t = (double)(tol);                       \
+        if (!(fabs(_a - _b) <= _t)) {                                                        \
+            fprintf(stderr, "%s:%d: CHECK_NEAR failed: %s = %.17g, %s = %.17g, tol %.3g\n",  \
+                    __FILE__, __LINE__, #a, _a, #b, _b, _t);                                 \
+            prw_test_failures++;                                                             \
+        }                                                                                    \
+    } while (0)
+
+/* Fails the case and returns from it when an error-returning call fails. */
+#define CHECK_OK(call, err)                                                                  \
+    do {                                                                                     \
+        if (!(call)) {                                                                       \
+            fprintf(stderr, "%s:%d: %s failed: %s\n", __FILE__, __LINE__, #call, (err)->msg); \
+            prw_test_failures++;                                                             \
+            return;                                                                          \
+        }                                                                                    \
+    } while (0)
+
+typedef void (*prw_test_fn)(void);
+typedef struct prw_test_case {
+    const char *name;
+    prw_test_fn fn;
+} prw_test_case;
+
+/* Runs the cases (all, or only those named in argv[1..]); returns the process exit code. */
+int prw_test_main(int argc, char **argv, const prw_test_case *cases, int count);
+
+/* A scratch directory for this test binary (created on first use, under the build tree's cwd). */
+const char *prw_test_tmpdir(void);
+
+#endif
