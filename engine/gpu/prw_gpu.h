@@ -8,7 +8,9 @@
  *    debug messenger that counts WARNING and ERROR messages of the validation and performance types.
  *    Messages whose VUID / message-id name is listed in the suppression file (desc.suppress_file or
  *    PRW_VALIDATION_SUPPRESS; lines "VUID  reason", '#' comments) are not counted.  Counted messages are
- *    logged at error level.  Tests fail when prw_gpu_validation_count() != 0.
+ *    logged at error level.  Tests fail when prw_gpu_validation_count() != 0.  PRW_VALIDATION_SYNC=1
+ *    additionally enables the layer's synchronization (hazard) validation.
+ *  - Threading: a prw_gpu is used from one thread at a time (recording, submits, allocation).
  *  - Memory: every buffer and image is suballocated from large VkDeviceMemory blocks per memory type;
  *    prw_gpu_mem_stats() reports the allocator's own accounting.
  *  - Waits never hang: every fence wait has a timeout; timeout, VK_ERROR_DEVICE_LOST and out-of-memory
@@ -43,10 +45,19 @@ bool prw_gpu_create(const prw_gpu_desc *desc, prw_gpu **out, prw_error *e);
 void prw_gpu_destroy(prw_gpu *gpu); /* saves the pipeline cache */
 
 uint32_t prw_gpu_validation_count(const prw_gpu *gpu);
+/* Process-wide count of counted validation messages, including those emitted while a gpu is being
+ * destroyed (object leaks are reported by the layer at vkDestroyDevice, after the gpu is gone). */
+uint32_t prw_gpu_validation_total(void);
 const char *prw_gpu_device_name(const prw_gpu *gpu);
 const char *prw_gpu_driver_info(const prw_gpu *gpu); /* e.g. "Mesa 22.3.6 (LLVM 15.0.6)" */
 /* Lists devices as "index: name (driver)" lines into buf. */
 bool prw_gpu_list_devices(char *buf, size_t cap, prw_error *e);
+
+/* Optional features, enabled at create when the device supports them. */
+typedef struct prw_gpu_features {
+    bool multiview, fill_mode_non_solid, independent_blend, shader_float64, shader_draw_parameters;
+} prw_gpu_features;
+const prw_gpu_features *prw_gpu_features_enabled(const prw_gpu *gpu);
 
 VkInstance prw_gpu_instance(const prw_gpu *gpu);
 VkPhysicalDevice prw_gpu_physical(const prw_gpu *gpu);
@@ -80,6 +91,12 @@ typedef struct prw_mem_stats {
 } prw_mem_stats;
 
 void prw_gpu_mem_stats(const prw_gpu *gpu, prw_mem_stats *out);
+/* Raw suballocation (buffers and images use these).  linear: buffers / linear-tiling images;
+ * optimal-tiling images live in separate blocks so bufferImageGranularity never matters.
+ * Allocations larger than a block get a dedicated VkDeviceMemory. */
+bool prw_mem_alloc(prw_gpu *gpu, const VkMemoryRequirements *req, prw_mem_kind kind, bool linear, prw_alloc *out,
+                   prw_error *e);
+void prw_mem_free(prw_gpu *gpu, prw_alloc *a);
 
 /* ---- buffers ---- */
 typedef struct prw_buffer {
@@ -89,6 +106,7 @@ typedef struct prw_buffer {
     void *mapped; /* non-NULL for UPLOAD/READBACK */
 } prw_buffer;
 
+/* TRANSFER_SRC|DST usage is always added.  mapped is set for UPLOAD/READBACK only (host-coherent). */
 bool prw_buffer_create(prw_gpu *gpu, VkDeviceSize size, VkBufferUsageFlags usage, prw_mem_kind kind,
                        prw_buffer *out, prw_error *e);
 void prw_buffer_destroy(prw_gpu *gpu, prw_buffer *b);
@@ -110,7 +128,7 @@ typedef struct prw_image_desc {
 
 typedef struct prw_gpu_image {
     VkImage image;
-    VkImageView view;       /* all layers and mips */
+    VkImageView view;       /* all layers and mips (depth/stencil formats: depth aspect only) */
     VkImageView *layer_views; /* one 2D view per layer (mip 0), for rendering into layers */
     prw_alloc alloc;
     VkFormat format;
@@ -118,12 +136,14 @@ typedef struct prw_gpu_image {
     uint32_t width, height, layers, mips;
     VkSampleCountFlagBits samples;
     VkImageLayout layout;   /* current layout, tracked by prw_cmd_transition */
+    VkImageUsageFlags usage;
 } prw_gpu_image;
 
 bool prw_image_create(prw_gpu *gpu, const prw_image_desc *desc, prw_gpu_image *out, prw_error *e);
 void prw_image_destroy(prw_gpu *gpu, prw_gpu_image *img);
 /* Uploads tightly packed mip-0 pixels of layer `layer`; when mips > 1, generates the chain by blits.
- * Leaves the image in SHADER_READ_ONLY_OPTIMAL. */
+ * Needs TRANSFER_DST usage (+ TRANSFER_SRC for mips).  Leaves the image in SHADER_READ_ONLY_OPTIMAL
+ * (images without SAMPLED/INPUT_ATTACHMENT usage: TRANSFER_SRC_OPTIMAL, else TRANSFER_DST_OPTIMAL). */
 bool prw_image_upload(prw_gpu *gpu, prw_gpu_image *img, uint32_t layer, const void *pixels, size_t bytes,
                       prw_error *e);
 /* Reads mip 0 / layer 0 of a single-sample colour image of format R16G16B16A16_SFLOAT, R32G32B32A32_SFLOAT
@@ -154,7 +174,8 @@ void prw_desc_pool_destroy(prw_gpu *gpu, prw_desc_pool *pool);
 void prw_desc_pool_reset(prw_gpu *gpu, prw_desc_pool *pool);
 bool prw_desc_alloc(prw_gpu *gpu, prw_desc_pool *pool, VkDescriptorSetLayout layout, VkDescriptorSet *out,
                     prw_error *e);
-/* Writers for the common cases. */
+/* Writers for the common cases (range 0 = VK_WHOLE_SIZE).  prw_desc_alloc only accepts layouts made
+ * by prw_desc_layout_create (it counts descriptors per pool itself). */
 void prw_desc_write_buffer(prw_gpu *gpu, VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
                            const prw_buffer *b, VkDeviceSize offset, VkDeviceSize range);
 void prw_desc_write_image(prw_gpu *gpu, VkDescriptorSet set, uint32_t binding, uint32_t array_element,
@@ -166,8 +187,16 @@ typedef struct prw_spirv {
     size_t size; /* bytes */
 } prw_spirv;
 
+/* Push constants are one range [0, push_constant_bytes) with stageFlags VK_SHADER_STAGE_ALL, so
+ * vkCmdPushConstants must be called with VK_SHADER_STAGE_ALL too (the layer requires the push's
+ * stageFlags to cover every stage of the range). */
 bool prw_pipeline_layout_create(prw_gpu *gpu, const VkDescriptorSetLayout *sets, uint32_t set_count,
                                 uint32_t push_constant_bytes, VkPipelineLayout *out, prw_error *e);
+/* Same with an explicit stage set for the push-constant range (0 = VK_SHADER_STAGE_ALL); push with
+ * exactly these stages. */
+bool prw_pipeline_layout_create_stages(prw_gpu *gpu, const VkDescriptorSetLayout *sets, uint32_t set_count,
+                                       uint32_t push_constant_bytes, VkShaderStageFlags push_stages,
+                                       VkPipelineLayout *out, prw_error *e);
 
 typedef struct prw_graphics_desc {
     prw_spirv vs, fs;        /* fs.code may be NULL (depth-only) */

@@ -7,6 +7,13 @@
  *    partial file (written to a temporary name, then renamed).  Read accepts half/float/uint
  *    R,G,B[,A] (or Y) scanline or tiled files, converts other chromaticities to Rec.709, and rejects
  *    NaN/Inf pixels only when asked (prw_exr_read_opts.reject_nonfinite).
+ *    Read details: the result is the data window (its origin may be negative; display window
+ *    ignored); only part 0 and tile level (0,0) are read; A defaults to 1; Y alone gives grey
+ *    (R=G=B=Y); Y+RY+BY, deep, and subsampled channels are rejected; other channels are ignored.
+ *    Chromaticities: RGB -> XYZ (from the file's primaries and white) -> Bradford adaptation to
+ *    D65 when the white differs -> Rec.709 RGB; files within 1e-4 of Rec.709/D65 are left as
+ *    stored (bit-exact).  Y-only files are not converted.  DWAA/DWAB files cannot be read: the
+ *    OpenEXR 3.1 C API does not implement them (EXR_ERR_FEATURE_NOT_IMPLEMENTED).
  *  - PNG 8-bit (libpng) write/read, atomic write as above.
  *  - Every failure is one line in prw_error: "<path>: <place>: <reason>".
  */
@@ -24,8 +31,15 @@ typedef struct prw_image {
     float *rgba; /* width*height*4 floats, owned */
 } prw_image;
 
+/* Largest image any reader or prw_image_alloc accepts: width*height <= 2^28 pixels (4 GiB of RGBA float). */
+#define PRW_IMAGE_MAX_PIXELS ((int64_t)1 << 28)
+
+/* Zero-filled width*height RGBA image; fails (img left empty) on a size <= 0 or above the limit. */
 bool prw_image_alloc(prw_image *img, int width, int height, prw_error *e);
+/* Frees the pixels and empties img; safe on an empty or already freed image. */
 void prw_image_free(prw_image *img);
+/* The size check used by prw_image_alloc and the readers; `who` prefixes the message (a path). */
+bool prw_image_size_ok(int64_t width, int64_t height, const char *who, prw_error *e);
 
 typedef struct prw_kv {
     const char *key;
@@ -37,10 +51,16 @@ bool prw_exr_write(const char *path, const prw_image *img, const prw_kv *attrs, 
 
 typedef struct prw_exr_read_opts {
     bool reject_nonfinite; /* fail with the first NaN/Inf pixel's position */
+    int64_t max_pixels;    /* reject larger data windows; 0 (default) means PRW_IMAGE_MAX_PIXELS */
 } prw_exr_read_opts;
 
 bool prw_exr_read(const char *path, const prw_exr_read_opts *opts, prw_image *out, prw_error *e);
-/* Reads one string attribute; false (no error) when absent.  value is a caller buffer. */
+/* Same reader on an in-memory file; `name` is used only in error messages.  opts may be NULL. */
+bool prw_exr_read_memory(const void *data, size_t size, const char *name, const prw_exr_read_opts *opts,
+                         prw_image *out, prw_error *e);
+/* Reads one string attribute of part 0 into value (NUL-terminated, cap bytes).  Returns false
+ * with e->msg empty ("") when the attribute is absent, false with a message on any error
+ * (unreadable file, attribute not a string, value longer than cap-1). */
 bool prw_exr_read_attr(const char *path, const char *key, char *value, size_t cap, prw_error *e);
 
 /* 8-bit PNG; channels 1..4. */

@@ -132,13 +132,16 @@ void prw_scene_destroy(prw_scene *s);
 
 /* Copies the arrays of m (positions, indices required; normals, uvs, tangents optional: normals are
  * computed area-weighted when absent, tangents by prw_mesh_generate_tangents when absent). Computes
- * bounds.  Returns the index, or -1 with e set on invalid input (index out of range, NaN/Inf). */
+ * bounds.  Returns the index, or -1 with e set on invalid input (index out of range, NaN/Inf, index
+ * count not a multiple of 3, m->material not an existing material index: add materials first).
+ * Given normals/tangents are renormalised; zero-length normals are replaced by computed ones. */
 int prw_scene_add_mesh(prw_scene *s, const prw_mesh *m, prw_error *e);
 int prw_scene_add_group(prw_scene *s, const char *name, uint32_t first, uint32_t count);
 int prw_scene_add_material(prw_scene *s, const prw_material *m);
-int prw_scene_add_texture(prw_scene *s, const prw_texture *t); /* copies pixels */
-int prw_scene_add_node(prw_scene *s, const prw_node *n);       /* parent must already exist */
+int prw_scene_add_texture(prw_scene *s, const prw_texture *t); /* copies pixels; -1 if empty */
+int prw_scene_add_node(prw_scene *s, const prw_node *n);       /* parent must already exist, else -1 */
 int prw_scene_add_camera(prw_scene *s, const prw_camera *c);
+/* Normalises l->color to Y = 1; a black (or negative / non-finite) colour becomes white. */
 int prw_scene_add_light(prw_scene *s, const prw_light *l);
 
 /* Defaults: identity TRS, no parent/mesh/camera/light; material: white, roughness 1, no textures. */
@@ -154,19 +157,50 @@ void prw_scene_update(prw_scene *s);
 int prw_scene_find_camera(const prw_scene *s, const char *name);
 
 /* Per-vertex tangents from uvs (accumulated per triangle, Gram-Schmidt against the normal; a
- * consistent fallback frame where uvs are degenerate). Allocates m->tangents if NULL. */
+ * consistent fallback frame where uvs are degenerate). Allocates m->tangents if NULL.
+ * Convention (glTF): tangent.xyz points along +u; bitangent = cross(normal, tangent.xyz) * w points
+ * along DECREASING v (uv (0,0) is the image's top-left, so that is "up" = +Y of a glTF normal map);
+ * an unmirrored mapping has w = +1.  Degenerate uvs: a deterministic unit vector orthogonal to the
+ * normal, w = +1. */
 void prw_mesh_generate_tangents(prw_mesh *m);
 
 /* Content hash of everything that affects an image (geometry, materials, lights, cameras). */
 uint64_t prw_scene_hash(const prw_scene *s);
 
-/* ---- loaders ---- */
+/* ---- builder helpers (each adds mesh + group + node and returns the node index, or -1 with e set).
+ * Meshes are built around the node's origin (the node carries the double-precision position), with
+ * per-face normals, uvs 0..1 per face and generated tangents. `material` must be an existing index. */
+
+/* Axis-aligned box [min, max]: 24 vertices, 12 triangles, counter-clockwise front faces seen from
+ * outside (normals outward), or seen from inside with normals inward when `inward` (rooms). */
+int prw_scene_add_box(prw_scene *s, const char *name, prw_dvec3 min, prw_dvec3 max, int material,
+                      bool inward, prw_error *e);
+/* Rectangle centre +- half_u +- half_v (half_u, half_v: half-axis vectors, need not be orthogonal
+ * but must not be parallel); front face and normal = normalize(cross(half_u, half_v)); uv (0,0) at
+ * centre - half_u + half_v, u along half_u, v along -half_v (glTF: v down the image). */
+int prw_scene_add_quad(prw_scene *s, const char *name, prw_dvec3 centre, prw_dvec3 half_u,
+                       prw_dvec3 half_v, int material, prw_error *e);
+/* UV sphere: `slices` around +Y (>= 3), `stacks` from pole to pole (>= 2); smooth normals. */
+int prw_scene_add_sphere(prw_scene *s, const char *name, prw_dvec3 centre, double r, int slices,
+                         int stacks, int material, prw_error *e);
+
+/* Splits an affine matrix into T, R (unit quaternion) and S, assuming no shear (a negative
+ * determinant goes into scale.x).  Returns false when the matrix is not affine, has shear beyond
+ * 1e-4 (cosine between axes) or is not finite; zero-length axes are completed to a rotation. */
+bool prw_decompose_trs(prw_dmat4 m, prw_dvec3 *t, prw_dquat *r, prw_dvec3 *scale);
+/* Unit quaternion from an orthonormal rotation (columns = images of the x, y, z axes). */
+prw_dquat prw_quat_from_axes(prw_dvec3 x, prw_dvec3 y, prw_dvec3 z);
+
+/* ---- loaders ----
+ * All-or-nothing: on failure everything the call added is removed again (the scene is as before)
+ * and e holds one line "<file>:<place>: <reason>".  On success prw_scene_update() has been run. */
 /* Scene manifest (JSON): see engine/scene/manifest.md. Relative paths resolve against the manifest. */
 bool prw_scene_load_manifest(prw_scene *s, const char *path, prw_error *e);
 /* Manifest text already in memory (path is used for messages and relative paths). */
 bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const char *path, prw_error *e);
 /* glTF 2.0 (.gltf or .glb) under node `parent` (-1: root); meshes, hierarchy, metallic-roughness
- * materials, textures, cameras, KHR_lights_punctual. */
+ * materials, textures, cameras, KHR_lights_punctual.  Conventions (matrix decomposition, emission
+ * units, what is ignored): manifest.md, section "glTF import". */
 bool prw_scene_import_gltf(prw_scene *s, const char *path, int parent, prw_error *e);
 
 #ifdef __cplusplus

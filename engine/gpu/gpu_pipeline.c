@@ -1,0 +1,180 @@
+/* gpu_pipeline.c — pipeline layouts, graphics pipelines for dynamic rendering, compute pipelines.
+ * Every pipeline goes through the gpu's persistent VkPipelineCache. */
+#include <string.h>
+
+#include "gpu_internal.h"
+
+static bool make_module(prw_gpu *gpu, prw_spirv code, const char *what, VkShaderModule *out, prw_error *e)
+{
+    if (!code.code || code.size == 0 || code.size % 4 != 0)
+        return prw_fail(e, "gpu: %s shader: empty or malformed SPIR-V (%zu bytes)", what, code.size);
+    VkShaderModuleCreateInfo ci = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = code.size,
+        .pCode = code.code,
+    };
+    if (!prw_vk_check(vkCreateShaderModule(gpu->device, &ci, NULL, out), "vkCreateShaderModule", e))
+        return prw_fail_wrap(e, "gpu: %s shader", what);
+    return true;
+}
+
+bool prw_pipeline_layout_create(prw_gpu *gpu, const VkDescriptorSetLayout *sets, uint32_t set_count,
+                                uint32_t push_constant_bytes, VkPipelineLayout *out, prw_error *e)
+{
+    return prw_pipeline_layout_create_stages(gpu, sets, set_count, push_constant_bytes, 0, out, e);
+}
+
+bool prw_pipeline_layout_create_stages(prw_gpu *gpu, const VkDescriptorSetLayout *sets, uint32_t set_count,
+                                       uint32_t push_constant_bytes, VkShaderStageFlags push_stages,
+                                       VkPipelineLayout *out, prw_error *e)
+{
+    if (push_constant_bytes > gpu->props.limits.maxPushConstantsSize)
+        return prw_fail(e, "gpu: %u push-constant bytes exceed the device limit %u", push_constant_bytes,
+                        gpu->props.limits.maxPushConstantsSize);
+    /* Default: one range visible to all stages, so any shader may read it without layout changes. */
+    VkPushConstantRange range = {.stageFlags = push_stages ? push_stages : VK_SHADER_STAGE_ALL,
+                                 .offset = 0,
+                                 .size = push_constant_bytes};
+    VkPipelineLayoutCreateInfo ci = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = set_count,
+        .pSetLayouts = sets,
+        .pushConstantRangeCount = push_constant_bytes ? 1 : 0,
+        .pPushConstantRanges = &range,
+    };
+    return prw_vk_check(vkCreatePipelineLayout(gpu->device, &ci, NULL, out), "gpu: vkCreatePipelineLayout", e);
+}
+
+static bool has_stencil(VkFormat f) { return prw_format_aspect(f) & VK_IMAGE_ASPECT_STENCIL_BIT; }
+
+bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline *out, prw_error *e)
+{
+    *out = VK_NULL_HANDLE;
+    if (d->color_count > PRW_ARRAY_LEN(d->color_formats))
+        return prw_fail(e, "gpu: graphics pipeline with %u colour attachments (max 4)", d->color_count);
+    if (d->view_mask && !gpu->features.multiview)
+        return prw_fail(e, "gpu: graphics pipeline uses multiview (view mask 0x%x) but the device lacks it",
+                        d->view_mask);
+    VkShaderModule vs = VK_NULL_HANDLE, fs = VK_NULL_HANDLE;
+    if (!make_module(gpu, d->vs, "vertex", &vs, e)) return false;
+    if (d->fs.code && !make_module(gpu, d->fs, "fragment", &fs, e)) {
+        vkDestroyShaderModule(gpu->device, vs, NULL);
+        return false;
+    }
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+         .stage = VK_SHADER_STAGE_VERTEX_BIT,
+         .module = vs,
+         .pName = "main"},
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+         .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+         .module = fs,
+         .pName = "main"},
+    };
+    VkPipelineVertexInputStateCreateInfo vi = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+        .vertexBindingDescriptionCount = d->vertex_binding_count,
+        .pVertexBindingDescriptions = d->vertex_bindings,
+        .vertexAttributeDescriptionCount = d->vertex_attr_count,
+        .pVertexAttributeDescriptions = d->vertex_attrs,
+    };
+    VkPipelineInputAssemblyStateCreateInfo ia = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+        /* The desc's 0 means TRIANGLE_LIST (Vulkan's 0 is POINT_LIST, which prw never draws). */
+        .topology = d->topology ? d->topology : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+    };
+    VkPipelineViewportStateCreateInfo vp = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+        .viewportCount = 1,
+        .scissorCount = 1,
+    };
+    VkPipelineRasterizationStateCreateInfo rs = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+        .polygonMode = VK_POLYGON_MODE_FILL,
+        .cullMode = d->cull,
+        .frontFace = d->front_face,
+        .depthBiasEnable = d->depth_bias,
+        .lineWidth = 1.0f,
+    };
+    VkPipelineMultisampleStateCreateInfo ms = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+        .rasterizationSamples = d->samples ? d->samples : VK_SAMPLE_COUNT_1_BIT,
+    };
+    VkPipelineDepthStencilStateCreateInfo ds = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+        .depthTestEnable = d->depth_test,
+        .depthWriteEnable = d->depth_write,
+        /* Reversed Z: near = 1, far = 0, so nearer fragments have greater depth. */
+        .depthCompareOp = d->depth_compare ? d->depth_compare : VK_COMPARE_OP_GREATER_OR_EQUAL,
+    };
+    VkPipelineColorBlendAttachmentState blend[4];
+    for (uint32_t i = 0; i < d->color_count; i++) {
+        blend[i] = (VkPipelineColorBlendAttachmentState){
+            .blendEnable = d->blend_additive,
+            .srcColorBlendFactor = VK_BLEND_FACTOR_ONE,
+            .dstColorBlendFactor = VK_BLEND_FACTOR_ONE,
+            .colorBlendOp = VK_BLEND_OP_ADD,
+            .srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
+            .dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
+            .alphaBlendOp = VK_BLEND_OP_ADD,
+            .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                              VK_COLOR_COMPONENT_A_BIT,
+        };
+    }
+    VkPipelineColorBlendStateCreateInfo cb = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+        .attachmentCount = d->color_count,
+        .pAttachments = blend,
+    };
+    VkDynamicState dyn[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_DEPTH_BIAS};
+    VkPipelineDynamicStateCreateInfo dy = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO,
+        .dynamicStateCount = d->depth_bias ? 3 : 2,
+        .pDynamicStates = dyn,
+    };
+    VkPipelineRenderingCreateInfo ri = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO,
+        .viewMask = d->view_mask,
+        .colorAttachmentCount = d->color_count,
+        .pColorAttachmentFormats = d->color_formats,
+        .depthAttachmentFormat = d->depth_format,
+        .stencilAttachmentFormat = has_stencil(d->depth_format) ? d->depth_format : VK_FORMAT_UNDEFINED,
+    };
+    VkGraphicsPipelineCreateInfo ci = {
+        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+        .pNext = &ri,
+        .stageCount = fs ? 2 : 1,
+        .pStages = stages,
+        .pVertexInputState = &vi,
+        .pInputAssemblyState = &ia,
+        .pViewportState = &vp,
+        .pRasterizationState = &rs,
+        .pMultisampleState = &ms,
+        .pDepthStencilState = d->depth_format ? &ds : NULL,
+        .pColorBlendState = d->color_count ? &cb : NULL,
+        .pDynamicState = &dy,
+        .layout = d->layout,
+    };
+    VkResult r = vkCreateGraphicsPipelines(gpu->device, gpu->pipeline_cache, 1, &ci, NULL, out);
+    vkDestroyShaderModule(gpu->device, vs, NULL);
+    if (fs) vkDestroyShaderModule(gpu->device, fs, NULL);
+    return prw_vk_check(r, "gpu: vkCreateGraphicsPipelines", e);
+}
+
+bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, VkPipeline *out, prw_error *e)
+{
+    *out = VK_NULL_HANDLE;
+    VkShaderModule m;
+    if (!make_module(gpu, cs, "compute", &m, e)) return false;
+    VkComputePipelineCreateInfo ci = {
+        .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+        .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                  .stage = VK_SHADER_STAGE_COMPUTE_BIT,
+                  .module = m,
+                  .pName = "main"},
+        .layout = layout,
+    };
+    VkResult r = vkCreateComputePipelines(gpu->device, gpu->pipeline_cache, 1, &ci, NULL, out);
+    vkDestroyShaderModule(gpu->device, m, NULL);
+    return prw_vk_check(r, "gpu: vkCreateComputePipelines", e);
+}

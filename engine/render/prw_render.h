@@ -1,0 +1,75 @@
+/* prw_render — draws a prw_scene for a view set with the pass graph of DESIGN.md §4.
+ *
+ * Promises:
+ *  - Output per view: linear HDR radiance in cd/m^2 (RGBA16F, 4x MSAA resolved in linear HDR by
+ *    averaging samples) and a display-encoded 8-bit image from the provisional tone map
+ *    (exposure from EV100, clamp, sRGB OETF).
+ *  - Passes: "shadow" (once per frame for all views: one depth layer per spot/rect/directional light,
+ *    six per point light), "base" (per view: emission + shadowed direct light), "downsample" (only
+ *    with N x N supersampling: box filter to the output size), "tonemap" (per view).
+ *    A pass whose needed() is false records nothing.
+ *  - Camera-relative rendering: world transforms stay double on the CPU; the GPU gets matrices
+ *    relative to the first view's eye, so a scene 1e5 m from the origin renders like one at it.
+ *  - The renderer uploads the scene at create; call prw_renderer_sync_scene() after editing it.
+ */
+#ifndef PRW_RENDER_H
+#define PRW_RENDER_H
+
+#include "pass_graph.h"
+#include "prw_gpu.h"
+#include "prw_image.h"
+#include "prw_scene.h"
+#include "prw_view.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PRW_MAX_VIEWS 6
+
+typedef struct prw_renderer prw_renderer;
+
+typedef struct prw_render_desc {
+    uint32_t width, height;  /* per view */
+    uint32_t msaa;           /* 1 or 4; 0 -> 4 */
+    uint32_t shadow_size;    /* 0 -> 1024 */
+    uint32_t max_views;      /* 0 -> 1 */
+    bool timestamps;         /* per-pass GPU times (each timestamp flushes on lavapipe) */
+    uint32_t supersample;    /* N x N supersampling for stills (box filter in linear HDR); 0 -> 1 */
+} prw_render_desc;
+
+typedef struct prw_frame_stats {
+    uint32_t pass_count;
+    prw_pass_stat passes[PRW_MAX_PASSES];
+    double cpu_ms;       /* recording + submit + wait, measured on the CPU */
+    uint64_t triangles;  /* drawn in the base pass, all views */
+    uint32_t draws;
+} prw_frame_stats;
+
+bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_desc *desc, prw_renderer **out,
+                         prw_error *e);
+void prw_renderer_destroy(prw_renderer *r);
+
+/* Records the frame for views[0..count) into cmd (caller submits). */
+bool prw_renderer_record(prw_renderer *r, VkCommandBuffer cmd, const prw_view *views, uint32_t count,
+                         prw_error *e);
+/* Records, submits and waits; fills stats (pass times when desc.timestamps). */
+bool prw_renderer_render(prw_renderer *r, const prw_view *views, uint32_t count, prw_frame_stats *stats,
+                         prw_error *e);
+/* After a frame: the stats of the passes (needed or skipped) as last recorded. */
+void prw_renderer_last_passes(const prw_renderer *r, prw_frame_stats *stats);
+
+/* Reads back view v's linear HDR image (cd/m^2). */
+bool prw_renderer_read_hdr(prw_renderer *r, uint32_t v, prw_image *out, prw_error *e);
+/* Reads back view v's display-encoded image as 8-bit RGBA (width*height*4 bytes). */
+bool prw_renderer_read_ldr(prw_renderer *r, uint32_t v, uint8_t *rgba, prw_error *e);
+/* The display-encoded image of view v (RGBA8 UNORM holding sRGB-encoded values), for presenting. */
+prw_gpu_image *prw_renderer_ldr_image(prw_renderer *r, uint32_t v);
+
+/* Names of the passes this scene needs for `count` views, for `prw info` (writes a comma list). */
+void prw_renderer_describe_passes(const prw_scene *scene, uint32_t count, char *buf, size_t cap);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

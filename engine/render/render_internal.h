@@ -1,0 +1,122 @@
+/* render_internal — the renderer's state shared by its pass files.  Not a public header. */
+#ifndef PRW_RENDER_INTERNAL_H
+#define PRW_RENDER_INTERNAL_H
+
+#include "prw_render.h"
+
+#define PRW_MAX_LIGHTS 16
+#define PRW_MAX_SHADOW_VIEWS 32
+
+/* Resources named in pass declarations. */
+enum {
+    PRW_RES_SCENE = 1u << 0,  /* geometry, materials, lights (external) */
+    PRW_RES_SHADOW = 1u << 1, /* shadow-map array */
+    PRW_RES_HDR = 1u << 2,    /* per-view resolved HDR radiance */
+    PRW_RES_LDR = 1u << 3,    /* per-view display-encoded image */
+    PRW_RES_HDR_SS = 1u << 4, /* per-view supersampled HDR (N*W x N*H) */
+};
+
+/* std140 mirror of shaders/common.glsl */
+typedef struct prw_gpu_light {
+    float pos_type[4];
+    float dir_range[4];
+    float radiance[4];
+    float cone_shadow[4];
+    float axis_u[4];
+    float axis_v[4];
+    float shadow[4];
+} prw_gpu_light;
+
+typedef struct prw_gpu_globals {
+    prw_mat4 view_proj;
+    float eye_rel[4];
+    float params[4];
+    prw_gpu_light lights[PRW_MAX_LIGHTS];
+    prw_mat4 shadow_mats[PRW_MAX_SHADOW_VIEWS];
+} prw_gpu_globals;
+
+typedef struct prw_gpu_material {
+    float base_color[4];
+    float emission[4];
+    float mr[4];
+} prw_gpu_material;
+
+typedef struct prw_draw_mesh {
+    uint32_t first_index, index_count;
+    int32_t vertex_offset;
+    int material;
+} prw_draw_mesh;
+
+typedef struct prw_shadow_view {
+    int light;
+    prw_dmat4 view_proj;   /* absolute world -> light clip */
+    double texel_per_unit; /* shadow-map width in metres at unit distance (ortho: absolute); / size = texel */
+} prw_shadow_view;
+
+typedef struct prw_view_targets {
+    prw_gpu_image msaa_color, depth, hdr, ldr;
+    prw_gpu_image hdr_ss; /* supersampling only: the base pass renders here */
+    prw_buffer globals;   /* UPLOAD */
+    VkDescriptorSet globals_set, tonemap_set, downsample_set;
+} prw_view_targets;
+
+struct prw_frame_ctx {
+    prw_renderer *r;
+    const prw_view *views;
+    uint32_t view_count;
+    prw_dvec3 origin; /* camera-relative frame */
+    uint64_t triangles;
+    uint32_t draws;
+};
+
+struct prw_renderer {
+    prw_gpu *gpu;
+    const prw_scene *scene;
+    prw_render_desc desc;
+    VkSampleCountFlagBits samples;
+
+    /* geometry */
+    prw_buffer vertices, indices;
+    prw_draw_mesh *meshes;
+    uint32_t mesh_count;
+
+    /* materials and textures */
+    prw_gpu_image *textures;
+    uint32_t texture_count;
+    prw_gpu_image white_srgb, white_linear, flat_normal;
+    prw_buffer material_ubo;
+    VkDeviceSize material_stride;
+    VkDescriptorSet *material_sets;
+
+    /* shadows */
+    prw_shadow_view shadow_views[PRW_MAX_SHADOW_VIEWS];
+    int light_first_shadow[PRW_MAX_LIGHTS];
+    uint32_t shadow_view_count;
+    prw_gpu_image shadow_map;
+
+    prw_view_targets views[PRW_MAX_VIEWS];
+
+    /* tonemap and downsample both bind two storage images (set layout `tonemap_layout`) */
+    VkDescriptorSetLayout globals_layout, material_layout, tonemap_layout;
+    VkPipelineLayout base_layout, shadow_layout, tonemap_layout_pl, storage2_layout_pl;
+    VkPipeline base_pipe, base_pipe_double, shadow_pipe, tonemap_pipe, downsample_pipe;
+    prw_desc_pool *pool;
+    prw_timer *timer;
+
+    prw_pass_graph graph;
+    prw_frame_stats last;
+};
+
+/* The pass table (pass_shadow.c, pass_base.c, pass_tonemap.c). */
+extern const prw_pass prw_pass_shadow;
+extern const prw_pass prw_pass_base;
+extern const prw_pass prw_pass_tonemap;
+extern const prw_pass prw_pass_downsample;
+
+/* Helpers shared by passes (renderer.c). */
+prw_mat4 prw_render_rel_model(prw_dmat4 world, prw_dvec3 origin);
+void prw_render_node_draws(const prw_renderer *r, uint32_t node, uint32_t *first, uint32_t *count);
+/* Shadow views for the scene's lights (absolute, double), computed from the scene's bounds. */
+uint32_t prw_render_plan_shadows(const prw_scene *s, prw_shadow_view *out, int *light_first);
+
+#endif

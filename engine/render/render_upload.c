@@ -1,0 +1,140 @@
+/* render_upload — scene data to GPU memory: one interleaved vertex buffer, one index buffer,
+ * textures with mip chains, and one uniform block + descriptor set per material. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+
+#define VERTEX_FLOATS 12 /* position 3, normal 3, uv 2, tangent 4 */
+
+bool prw_render_upload_geometry(prw_renderer *r, prw_error *e)
+{
+    const prw_scene *s = r->scene;
+    uint64_t nv = 0, ni = 0;
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        nv += s->meshes[i].vertex_count;
+        ni += s->meshes[i].index_count;
+    }
+    if (nv > INT32_MAX || ni > UINT32_MAX) return prw_fail(e, "%s: scene too large for one vertex buffer", s->source);
+    r->mesh_count = s->mesh_count;
+    r->meshes = prw_calloc(s->mesh_count ? s->mesh_count : 1, sizeof *r->meshes);
+    float *vdata = prw_malloc((size_t)(nv ? nv : 1) * VERTEX_FLOATS * sizeof(float));
+    uint32_t *idata = prw_malloc((size_t)(ni ? ni : 1) * sizeof(uint32_t));
+    uint64_t vo = 0, io = 0;
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        const prw_mesh *m = &s->meshes[i];
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            float *d = vdata + (vo + v) * VERTEX_FLOATS;
+            memcpy(d, m->positions + 3 * v, 3 * sizeof(float));
+            memcpy(d + 3, m->normals + 3 * v, 3 * sizeof(float));
+            if (m->uvs) memcpy(d + 6, m->uvs + 2 * v, 2 * sizeof(float));
+            else d[6] = d[7] = 0.0f;
+            if (m->tangents) memcpy(d + 8, m->tangents + 4 * v, 4 * sizeof(float));
+            else {
+                d[8] = 1.0f;
+                d[9] = d[10] = 0.0f;
+                d[11] = 1.0f;
+            }
+        }
+        memcpy(idata + io, m->indices, m->index_count * sizeof(uint32_t));
+        r->meshes[i].first_index = (uint32_t)io;
+        r->meshes[i].index_count = m->index_count;
+        r->meshes[i].vertex_offset = (int32_t)vo;
+        r->meshes[i].material = m->material;
+        vo += m->vertex_count;
+        io += m->index_count;
+    }
+    bool ok = prw_buffer_create(r->gpu, (nv ? nv : 1) * VERTEX_FLOATS * sizeof(float),
+                                VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_GPU,
+                                &r->vertices, e) &&
+              prw_buffer_create(r->gpu, (ni ? ni : 1) * sizeof(uint32_t),
+                                VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_GPU,
+                                &r->indices, e);
+    if (ok && nv) ok = prw_buffer_upload(r->gpu, &r->vertices, 0, vdata, nv * VERTEX_FLOATS * sizeof(float), e);
+    if (ok && ni) ok = prw_buffer_upload(r->gpu, &r->indices, 0, idata, ni * sizeof(uint32_t), e);
+    free(vdata);
+    free(idata);
+    return ok;
+}
+
+static uint32_t mip_count(uint32_t w, uint32_t h)
+{
+    uint32_t n = 1, m = w > h ? w : h;
+    while (m > 1) {
+        m >>= 1;
+        n++;
+    }
+    return n;
+}
+
+static bool make_texture(prw_renderer *r, uint32_t w, uint32_t h, bool srgb, bool mips, const uint8_t *rgba,
+                         prw_gpu_image *out, prw_error *e)
+{
+    prw_image_desc d = {
+        .width = w,
+        .height = h,
+        .mips = mips ? mip_count(w, h) : 1,
+        .format = srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
+        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    };
+    return prw_image_create(r->gpu, &d, out, e) && prw_image_upload(r->gpu, out, 0, rgba, (size_t)w * h * 4, e);
+}
+
+bool prw_render_upload_textures(prw_renderer *r, prw_error *e)
+{
+    const prw_scene *s = r->scene;
+    static const uint8_t white[4] = {255, 255, 255, 255}, flat[4] = {128, 128, 255, 255};
+    if (!make_texture(r, 1, 1, true, false, white, &r->white_srgb, e) ||
+        !make_texture(r, 1, 1, false, false, white, &r->white_linear, e) ||
+        !make_texture(r, 1, 1, false, false, flat, &r->flat_normal, e))
+        return false;
+    r->texture_count = s->texture_count;
+    r->textures = prw_calloc(s->texture_count ? s->texture_count : 1, sizeof *r->textures);
+    for (uint32_t i = 0; i < s->texture_count; i++) {
+        const prw_texture *t = &s->textures[i];
+        if (!make_texture(r, (uint32_t)t->width, (uint32_t)t->height, t->srgb, true, t->rgba8, &r->textures[i], e))
+            return prw_fail_wrap(e, "%s: texture %u '%s'", s->source, i, t->name);
+    }
+    return true;
+}
+
+static VkImageView tex_view(const prw_renderer *r, int index, const prw_gpu_image *fallback)
+{
+    if (index >= 0 && (uint32_t)index < r->texture_count) return r->textures[index].view;
+    return fallback->view;
+}
+
+bool prw_render_upload_materials(prw_renderer *r, prw_error *e)
+{
+    const prw_scene *s = r->scene;
+    uint32_t n = s->material_count ? s->material_count : 1;
+    VkDeviceSize align = prw_gpu_properties(r->gpu)->limits.minUniformBufferOffsetAlignment;
+    r->material_stride = (sizeof(prw_gpu_material) + align - 1) / align * align;
+    if (!prw_buffer_create(r->gpu, r->material_stride * n, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
+                           &r->material_ubo, e))
+        return false;
+    r->material_sets = prw_calloc(n, sizeof *r->material_sets);
+    VkSampler lin = prw_gpu_sampler(r->gpu, PRW_SAMPLER_LINEAR_REPEAT);
+    for (uint32_t i = 0; i < n; i++) {
+        prw_material m = i < s->material_count ? s->materials[i] : prw_material_default();
+        prw_gpu_material g = {
+            .base_color = {m.base_color[0], m.base_color[1], m.base_color[2], m.base_color[3]},
+            .emission = {m.emission[0], m.emission[1], m.emission[2], m.normal_scale},
+            .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f, m.normal_tex >= 0 ? 1.0f : 0.0f},
+        };
+        memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
+        if (!prw_desc_alloc(r->gpu, r->pool, r->material_layout, &r->material_sets[i], e)) return false;
+        VkDescriptorSet set = r->material_sets[i];
+        VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+        VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        prw_desc_write_buffer(r->gpu, set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &r->material_ubo,
+                              i * r->material_stride, sizeof g);
+        prw_desc_write_image(r->gpu, set, 1, 0, cis, tex_view(r, m.base_color_tex, &r->white_srgb), lin, ro);
+        prw_desc_write_image(r->gpu, set, 2, 0, cis, tex_view(r, m.metal_rough_tex, &r->white_linear), lin, ro);
+        prw_desc_write_image(r->gpu, set, 3, 0, cis, tex_view(r, m.normal_tex, &r->flat_normal), lin, ro);
+        prw_desc_write_image(r->gpu, set, 4, 0, cis, tex_view(r, m.emissive_tex, &r->white_srgb), lin, ro);
+    }
+    return true;
+}

@@ -1,0 +1,182 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "prw_brdf.h"
+
+// Base pass: emission + direct light from every light (shadowed by shadow maps), in cd/m^2.
+// Rect area lights (raster method, stated in engine/render/README.md): diffuse irradiance exact by
+// Lambert's polygon formula (clipped to the receiver's hemisphere), specular from the most
+// representative point on the rectangle, visibility from one shadow map at the rectangle's centre.
+
+layout(set = 0, binding = 1) uniform sampler2DArrayShadow shadow_map;
+
+layout(std140, set = 1, binding = 0) uniform prw_material_block {
+    vec4 base_color;
+    vec4 emission;   // rgb cd/m^2, w: normal scale
+    vec4 mr;         // x: metallic, y: roughness, z: double sided, w: has normal map
+} mat;
+layout(set = 1, binding = 1) uniform sampler2D tex_base;      // sRGB decoded by the sampler
+layout(set = 1, binding = 2) uniform sampler2D tex_mr;        // G roughness, B metallic
+layout(set = 1, binding = 3) uniform sampler2D tex_normal;    // tangent space
+layout(set = 1, binding = 4) uniform sampler2D tex_emissive;  // sRGB decoded
+
+layout(location = 0) in vec3 v_pos;
+layout(location = 1) in vec3 v_normal;
+layout(location = 2) in vec2 v_uv;
+layout(location = 3) in vec4 v_tangent;
+
+layout(location = 0) out vec4 o_color;
+
+const float PI = 3.14159265358979323846;
+
+float shadow_factor(prw_gpu_light L, vec3 p, vec3 n)
+{
+    int first = int(L.cone_shadow.z);
+    if (first < 0) return 1.0;
+    int layer = first;
+    vec3 d = p - L.pos_type.xyz;
+    if (int(L.cone_shadow.w) == 6) {
+        vec3 a = abs(d);
+        if (a.x >= a.y && a.x >= a.z) layer += d.x > 0.0 ? 0 : 1;
+        else if (a.y >= a.z) layer += d.y > 0.0 ? 2 : 3;
+        else layer += d.z > 0.0 ? 4 : 5;
+    }
+    int type = int(L.pos_type.w);
+    float texel = L.shadow.x * (type == PRW_LIGHT_DIRECTIONAL ? 1.0 : length(d));
+    vec3 po = p + n * (1.5 * texel);
+    vec4 c = g.shadow_mats[layer] * vec4(po, 1.0);
+    if (c.w <= 0.0) return 1.0;
+    c.xyz /= c.w;
+    vec2 uv = c.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    // 3x3 PCF; reversed Z: lit where the receiver's depth >= the stored occluder depth.
+    float inv = 1.0 / g.params.y;
+    float sum = 0.0;
+    for (int y = -1; y <= 1; y++)
+        for (int x = -1; x <= 1; x++)
+            sum += texture(shadow_map, vec4(uv + vec2(x, y) * inv, float(layer), c.z));
+    return sum / 9.0;
+}
+
+// Irradiance per unit radiance from the quad q (camera-relative) at p with normal n, after clipping
+// the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
+float quad_irradiance(vec3 p, vec3 n, vec3 q[4])
+{
+    vec3 poly[5];
+    int cnt = 0;
+    for (int i = 0; i < 4; i++) {
+        vec3 a = q[i] - p, b = q[(i + 1) % 4] - p;
+        float da = dot(n, a), db = dot(n, b);
+        if (da > 0.0) poly[cnt++] = a;
+        if ((da > 0.0) != (db > 0.0) && cnt < 5) poly[cnt++] = a + (b - a) * (da / (da - db));
+    }
+    if (cnt < 3) return 0.0;
+    float sum = 0.0;
+    for (int i = 0; i < cnt; i++) {
+        vec3 v0 = normalize(poly[i]), v1 = normalize(poly[(i + 1) % cnt]);
+        vec3 cr = cross(v0, v1);
+        float l = length(cr);
+        if (l > 1e-9) sum += atan(l, dot(v0, v1)) * dot(n, cr / l);
+    }
+    return 0.5 * abs(sum);
+}
+
+vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness)
+{
+    vec3 h = normalize(v + l);
+    float NoV = dot(n, v), NoL = dot(n, l), NoH = dot(n, h), VoH = dot(v, h);
+    return vec3(prw_brdf_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness),
+                prw_brdf_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness),
+                prw_brdf_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness));
+}
+
+void main()
+{
+    vec4 base4 = mat.base_color * texture(tex_base, v_uv);
+    vec3 base = base4.rgb;
+    vec4 mrt = texture(tex_mr, v_uv);
+    float roughness = mat.mr.y * mrt.g;
+    float metallic = mat.mr.x * mrt.b;
+
+    vec3 n = normalize(v_normal);
+    if (mat.mr.z > 0.5 && !gl_FrontFacing) n = -n;
+    if (mat.mr.w > 0.5) {
+        vec3 t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
+        float tl = length(t);
+        if (tl > 1e-8) {
+            t /= tl;
+            vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0);
+            vec3 tn = texture(tex_normal, v_uv).xyz * 2.0 - 1.0;
+            tn.xy *= mat.emission.w;
+            n = normalize(t * tn.x + b * tn.y + n * tn.z);
+        }
+    }
+    vec3 v = normalize(g.eye_rel.xyz - v_pos);
+    // Shading normals facing away from the eye (interpolation, normal maps) are bent back so the
+    // BRDF sees a valid configuration.
+    float nv = dot(n, v);
+    if (nv < 1e-4) n = normalize(n + v * (1e-4 - nv));
+
+    vec3 radiance = mat.emission.rgb * texture(tex_emissive, v_uv).rgb;
+    int count = int(g.params.x);
+    for (int i = 0; i < count; i++) {
+        prw_gpu_light L = g.lights[i];
+        int type = int(L.pos_type.w);
+        vec3 rgb = L.radiance.rgb;
+        if (type == PRW_LIGHT_RECT) {
+            vec3 c = L.pos_type.xyz;
+            if (dot(v_pos - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
+            vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
+                                c + L.axis_u.xyz + L.axis_v.xyz, c - L.axis_u.xyz + L.axis_v.xyz);
+            float E = quad_irradiance(v_pos, n, q);
+            if (E <= 0.0) continue;
+            // Most representative point: the reflected ray's hit on the light's plane, clamped.
+            vec3 r = reflect(-v, n);
+            vec3 ln = L.dir_range.xyz;
+            float denom = dot(r, ln);
+            vec3 hit = c;
+            if (denom < -1e-6) hit = v_pos + r * (dot(c - v_pos, ln) / denom);
+            vec3 du = L.axis_u.xyz, dv = L.axis_v.xyz;
+            float su = clamp(dot(hit - c, du) / dot(du, du), -1.0, 1.0);
+            float sv = clamp(dot(hit - c, dv) / dot(dv, dv), -1.0, 1.0);
+            vec3 lp = c + du * su + dv * sv;
+            vec3 l = normalize(lp - v_pos);
+            vec3 h = normalize(v + l);
+            float NoV = max(dot(n, v), 1e-4), NoL = max(dot(n, l), 1e-4);
+            float alpha = prw_alpha_from_roughness(roughness);
+            float spec_common = prw_D_ggx(clamp(dot(n, h), 0.0, 1.0), alpha) * prw_V_smith_ggx(NoV, NoL, alpha);
+            float VoH = clamp(dot(v, h), 0.0, 1.0);
+            vec3 f;
+            for (int k = 0; k < 3; k++) {
+                float f0 = PRW_DIELECTRIC_F0 + (base[k] - PRW_DIELECTRIC_F0) * metallic;
+                f[k] = (1.0 - metallic) * prw_lambert(base[k]) + spec_common * prw_F_schlick(f0, VoH);
+            }
+            radiance += f * rgb * E * shadow_factor(L, v_pos, n);
+            continue;
+        }
+        vec3 l;
+        float E;
+        if (type == PRW_LIGHT_DIRECTIONAL) {
+            l = -L.dir_range.xyz;
+            E = 1.0;
+        } else {
+            vec3 d = L.pos_type.xyz - v_pos;
+            float d2 = max(dot(d, d), 1e-8);
+            l = d * inversesqrt(d2);
+            E = 1.0 / d2;
+            if (L.dir_range.w > 0.0) {
+                float q = d2 / (L.dir_range.w * L.dir_range.w);
+                E *= clamp(1.0 - q * q, 0.0, 1.0);
+            }
+            if (type == PRW_LIGHT_SPOT) {
+                float cd = dot(-l, L.dir_range.xyz);
+                float s = clamp((cd - L.cone_shadow.y) / max(L.cone_shadow.x - L.cone_shadow.y, 1e-4), 0.0, 1.0);
+                E *= s * s;
+            }
+        }
+        float NoL = dot(n, l);
+        if (NoL <= 0.0 || E <= 0.0) continue;
+        radiance += brdf(n, v, l, base, metallic, roughness) * rgb * (E * NoL) * shadow_factor(L, v_pos, n);
+    }
+    o_color = vec4(radiance, 1.0);
+}
