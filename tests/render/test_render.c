@@ -32,6 +32,8 @@ static bool gpu_up(void)
 }
 
 /* Renders scene camera `cam` at w x h; returns HDR and LDR (caller frees). */
+static uint32_t g_supersample = 1;
+
 static bool render_scene(const prw_scene *s, const char *cam, uint32_t w, uint32_t h, uint32_t msaa, prw_image *hdr,
                          uint8_t **ldr, prw_frame_stats *st)
 {
@@ -39,7 +41,7 @@ static bool render_scene(const prw_scene *s, const char *cam, uint32_t w, uint32
     prw_renderer *r = NULL;
     prw_view v;
     int ci = prw_scene_find_camera(s, cam);
-    prw_render_desc rd = {.width = w, .height = h, .msaa = msaa, .shadow_size = 512};
+    prw_render_desc rd = {.width = w, .height = h, .msaa = msaa, .shadow_size = 512, .supersample = g_supersample};
     bool ok = ci >= 0 && prw_view_from_camera(s, ci, w, h, &v, &e) && prw_renderer_create(g_gpu, s, &rd, &r, &e) &&
               prw_renderer_render(r, &v, 1, st, &e) && prw_renderer_read_hdr(r, 0, hdr, &e);
     if (ok && ldr) {
@@ -207,7 +209,44 @@ static void test_point_light_closed_form(void)
     prw_scene_destroy(s);
 }
 
+/* N x N supersampling equals rendering N times larger and box-filtering by N x N (in linear HDR). */
+static void test_supersampling(void)
+{
+    if (!gpu_up()) return prw_test_failures++, (void)0;
+    prw_error e;
+    prw_scene *s = prw_scene_create();
+    CHECK_OK(prw_demo_build(s, prw_v3(0, 0, 0), &e), &e);
+    prw_image small = {0}, big = {0};
+    prw_frame_stats st;
+    g_supersample = 2;
+    CHECK(render_scene(s, "main", 64, 48, 1, &small, NULL, &st));
+    g_supersample = 1;
+    bool ran = false;
+    for (uint32_t i = 0; i < st.pass_count; i++)
+        if (strcmp(st.passes[i].name, "downsample") == 0) ran = !st.passes[i].skipped;
+    CHECK(ran);
+    CHECK(render_scene(s, "main", 128, 96, 1, &big, NULL, &st));
+    if (small.rgba && big.rgba) {
+        double worst = 0;
+        for (int y = 0; y < 48; y++)
+            for (int x = 0; x < 64; x++)
+                for (int c = 0; c < 3; c++) {
+                    double m = 0;
+                    for (int k = 0; k < 4; k++) m += big.rgba[4 * ((2 * y + k / 2) * 128 + 2 * x + k % 2) + c];
+                    m *= 0.25;
+                    double d = fabs(m - small.rgba[4 * (y * 64 + x) + c]) / (fabs(m) + 1e-3);
+                    if (d > worst) worst = d;
+                }
+        printf("supersampling: worst relative difference to the CPU box filter %.2e\n", worst);
+        CHECK(worst < 2e-3); /* RGBA16F rounding of the stored samples and the mean */
+    }
+    prw_image_free(&small);
+    prw_image_free(&big);
+    prw_scene_destroy(s);
+}
+
 static const prw_test_case cases[] = {
+    {"supersampling", test_supersampling},
     {"golden", test_golden},
     {"far_from_origin", test_far_from_origin},
     {"point_light_closed_form", test_point_light_closed_form},
