@@ -140,7 +140,7 @@ static bool base_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
                 const prw_draw_mesh *dm = &r->meshes[k];
                 int mi = dm->material >= 0 && (uint32_t)dm->material < s->material_count ? dm->material : 0;
                 bool two = s->material_count && s->materials[mi].double_sided;
-                VkPipeline p = two ? r->base_pipe_double : r->base_pipe;
+                VkPipeline p = r->base_pipes[two][pc.normal_m[3] < 0.0f];
                 if (p != bound) {
                     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
                     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1,

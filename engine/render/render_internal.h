@@ -99,7 +99,8 @@ struct prw_renderer {
     /* tonemap and downsample both bind two storage images (set layout `tonemap_layout`) */
     VkDescriptorSetLayout globals_layout, material_layout, tonemap_layout;
     VkPipelineLayout base_layout, shadow_layout, tonemap_layout_pl, storage2_layout_pl;
-    VkPipeline base_pipe, base_pipe_double, shadow_pipe, tonemap_pipe, downsample_pipe;
+    /* base pipelines by [double-sided][mirrored]: nodes with a negative determinant flip the winding */
+    VkPipeline base_pipes[2][2], shadow_pipe, tonemap_pipe, downsample_pipe;
     prw_desc_pool *pool;
     prw_timer *timer;
 

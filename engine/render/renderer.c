@@ -85,9 +85,12 @@ static bool create_pipelines(prw_renderer *r, prw_error *e)
         .depth_test = true,
         .depth_write = true,
     };
-    if (!prw_pipeline_graphics(r->gpu, &base, &r->base_pipe, e)) return false;
-    base.cull = VK_CULL_MODE_NONE;
-    if (!prw_pipeline_graphics(r->gpu, &base, &r->base_pipe_double, e)) return false;
+    for (int two = 0; two < 2; two++)
+        for (int mirror = 0; mirror < 2; mirror++) {
+            base.cull = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
+            base.front_face = mirror ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE;
+            if (!prw_pipeline_graphics(r->gpu, &base, &r->base_pipes[two][mirror], e)) return false;
+        }
     prw_graphics_desc shadow = {
         .vs = prw_shader_shadow_vert(),
         .layout = r->shadow_layout,
@@ -248,8 +251,9 @@ void prw_renderer_destroy(prw_renderer *r)
     prw_buffer_destroy(gpu, &r->vertices);
     prw_buffer_destroy(gpu, &r->indices);
     free(r->meshes);
-    VkPipeline pipes[5] = {r->base_pipe, r->base_pipe_double, r->shadow_pipe, r->tonemap_pipe, r->downsample_pipe};
-    for (int i = 0; i < 5; i++)
+    VkPipeline pipes[7] = {r->base_pipes[0][0], r->base_pipes[0][1], r->base_pipes[1][0], r->base_pipes[1][1],
+                           r->shadow_pipe,        r->tonemap_pipe,       r->downsample_pipe};
+    for (int i = 0; i < 7; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
     VkPipelineLayout pls[4] = {r->base_layout, r->shadow_layout, r->tonemap_layout_pl, r->storage2_layout_pl};
     for (int i = 0; i < 4; i++)

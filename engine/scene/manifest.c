@@ -11,6 +11,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -189,11 +190,11 @@ static bool get_obj_array(ctx *c, const cJSON *root, const char *key, const cJSO
 
 static bool name_ok(ctx *c, const char *name, const char *place)
 {
-    if (strlen(name) >= PRW_NAME_MAX) {
-        char p[PLACE_MAX];
-        join(p, place, "name");
-        return fail_at(c, p, "longer than %d bytes", PRW_NAME_MAX - 1);
-    }
+    char p[PLACE_MAX];
+    join(p, place, "name");
+    if (strlen(name) >= PRW_NAME_MAX) return fail_at(c, p, "longer than %d bytes", PRW_NAME_MAX - 1);
+    for (const char *q = name; *q; q++)
+        if ((unsigned char)*q < 0x20 || *q == 0x7f) return fail_at(c, p, "must not contain control characters");
     return true;
 }
 
@@ -485,7 +486,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
 static bool parse_cameras(ctx *c, const cJSON *arr)
 {
     static const char *const keys[] = {"name", "position", "target", "direction", "up",
-                                       "yfov_deg", "znear", "aspect", "ev100"};
+                                       "yfov_deg", "znear", "aspect", "ev100", "f_number", "shutter_s", "iso"};
     int i = 0;
     for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
         char pl[PLACE_MAX], defname[32];
@@ -504,6 +505,18 @@ static bool parse_cameras(ctx *c, const cJSON *arr)
             !get_num(c, o, "aspect", pl, &aspect, false, 0, false, 100, false) ||
             !get_num(c, o, "ev100", pl, &ev100, false, -30, false, 40, false))
             return false;
+        /* Physical exposure: EV100 = log2(N^2 / t * 100 / S), from all three settings together. */
+        int settings = !!item(o, "f_number") + !!item(o, "shutter_s") + !!item(o, "iso");
+        if (settings) {
+            double fn = 0, t = 0, iso = 0;
+            if (settings != 3) return fail_at(c, pl, "f_number, shutter_s and iso must be given together");
+            if (item(o, "ev100")) return fail_at(c, pl, "give either ev100 or f_number/shutter_s/iso, not both");
+            if (!get_num(c, o, "f_number", pl, &fn, true, 0.5, false, 256, false) ||
+                !get_num(c, o, "shutter_s", pl, &t, true, 0, true, 3600, false) ||
+                !get_num(c, o, "iso", pl, &iso, true, 1, false, 1e7, false))
+                return false;
+            ev100 = log2(fn * fn / t * 100.0 / iso);
+        }
         prw_camera cam;
         memset(&cam, 0, sizeof cam);
         prw_copy_name(cam.name, name);

@@ -24,7 +24,7 @@
 extern "C" {
 #endif
 
-#define PRW_NAME_MAX 64
+#define PRW_NAME_MAX 64 /* add_* copy names truncated to 63 bytes, control characters -> '?' */
 
 typedef struct prw_mesh {
     char name[PRW_NAME_MAX];

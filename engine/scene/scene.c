@@ -22,7 +22,8 @@ void prw_copy_name(char dst[PRW_NAME_MAX], const char *src)
     if (!src) src = "";
     size_t n = strlen(src);
     if (n > PRW_NAME_MAX - 1) n = PRW_NAME_MAX - 1;
-    memcpy(dst, src, n);
+    /* control characters would break one-line messages and logs */
+    for (size_t i = 0; i < n; i++) dst[i] = ((unsigned char)src[i] < 0x20 || src[i] == 0x7f) ? '?' : src[i];
     dst[n] = '\0';
 }
 
@@ -116,7 +117,8 @@ static void compute_normals(const prw_mesh *m, double *acc /* 3 per vertex, zero
 
 int prw_scene_add_mesh(prw_scene *s, const prw_mesh *m, prw_error *e)
 {
-    const char *nm = m->name[0] ? m->name : "(unnamed)";
+    char nm[PRW_NAME_MAX];
+    prw_copy_name(nm, m->name[0] ? m->name : "(unnamed)");
     if (!m->positions || !m->indices || m->vertex_count == 0 || m->index_count == 0) {
         prw_fail(e, "mesh '%s': needs positions and indices (%u vertices, %u indices)", nm,
                  m->vertex_count, m->index_count);
@@ -627,7 +629,7 @@ static int add_mesh_node(prw_scene *s, const char *name, const prw_mesh *m, prw_
     int ni = gi < 0 ? -1 : prw_scene_add_node(s, &n);
     if (ni < 0) {
         prw_scene_rollback(s, mark);
-        prw_fail(e, "'%s': cannot add node", name ? name : "");
+        prw_fail(e, "'%s': cannot add node", n.name);
         return -1;
     }
     return ni;
@@ -642,10 +644,11 @@ static void put3(float *dst, prw_dvec3 v)
 
 static prw_dvec3 hadamard(prw_dvec3 a, prw_dvec3 b) { return prw_v3(a.x * b.x, a.y * b.y, a.z * b.z); }
 
-int prw_scene_add_box(prw_scene *s, const char *name, prw_dvec3 min, prw_dvec3 max, int material,
+int prw_scene_add_box(prw_scene *s, const char *name_in, prw_dvec3 min, prw_dvec3 max, int material,
                       bool inward, prw_error *e)
 {
-    if (!name) name = "box";
+    char name[PRW_NAME_MAX];
+    prw_copy_name(name, name_in ? name_in : "box");
     if (!finite_v3(min, 1e9) || !finite_v3(max, 1e9) || max.x < min.x || max.y < min.y || max.z < min.z) {
         prw_fail(e, "box '%s': needs finite min <= max (|coordinate| <= 1e9 m)", name);
         return -1;
@@ -694,10 +697,11 @@ int prw_scene_add_box(prw_scene *s, const char *name, prw_dvec3 min, prw_dvec3 m
     return add_mesh_node(s, name, &m, c, e);
 }
 
-int prw_scene_add_quad(prw_scene *s, const char *name, prw_dvec3 centre, prw_dvec3 half_u,
+int prw_scene_add_quad(prw_scene *s, const char *name_in, prw_dvec3 centre, prw_dvec3 half_u,
                        prw_dvec3 half_v, int material, prw_error *e)
 {
-    if (!name) name = "quad";
+    char name[PRW_NAME_MAX];
+    prw_copy_name(name, name_in ? name_in : "quad");
     if (!finite_v3(centre, 1e9) || !finite_v3(half_u, 1e9) || !finite_v3(half_v, 1e9)) {
         prw_fail(e, "quad '%s': centre and half axes must be finite (|coordinate| <= 1e9 m)", name);
         return -1;
@@ -732,10 +736,11 @@ int prw_scene_add_quad(prw_scene *s, const char *name, prw_dvec3 centre, prw_dve
     return add_mesh_node(s, name, &m, centre, e);
 }
 
-int prw_scene_add_sphere(prw_scene *s, const char *name, prw_dvec3 centre, double r, int slices,
+int prw_scene_add_sphere(prw_scene *s, const char *name_in, prw_dvec3 centre, double r, int slices,
                          int stacks, int material, prw_error *e)
 {
-    if (!name) name = "sphere";
+    char name[PRW_NAME_MAX];
+    prw_copy_name(name, name_in ? name_in : "sphere");
     if (!finite_v3(centre, 1e9) || !isfinite(r) || !(r > 0) || r > 1e9) {
         prw_fail(e, "sphere '%s': needs a finite centre and 0 < radius <= 1e9 m", name);
         return -1;

@@ -206,6 +206,21 @@ static void test_point_light_closed_form(void)
         CHECK(st.pass_count == 4);
     }
     prw_image_free(&hdr);
+    /* The plane mirrored by its node (scale x = -1, winding flipped) must look the same: front faces
+     * and normals follow the determinant's sign. */
+    for (uint32_t i = 0; i < s->node_count; i++)
+        if (s->nodes[i].mesh_group >= 0) s->nodes[i].scale.x = -1.0;
+    prw_scene_update(s);
+    CHECK(render_scene(s, "top", 64, 64, 4, &hdr, NULL, &st));
+    if (hdr.rgba) {
+        double sum = 0;
+        for (int y = 31; y <= 32; y++)
+            for (int x = 31; x <= 32; x++) sum += hdr.rgba[4 * (y * 64 + x) + 1];
+        double f = 0.5 / PRW_PI + (1.0 / PRW_PI) * 0.25 * 0.04;
+        printf("mirrored plane: %.5f cd/m^2\n", sum / 4);
+        CHECK_NEAR(sum / 4, f * 100.0 / 4.0, 0.003 * f * 100.0 / 4.0);
+    }
+    prw_image_free(&hdr);
     prw_scene_destroy(s);
 }
 

@@ -1,5 +1,6 @@
 /* Manifest parsing: every key, unit conversions, and error messages (file + place). */
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 
 #include "prw_scene.h"
@@ -267,8 +268,35 @@ static void test_errors(void)
                  " \"meshes\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}],"
                  " \"cameras\": [{\"position\": [0,0,0], \"target\": [0,0,0]}]}",
                  ":cameras[0].target:", "differ", NULL);
+    expect_error("ctrl_name.json",
+                 "{\"prw_manifest\": 1, \"meshes\": [{\"name\": \"a\\nb\", \"quad\": {\"centre\": [0,0,0],"
+                 " \"half_u\": [1,0,0], \"half_v\": [2,0,0]}}]}",
+                 ":meshes[0].name:", "control characters", NULL);
     /* control characters in keys are not copied into the one-line message */
     expect_error("ctrl.json", "{\"prw_manifest\": 1, \"a\\nb\": 1}", "unknown key 'a?b'", NULL, NULL);
+}
+
+/* Physical exposure: f/8, 1/125 s, ISO 100 -> EV100 = log2(64 * 125) = log2(8000). */
+static void test_exposure_settings(void)
+{
+    const char text[] = "{\"prw_manifest\": 1, \"cameras\": [{\"position\": [0,0,0], \"target\": [0,0,-1],"
+                        " \"f_number\": 8, \"shutter_s\": 0.008, \"iso\": 100},"
+                        " {\"position\": [0,0,0], \"target\": [0,0,-1], \"f_number\": 2.8, \"shutter_s\": 0.02,"
+                        " \"iso\": 800}]}";
+    prw_scene *s = prw_scene_create();
+    prw_error e;
+    CHECK_OK(prw_scene_parse_manifest(s, text, strlen(text), "exp.json", &e), &e);
+    CHECK(s->camera_count == 2);
+    CHECK_NEAR(s->cameras[0].ev100, log2(8000.0), 1e-12);
+    CHECK_NEAR(s->cameras[1].ev100, log2(2.8 * 2.8 / 0.02 * 100.0 / 800.0), 1e-12);
+    prw_scene_destroy(s);
+    expect_error("exp_partial.json",
+                 "{\"prw_manifest\": 1, \"cameras\": [{\"position\": [0,0,0], \"target\": [0,0,-1], \"iso\": 100}]}",
+                 ":cameras[0]:", "together", NULL);
+    expect_error("exp_both.json",
+                 "{\"prw_manifest\": 1, \"cameras\": [{\"position\": [0,0,0], \"target\": [0,0,-1], \"ev100\": 3,"
+                 " \"f_number\": 8, \"shutter_s\": 0.008, \"iso\": 100}]}",
+                 ":cameras[0]:", "not both", NULL);
 }
 
 static void test_in_memory(void)
@@ -290,6 +318,7 @@ int main(int argc, char **argv)
         {"valid", test_valid},
         {"errors", test_errors},
         {"in_memory", test_in_memory},
+        {"exposure_settings", test_exposure_settings},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }

@@ -295,6 +295,8 @@ static void test_builders(void)
     CHECK(strstr(e.msg, "bad") != NULL);
     CHECK(prw_scene_add_quad(s, "par", prw_v3(0, 0, 0), prw_v3(1, 0, 0), prw_v3(2, 0, 0), mat, &e) == -1);
     CHECK(prw_scene_add_sphere(s, "tiny", prw_v3(0, 0, 0), 1, 2, 2, mat, &e) == -1);
+    CHECK(prw_scene_add_quad(s, "two\nlines", prw_v3(0, 0, 0), prw_v3(1, 0, 0), prw_v3(1, 0, 0), mat, &e) == -1);
+    CHECK_MSG(strchr(e.msg, '\n') == NULL && strstr(e.msg, "two?lines"), "%s", e.msg); /* one-line messages */
     CHECK(prw_scene_add_sphere(s, "nan", prw_v3(0, 0, 0), NAN, 8, 8, mat, &e) == -1);
     CHECK(prw_scene_add_box(s, "nomat", prw_v3(0, 0, 0), prw_v3(1, 1, 1), 5, false, &e) == -1);
     CHECK(strstr(e.msg, "material 5") != NULL);
