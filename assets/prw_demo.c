@@ -25,19 +25,11 @@ bool prw_demo_build(prw_scene *s, prw_dvec3 o, prw_error *e)
     int gold = material(s, "gold", 1.00f, 0.78f, 0.34f, 1.0f, 0.30f);
     int blue = material(s, "blue plastic", 0.08f, 0.18f, 0.60f, 0.0f, 0.25f);
     int grey = material(s, "grey concrete", 0.35f, 0.35f, 0.35f, 0.0f, 0.95f);
-    prw_material win = prw_material_default();
-    snprintf(win.name, sizeof win.name, "window (sky)");
-    win.base_color[0] = win.base_color[1] = win.base_color[2] = 0.0f;
-    win.emission[0] = win.emission[1] = win.emission[2] = 2000.0f;
-    int window_m = prw_scene_add_material(s, &win);
 
 #define P(px, py, pz) prw_v3((px) + o.x, (py) + o.y, (pz) + o.z)
     if (prw_scene_add_box(s, "room walls", P(-3, 0, -2.5), P(3, 3, 2.5), wall, true, e) < 0) return false;
     /* the floor as its own quad slightly above the wall box's floor face, so it has its own material */
     if (prw_scene_add_quad(s, "floor", P(0, 0.001, 0), prw_v3(0, 0, 2.5), prw_v3(3, 0, 0), floor_m, e) < 0)
-        return false;
-    if (prw_scene_add_quad(s, "window glass", P(2.995, 1.6, 0), prw_v3(0, 0, 0.8), prw_v3(0, 0.6, 0), window_m, e) <
-        0)
         return false;
     if (prw_scene_add_box(s, "red box", P(-0.2, 0, -1.6), P(0.6, 0.8, -0.8), red, false, e) < 0) return false;
     if (prw_scene_add_sphere(s, "gold sphere", P(0.2, 1.1, -1.2), 0.3, 48, 24, gold, e) < 0) return false;

@@ -5,7 +5,7 @@
  *
  * Model (glTF metallic-roughness):
  *   alpha = roughness^2 (clamped to PRW_MIN_ALPHA so the GGX lobe stays finite)
- *   f0    = mix(0.04, base, metallic)
+ *   f0    = mix(0.04 * specular, base, metallic)   (specular: KHR_materials_specular factor, default 1)
  *   f     = (1 - metallic) * base / pi                      (Lambert)
  *         + D_GGX(n.h) * V_SmithGGXCorrelated(n.v, n.l) * F_Schlick(f0, v.h)
  * Units: f is in 1/sr; outgoing luminance L_o = f * E_perp * cos(theta_l) for a light giving
@@ -71,13 +71,19 @@ PRW_FN float prw_F_schlick(float f0, float VoH)
 PRW_FN float prw_lambert(float rho) { return rho / PRW_BRDF_PI; }
 
 /* Full BRDF for one channel.  Cosines are clamped; returns 0 below either horizon. */
+PRW_FN float prw_f0(float base, float metallic, float specular)
+{
+    float d = PRW_DIELECTRIC_F0 * prw_clamp01(specular);
+    return d + (base - d) * prw_clamp01(metallic);
+}
+
 PRW_FN float prw_brdf_channel(float NoV, float NoL, float NoH, float VoH, float base, float metallic,
-                              float roughness)
+                              float roughness, float specular)
 {
     if (NoL <= 0.0 || NoV <= 0.0) return 0.0;
     float alpha = prw_alpha_from_roughness(roughness);
     float m = prw_clamp01(metallic);
-    float f0 = PRW_DIELECTRIC_F0 + (base - PRW_DIELECTRIC_F0) * m;
+    float f0 = prw_f0(base, m, specular);
     float spec = prw_D_ggx(prw_clamp01(NoH), alpha) * prw_V_smith_ggx(NoV, NoL, alpha) * prw_F_schlick(f0, prw_clamp01(VoH));
     return (1.0 - m) * prw_lambert(base) + spec;
 }

@@ -14,6 +14,7 @@ layout(std140, set = 1, binding = 0) uniform prw_material_block {
     vec4 base_color;
     vec4 emission;   // rgb cd/m^2, w: normal scale
     vec4 mr;         // x: metallic, y: roughness, z: double sided, w: has normal map
+    vec4 extra;      // x: specular (dielectric F0 scale)
 } mat;
 layout(set = 1, binding = 1) uniform sampler2D tex_base;      // sRGB decoded by the sampler
 layout(set = 1, binding = 2) uniform sampler2D tex_mr;        // G roughness, B metallic
@@ -81,13 +82,13 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q[4])
     return 0.5 * abs(sum);
 }
 
-vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness)
+vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
 {
     vec3 h = normalize(v + l);
     float NoV = dot(n, v), NoL = dot(n, l), NoH = dot(n, h), VoH = dot(v, h);
-    return vec3(prw_brdf_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness),
-                prw_brdf_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness),
-                prw_brdf_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness));
+    return vec3(prw_brdf_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness, specular),
+                prw_brdf_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness, specular),
+                prw_brdf_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness, specular));
 }
 
 void main()
@@ -97,6 +98,7 @@ void main()
     vec4 mrt = texture(tex_mr, v_uv);
     float roughness = mat.mr.y * mrt.g;
     float metallic = mat.mr.x * mrt.b;
+    float specular = mat.extra.x;
 
     vec3 n = normalize(v_normal);
     if (mat.mr.z > 0.5 && !gl_FrontFacing) n = -n;
@@ -148,7 +150,7 @@ void main()
             float VoH = clamp(dot(v, h), 0.0, 1.0);
             vec3 f;
             for (int k = 0; k < 3; k++) {
-                float f0 = PRW_DIELECTRIC_F0 + (base[k] - PRW_DIELECTRIC_F0) * metallic;
+                float f0 = prw_f0(base[k], metallic, specular);
                 f[k] = (1.0 - metallic) * prw_lambert(base[k]) + spec_common * prw_F_schlick(f0, VoH);
             }
             radiance += f * rgb * E * shadow_factor(L, v_pos, n);
@@ -176,7 +178,7 @@ void main()
         }
         float NoL = dot(n, l);
         if (NoL <= 0.0 || E <= 0.0) continue;
-        radiance += brdf(n, v, l, base, metallic, roughness) * rgb * (E * NoL) * shadow_factor(L, v_pos, n);
+        radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, v_pos, n);
     }
     o_color = vec4(radiance, 1.0);
 }

@@ -3,7 +3,7 @@
 #include "prw_brdf.h"
 // Evaluates the shared material header on the GPU for the CPU-vs-GPU equality test.
 layout(local_size_x = 64) in;
-struct prw_brdf_case { float NoV, NoL, NoH, VoH, base, metallic, roughness, pad; };
+struct prw_brdf_case { float NoV, NoL, NoH, VoH, base, metallic, roughness, specular; };
 layout(std430, set = 0, binding = 0) readonly buffer In { prw_brdf_case cases[]; };
 layout(std430, set = 0, binding = 1) writeonly buffer Out { float results[]; };
 layout(push_constant) uniform PC { uint count; } pc;
@@ -12,5 +12,5 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
     prw_brdf_case c = cases[i];
-    results[i] = prw_brdf_channel(c.NoV, c.NoL, c.NoH, c.VoH, c.base, c.metallic, c.roughness);
+    results[i] = prw_brdf_channel(c.NoV, c.NoL, c.NoH, c.VoH, c.base, c.metallic, c.roughness, c.specular);
 }

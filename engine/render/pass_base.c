@@ -155,6 +155,37 @@ static bool base_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
                 ctx->draws++;
             }
         }
+        /* rect lights: their emitting surface, one-sided towards the light's -Z */
+        for (uint32_t li = 0; li < s->light_count; li++) {
+            const prw_light *l = &s->lights[li];
+            if (l->type != PRW_LIGHT_RECT) continue;
+            prw_dmat4 w = s->nodes[l->node].world;
+            prw_dvec3 ax = prw_v3_norm(prw_v3(w.m[0], w.m[1], w.m[2])), ay = prw_v3_norm(prw_v3(w.m[4], w.m[5], w.m[6]));
+            prw_dvec3 az = prw_v3_norm(prw_v3(w.m[8], w.m[9], w.m[10]));
+            prw_dmat4 m = prw_dm4_identity();
+            for (int k = 0; k < 3; k++) {
+                m.m[k] = (&ax.x)[k] * 0.5 * l->width;
+                m.m[4 + k] = (&ay.x)[k] * 0.5 * l->height;
+                m.m[8 + k] = (&az.x)[k];
+                m.m[12 + k] = w.m[12 + k];
+            }
+            draw_pc pc;
+            node_pc(m, ctx->origin, &pc);
+            VkPipeline p = r->base_pipes[0][pc.normal_m[3] < 0.0f];
+            if (p != bound) {
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1, &t->globals_set, 0,
+                                        NULL);
+                bound = p;
+            }
+            vkCmdPushConstants(cmd, r->base_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 1, 1,
+                                    &r->material_sets[r->scene_material_slots + li], 0, NULL);
+            vkCmdDrawIndexed(cmd, r->light_quad.index_count, 1, r->light_quad.first_index, r->light_quad.vertex_offset,
+                             0);
+            ctx->triangles += 2;
+            ctx->draws++;
+        }
         vkCmdEndRendering(cmd);
     }
     return true;

@@ -8,6 +8,8 @@
  *    six per point light), "base" (per view: emission + shadowed direct light), "downsample" (only
  *    with N x N supersampling: box filter to the output size), "tonemap" (per view).
  *    A pass whose needed() is false records nothing.
+ *  - Rect lights are drawn as one-sided emissive quads (their visible surface); a scene should not
+ *    add a separate emissive mesh for them (the reference counts emissive meshes as emitters too).
  *  - Camera-relative rendering: world transforms stay double on the CPU; the GPU gets matrices
  *    relative to the first view's eye, so a scene 1e5 m from the origin renders like one at it.
  *  - The renderer uploads the scene at create; call prw_renderer_sync_scene() after editing it.

@@ -39,6 +39,7 @@ typedef struct prw_gpu_material {
     float base_color[4];
     float emission[4];
     float mr[4];
+    float extra[4]; /* x: specular */
 } prw_gpu_material;
 
 typedef struct prw_draw_mesh {
@@ -79,6 +80,10 @@ struct prw_renderer {
     prw_buffer vertices, indices;
     prw_draw_mesh *meshes;
     uint32_t mesh_count;
+    /* Rect lights are drawn as emissive quads (their visible surface): one unit quad in the
+     * geometry buffers, one material slot per rect light after the scene's materials. */
+    prw_draw_mesh light_quad;
+    uint32_t scene_material_slots; /* max(1, scene material count) */
 
     /* materials and textures */
     prw_gpu_image *textures;

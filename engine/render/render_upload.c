@@ -12,7 +12,7 @@
 bool prw_render_upload_geometry(prw_renderer *r, prw_error *e)
 {
     const prw_scene *s = r->scene;
-    uint64_t nv = 0, ni = 0;
+    uint64_t nv = 4, ni = 6; /* starts with the rect-light quad */
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         nv += s->meshes[i].vertex_count;
         ni += s->meshes[i].index_count;
@@ -22,7 +22,18 @@ bool prw_render_upload_geometry(prw_renderer *r, prw_error *e)
     r->meshes = prw_calloc(s->mesh_count ? s->mesh_count : 1, sizeof *r->meshes);
     float *vdata = prw_malloc((size_t)(nv ? nv : 1) * VERTEX_FLOATS * sizeof(float));
     uint32_t *idata = prw_malloc((size_t)(ni ? ni : 1) * sizeof(uint32_t));
-    uint64_t vo = 0, io = 0;
+    /* unit quad in the light's local frame: x, y in [-1, 1], facing -Z (the emission direction) */
+    static const float quad_xy[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    static const uint32_t quad_idx[6] = {0, 2, 1, 0, 3, 2}; /* counter-clockwise seen from -Z */
+    for (int v = 0; v < 4; v++) {
+        float *d = vdata + v * VERTEX_FLOATS;
+        const float q[VERTEX_FLOATS] = {quad_xy[v][0], quad_xy[v][1], 0, 0, 0, -1, 0.5f + 0.5f * quad_xy[v][0],
+                                        0.5f - 0.5f * quad_xy[v][1], -1, 0, 0, 1};
+        memcpy(d, q, sizeof q);
+    }
+    memcpy(idata, quad_idx, sizeof quad_idx);
+    r->light_quad = (prw_draw_mesh){.first_index = 0, .index_count = 6, .vertex_offset = 0, .material = -1};
+    uint64_t vo = 4, io = 6;
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         const prw_mesh *m = &s->meshes[i];
         for (uint32_t v = 0; v < m->vertex_count; v++) {
@@ -109,7 +120,8 @@ static VkImageView tex_view(const prw_renderer *r, int index, const prw_gpu_imag
 bool prw_render_upload_materials(prw_renderer *r, prw_error *e)
 {
     const prw_scene *s = r->scene;
-    uint32_t n = s->material_count ? s->material_count : 1;
+    r->scene_material_slots = s->material_count ? s->material_count : 1;
+    uint32_t n = r->scene_material_slots + s->light_count; /* a slot per light; used by rect lights */
     VkDeviceSize align = prw_gpu_properties(r->gpu)->limits.minUniformBufferOffsetAlignment;
     r->material_stride = (sizeof(prw_gpu_material) + align - 1) / align * align;
     if (!prw_buffer_create(r->gpu, r->material_stride * n, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
@@ -119,10 +131,18 @@ bool prw_render_upload_materials(prw_renderer *r, prw_error *e)
     VkSampler lin = prw_gpu_sampler(r->gpu, PRW_SAMPLER_LINEAR_REPEAT);
     for (uint32_t i = 0; i < n; i++) {
         prw_material m = i < s->material_count ? s->materials[i] : prw_material_default();
+        if (i >= r->scene_material_slots) { /* a light's visible surface: emission only */
+            const prw_light *l = &s->lights[i - r->scene_material_slots];
+            m = prw_material_default();
+            m.base_color[0] = m.base_color[1] = m.base_color[2] = 0.0f;
+            m.specular = 0.0f;
+            for (int c = 0; c < 3; c++) m.emission[c] = (float)(l->color[c] * l->intensity);
+        }
         prw_gpu_material g = {
             .base_color = {m.base_color[0], m.base_color[1], m.base_color[2], m.base_color[3]},
             .emission = {m.emission[0], m.emission[1], m.emission[2], m.normal_scale},
             .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f, m.normal_tex >= 0 ? 1.0f : 0.0f},
+            .extra = {m.specular, 0.0f, 0.0f, 0.0f},
         };
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
         if (!prw_desc_alloc(r->gpu, r->pool, r->material_layout, &r->material_sets[i], e)) return false;

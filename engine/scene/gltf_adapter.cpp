@@ -292,6 +292,14 @@ struct Importer {
                 pm.emission[c] = (float)e;
             }
             pm.emissive_tex = texture(g.emissiveTexture.index, true, what + " emissiveTexture");
+            // KHR_materials_specular: specularFactor scales the dielectric F0 (the colour term is not supported)
+            auto spx = g.extensions.find("KHR_materials_specular");
+            if (spx != g.extensions.end() && spx->second.IsObject() && spx->second.Has("specularFactor")) {
+                const tinygltf::Value &v = spx->second.Get("specularFactor");
+                if (!v.IsNumber() || !(v.GetNumberAsDouble() >= 0.0 && v.GetNumberAsDouble() <= 1.0))
+                    fail(what + ": KHR_materials_specular.specularFactor must be a number in [0, 1]");
+                pm.specular = (float)v.GetNumberAsDouble();
+            }
             pm.double_sided = g.doubleSided;
             materials.push_back(prw_scene_add_material(s, &pm));
         }

@@ -249,7 +249,7 @@ static bool up_ok(ctx *c, const char *place, prw_dvec3 pos, prw_dvec3 target, pr
 static bool parse_materials(ctx *c, const cJSON *arr)
 {
     static const char *const keys[] = {"name", "base_color", "metallic", "roughness", "emission_cd_m2",
-                                       "double_sided"};
+                                       "double_sided", "specular"};
     int i = 0;
     for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
         char pl[PLACE_MAX];
@@ -257,7 +257,7 @@ static bool parse_materials(ctx *c, const cJSON *arr)
         if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
         prw_material m = prw_material_default();
         const char *name = NULL;
-        double bc[4] = {1, 1, 1, 1}, em[3] = {0, 0, 0}, metal = 0, rough = 1;
+        double bc[4] = {1, 1, 1, 1}, em[3] = {0, 0, 0}, metal = 0, rough = 1, spec = 1;
         bool ds = false;
         if (!get_str(c, o, "name", pl, &name, true) || !name_ok(c, name, pl)) return false;
         if (!name[0]) return fail_at(c, pl, "name must not be empty");
@@ -270,12 +270,14 @@ static bool parse_materials(ctx *c, const cJSON *arr)
         if (!get_vec(c, o, "base_color", pl, bc, 3, 4, false, 0, 1, NULL)) return false;
         if (!get_num(c, o, "metallic", pl, &metal, false, 0, false, 1, false)) return false;
         if (!get_num(c, o, "roughness", pl, &rough, false, 0, false, 1, false)) return false;
+        if (!get_num(c, o, "specular", pl, &spec, false, 0, false, 1, false)) return false;
         if (!get_vec(c, o, "emission_cd_m2", pl, em, 3, 0, false, 0, EMISSION_LIMIT, NULL)) return false;
         if (!get_bool(c, o, "double_sided", pl, &ds)) return false;
         prw_copy_name(m.name, name);
         for (int k = 0; k < 4; k++) m.base_color[k] = (float)bc[k];
         m.metallic = (float)metal;
         m.roughness = (float)rough;
+        m.specular = (float)spec;
         for (int k = 0; k < 3; k++) m.emission[k] = (float)em[k];
         m.double_sided = ds;
         prw_scene_add_material(c->s, &m);

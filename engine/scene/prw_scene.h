@@ -56,6 +56,8 @@ typedef struct prw_material {
     float base_color[4];    /* linear */
     int base_color_tex;     /* -1: none */
     float metallic, roughness; /* roughness is perceptual (alpha = roughness^2) */
+    float specular;         /* dielectric F0 scale (KHR_materials_specular specularFactor): F0 = 0.04 * specular;
+                               0 makes a non-metal purely Lambertian (closed-form tests) */
     int metal_rough_tex;    /* glTF: G = roughness, B = metallic; -1: none */
     int normal_tex;         /* -1: none */
     float normal_scale;

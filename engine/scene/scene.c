@@ -308,6 +308,7 @@ prw_material prw_material_default(void)
     m.base_color_tex = m.metal_rough_tex = m.normal_tex = m.emissive_tex = -1;
     m.metallic = 0.0f;
     m.roughness = 1.0f;
+    m.specular = 1.0f;
     m.normal_scale = 1.0f;
     return m;
 }

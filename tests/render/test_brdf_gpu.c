@@ -10,7 +10,7 @@
 #include "prw_test.h"
 
 typedef struct brdf_case {
-    float NoV, NoL, NoH, VoH, base, metallic, roughness, pad;
+    float NoV, NoL, NoH, VoH, base, metallic, roughness, specular;
 } brdf_case;
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
@@ -32,7 +32,7 @@ static brdf_case random_case(void)
     float hl = sqrtf(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
     for (int i = 0; i < 3; i++) h[i] /= hl > 0 ? hl : 1;
     brdf_case c = {v[2], l[2], h[2], v[0] * h[0] + v[1] * h[1] + v[2] * h[2], rnd(), rnd() < 0.3f ? 1.0f : rnd(),
-                   rnd(), 0};
+                   rnd(), rnd() < 0.2f ? 0.0f : rnd()};
     return c;
 }
 
@@ -88,7 +88,7 @@ static void test_gpu_equals_cpu(void)
         int bad = 0, worst_i = 0;
         for (int i = 0; i < N; i++) {
             const brdf_case *c = &cases[i];
-            float cpu = prw_brdf_channel(c->NoV, c->NoL, c->NoH, c->VoH, c->base, c->metallic, c->roughness);
+            float cpu = prw_brdf_channel(c->NoV, c->NoL, c->NoH, c->VoH, c->base, c->metallic, c->roughness, c->specular);
             double diff = fabs((double)cpu - (double)gpu_v[i]);
             double rel = fabs(cpu) > 1e-6 ? diff / fabs(cpu) : diff * 1e-5 / 1e-11;
             if (!isfinite(gpu_v[i]) || !(rel <= 1e-5)) bad++;
