@@ -1,0 +1,50 @@
+/* prw_bsdf — the CPU side of the one material model (C only): evaluation through the shared scalar
+ * header prw_brdf.h, importance sampling and pdfs, for the reference path tracer and the tests.
+ *
+ * Promises:
+ *  - Local shading frame: the normal is +Z; wo points towards the viewer, wi towards the light; both unit.
+ *  - prw_bsdf_eval() returns f(wo, wi) in 1/sr per RGB channel (no cosine), computed by
+ *    prw_brdf_channel() of prw_brdf.h, so the rasterizer and the reference evaluate the same model.
+ *  - prw_bsdf_sample() draws wi from a mixture of a cosine-weighted diffuse lobe and GGX visible-normal
+ *    sampling of the specular lobe (mixture weights from the lobes' estimated albedos); *pdf is the
+ *    mixture's solid-angle density, equal to prw_bsdf_pdf(wo, wi).  Returns false (no sample) when the
+ *    drawn direction is below the horizon or wo is.
+ *  - Each sampler also stands alone (cosine, GGX VNDF) with its pdf, for the chi-square tests.
+ *  - Deterministic: no internal state; u in [0,1)^3 comes from the caller.
+ */
+#ifndef PRW_BSDF_H
+#define PRW_BSDF_H
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct prw_bsdf {
+    double base[3];   /* linear base colour */
+    double metallic;  /* [0, 1] */
+    double roughness; /* perceptual, alpha = roughness^2 (clamped as in prw_brdf.h) */
+    double specular;  /* dielectric F0 scale (1 = F0 0.04) */
+} prw_bsdf;
+
+void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3]);
+double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3]);
+bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf);
+
+/* Lobes on their own. */
+void prw_sample_cosine(const double u[2], double wi[3]);
+double prw_pdf_cosine(const double wi[3]);
+/* Visible-normal sampling of GGX (Heitz 2018): a microfacet normal wm seen from wo. */
+void prw_sample_ggx_vndf(const double wo[3], double alpha, const double u[2], double wm[3]);
+/* Density of wi = reflect(wo, wm) with wm drawn by prw_sample_ggx_vndf. */
+double prw_pdf_ggx_reflect(const double wo[3], const double wi[3], double alpha);
+
+/* An orthonormal basis (t, b, n) around unit n, continuous except at n = (0, 0, -1)
+ * (Duff et al. 2017). */
+void prw_frame_from_normal(const double n[3], double t[3], double b[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
