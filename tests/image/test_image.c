@@ -14,14 +14,7 @@
 #include "prw_image.h"
 #include "prw_test.h"
 
-static char *tmp_path(const char *name)
-{
-    static char buf[8][1024];
-    static int k = 0;
-    char *p = buf[k++ % 8];
-    snprintf(p, 1024, "%s/%s", prw_test_tmpdir(), name);
-    return p;
-}
+#define tmp_path prw_test_path
 
 static bool file_exists(const char *p)
 {

@@ -6,23 +6,8 @@
 #include "prw_scene.h"
 #include "prw_test.h"
 
-static const char *tmp_path(const char *name)
-{
-    static char buf[4][512];
-    static int k;
-    char *p = buf[k++ & 3];
-    snprintf(p, 512, "%s/%s", prw_test_tmpdir(), name);
-    return p;
-}
-
-static void write_file(const char *path, const void *data, size_t n)
-{
-    FILE *f = fopen(path, "wb");
-    CHECK(f != NULL);
-    if (!f) return;
-    CHECK(fwrite(data, 1, n, f) == n);
-    fclose(f);
-}
+#define tmp_path prw_test_path
+#define write_file prw_test_write_file
 
 /* 2x2 RGBA PNG via libpng. */
 static const uint8_t k_pixels[16] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128};

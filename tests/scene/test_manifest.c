@@ -6,23 +6,8 @@
 #include "prw_scene.h"
 #include "prw_test.h"
 
-static const char *tmp_path(const char *name)
-{
-    static char buf[4][512];
-    static int k;
-    char *p = buf[k++ & 3];
-    snprintf(p, 512, "%s/%s", prw_test_tmpdir(), name);
-    return p;
-}
-
-static void write_file(const char *path, const void *data, size_t n)
-{
-    FILE *f = fopen(path, "wb");
-    CHECK(f != NULL);
-    if (!f) return;
-    CHECK(fwrite(data, 1, n, f) == n);
-    fclose(f);
-}
+#define tmp_path prw_test_path
+#define write_file prw_test_write_file
 
 static void write_text(const char *path, const char *text) { write_file(path, text, strlen(text)); }
 

@@ -41,3 +41,21 @@ const char *prw_test_tmpdir(void)
     }
     return dir;
 }
+
+char *prw_test_path(const char *name)
+{
+    static char buf[8][1024];
+    static int k = 0;
+    char *p = buf[k++ % 8];
+    snprintf(p, sizeof buf[0], "%s/%s", prw_test_tmpdir(), name);
+    return p;
+}
+
+void prw_test_write_file(const char *path, const void *data, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    CHECK(f != NULL);
+    if (!f) return;
+    CHECK(fwrite(data, 1, n, f) == n);
+    fclose(f);
+}

@@ -59,5 +59,9 @@ int prw_test_main(int argc, char **argv, const prw_test_case *cases, int count);
 
 /* A scratch directory for this test binary (created on first use, under the build tree's cwd). */
 const char *prw_test_tmpdir(void);
+/* "<tmpdir>/<name>" in one of 8 rotating static buffers (valid until 8 more calls). */
+char *prw_test_path(const char *name);
+/* Writes n bytes to path; a failure counts as a failed CHECK. */
+void prw_test_write_file(const char *path, const void *data, size_t n);
 
 #endif
