@@ -1,8 +1,9 @@
 /* prw render — a headless still: EXR of linear radiance (cd/m^2) and PNG of the displayed image. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <limits.h>
 #include <sys/stat.h>
 
 #include "app.h"
@@ -109,8 +110,9 @@ static int prw_render_job_run(const render_job *job)
         remove(job->out); /* no partial output: both files or none */
         goto done;
     }
-    printf("wrote %s (linear HDR, cd/m^2)\n", job->out);
-    printf("wrote %s (display-encoded, EV100 %.2f)\n", job->png, view.ev100);
+    char abs_out[PATH_MAX], abs_png[PATH_MAX];
+    printf("wrote %s (linear HDR, cd/m^2)\n", realpath(job->out, abs_out) ? abs_out : job->out);
+    printf("wrote %s (display-encoded, EV100 %.2f)\n", realpath(job->png, abs_png) ? abs_png : job->png, view.ev100);
     printf("frame time %.2f ms (median of %ld, %ux%u, %ux MSAA, %ux%u supersampling, %llu triangles, device %s)\n",
            median, job->frames, job->width, job->height, job->msaa, job->supersample, job->supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));
