@@ -27,14 +27,16 @@ static void render_usage(void)
            "  --ev100 X          exposure override (default: the camera's)\n"
            "  --frames N         render N timed frames after one warm-up and report the median (default 1)\n"
            "  --shadow-size N    shadow-map resolution (default 1024)\n"
-           "  --ss N             N x N supersampling for stills, box-filtered in linear HDR (default 1)\n");
+           "  --ss N             N x N supersampling for stills, box-filtered in linear HDR (default 1)\n"
+           "  --pass-times       time each pass with GPU timestamps (a separate measurement: each\n"
+           "                     timestamp flushes on lavapipe, so frame times then include that cost)\n");
 }
 
 typedef struct render_job {
     const char *scene_path, *out, *png, *camera;
     uint32_t width, height, msaa, shadow_size, supersample;
     long frames;
-    bool has_ev;
+    bool has_ev, pass_times;
     double ev100;
 } render_job;
 
@@ -78,7 +80,8 @@ static int prw_render_job_run(const render_job *job)
     if (job->has_ev) view.ev100 = job->ev100;
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_render_desc rd = {.width = job->width, .height = job->height, .msaa = job->msaa,
-                          .shadow_size = job->shadow_size, .supersample = job->supersample};
+                          .shadow_size = job->shadow_size, .supersample = job->supersample,
+                          .timestamps = job->pass_times};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_frame_stats st;
     if (!prw_renderer_render(r, &view, 1, &st, &e)) goto done; /* warm-up: pipelines JIT here */
@@ -116,8 +119,11 @@ static int prw_render_job_run(const render_job *job)
     printf("frame time %.2f ms (median of %ld, %ux%u, %ux MSAA, %ux%u supersampling, %llu triangles, device %s)\n",
            median, job->frames, job->width, job->height, job->msaa, job->supersample, job->supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));
-    for (uint32_t i = 0; i < st.pass_count; i++)
-        printf("  pass %-8s %s\n", st.passes[i].name, st.passes[i].skipped ? "skipped" : "ran");
+    for (uint32_t i = 0; i < st.pass_count; i++) {
+        if (st.passes[i].skipped) printf("  pass %-10s skipped\n", st.passes[i].name);
+        else if (st.passes[i].gpu_ms >= 0) printf("  pass %-10s %8.3f ms (GPU timestamps)\n", st.passes[i].name, st.passes[i].gpu_ms);
+        else printf("  pass %-10s ran\n", st.passes[i].name);
+    }
     rc = 0;
 done:
     if (rc != 0) fprintf(stderr, "prw: error: %s\n", e.msg[0] ? e.msg : "render failed");
@@ -180,6 +186,7 @@ int prw_cmd_render(int argc, char **argv)
         if (!prw_parse_int(v, "--shadow-size", 16, 8192, &n, &e)) bad = true;
         job.shadow_size = (uint32_t)n;
     }
+    job.pass_times = prw_args_flag(&a, "pass-times");
     job.supersample = 1;
     if ((v = prw_args_value(&a, "ss", &e, &bad))) {
         if (!prw_parse_int(v, "--ss", 1, 8, &n, &e)) bad = true;
