@@ -44,6 +44,7 @@ bool prw_app_create_gpu(bool present, prw_gpu **out, prw_error *e);
 int prw_cmd_render(int argc, char **argv);
 int prw_cmd_info(int argc, char **argv);
 int prw_cmd_walk(int argc, char **argv);
+int prw_cmd_compare(int argc, char **argv);
 
 /* The demo job: a window when a display exists, else a headless render to files. */
 int prw_run_demo(void);

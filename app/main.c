@@ -23,6 +23,7 @@ static void usage(FILE *f)
             "  render [SCENE]   render a still to EXR (linear cd/m^2) + PNG (display-encoded)\n"
             "  walk [SCENE]     open a window and walk through the scene\n"
             "  info SCENE       print the scene's content and the passes it needs\n"
+            "  compare REF TEST error of TEST against reference REF (RMSE, relMSE, PSNR, SSIM, LDR-/HDR-FLIP)\n"
             "  SCENE is a manifest (.json) or 'demo' (the default).  'prw COMMAND --help' for options.\n"
             "\n"
             "global options:\n"
@@ -102,6 +103,7 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "render") == 0) return prw_cmd_render(sub_argc, sub_argv);
     if (strcmp(cmd, "walk") == 0) return prw_cmd_walk(sub_argc, sub_argv);
     if (strcmp(cmd, "info") == 0) return prw_cmd_info(sub_argc, sub_argv);
+    if (strcmp(cmd, "compare") == 0) return prw_cmd_compare(sub_argc, sub_argv);
     if (strcmp(cmd, "help") == 0) {
         usage(stdout);
         return 0;
