@@ -577,6 +577,51 @@ static bool parse_gltf(ctx *c, const cJSON *arr)
     return true;
 }
 
+/* "environment": {"file", "scale", "rotation_deg"} or {"uniform_cd_m2"}; fills *env (present). */
+static bool parse_environment(ctx *c, const cJSON *o, prw_environment *env)
+{
+    static const char *const keys[] = {"file", "scale", "rotation_deg", "uniform_cd_m2"};
+    const char *pl = "environment";
+    memset(env, 0, sizeof *env);
+    if (!o) return true;
+    if (!cJSON_IsObject(o)) return fail_at(c, pl, "must be an object");
+    if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+    const char *file = NULL;
+    double uni[3] = {0, 0, 0}, scale = 1, rot = 0;
+    bool has_uni = false;
+    if (!get_str(c, o, "file", pl, &file, false)) return false;
+    if (!get_vec(c, o, "uniform_cd_m2", pl, uni, 3, 0, false, 0, EMISSION_LIMIT, &has_uni)) return false;
+    if ((file != NULL) == has_uni) return fail_at(c, pl, "needs exactly one of 'file' and 'uniform_cd_m2'");
+    if (has_uni) {
+        if (item(o, "scale") || item(o, "rotation_deg"))
+            return fail_at(c, pl, "'scale' and 'rotation_deg' apply to 'file' only");
+        env->present = true;
+        for (int k = 0; k < 3; k++) env->uniform[k] = (float)uni[k];
+        return true;
+    }
+    if (!get_num(c, o, "scale", pl, &scale, false, 0, false, EMISSION_LIMIT, false) ||
+        !get_num(c, o, "rotation_deg", pl, &rot, false, -360, false, 360, false))
+        return false;
+    char p[PLACE_MAX];
+    join(p, pl, "file");
+    if (!file[0]) return fail_at(c, p, "must not be empty");
+    int n = file[0] == '/' ? snprintf(env->file, sizeof env->file, "%s", file)
+                           : snprintf(env->file, sizeof env->file, "%s%s", c->dir, file);
+    if (n < 0 || (size_t)n >= sizeof env->file) return fail_at(c, p, "path longer than %zu bytes", sizeof env->file - 1);
+    struct stat st;
+    if (stat(env->file, &st) == 0 && !S_ISREG(st.st_mode)) return fail_at(c, p, "%s: cannot open: not a regular file", env->file);
+    char *bytes = NULL;
+    size_t size = 0;
+    prw_error fe;
+    if (!prw_read_file(env->file, &bytes, &size, &fe)) return fail_at(c, p, "%s", fe.msg);
+    env->file_hash = prw_hash64(bytes, size, 0x656e762d66696c65ull);
+    free(bytes);
+    env->present = true;
+    env->scale = scale;
+    env->rotation = rot * PRW_PI / 180.0;
+    return true;
+}
+
 /* ---- entry points ---- */
 
 static void line_col(const char *text, size_t size, size_t off, int *line, int *col)
@@ -633,7 +678,8 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
         return fail_at(&c, place, "unexpected text after the JSON document");
     }
 
-    static const char *const keys[] = {"prw_manifest", "gltf", "materials", "meshes", "lights", "cameras"};
+    static const char *const keys[] = {"prw_manifest", "gltf", "materials", "meshes", "lights", "cameras",
+                                       "environment"};
     prw_scene_mark mark = prw_scene_mark_get(s);
     const cJSON *gltf = NULL, *mats = NULL, *meshes = NULL, *lights = NULL, *cams = NULL;
     bool ok = cJSON_IsObject(root) ? true : fail_at(&c, "", "top level must be a JSON object");
@@ -650,12 +696,16 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
     /* materials first: meshes refer to them by name */
     ok = ok && parse_materials(&c, mats) && parse_gltf(&c, gltf) && parse_meshes(&c, meshes) &&
          parse_lights(&c, lights) && parse_cameras(&c, cams);
+    prw_environment env;
+    memset(&env, 0, sizeof env);
+    ok = ok && parse_environment(&c, item(root, "environment"), &env);
     cJSON_Delete(root);
     if (!ok) {
         prw_scene_rollback(s, mark);
         return false;
     }
     snprintf(s->source, sizeof s->source, "%s", c.file);
+    if (env.present) s->environment = env; /* set only on success: all-or-nothing */
     prw_scene_update(s);
     return true;
 }

@@ -109,6 +109,23 @@ typedef struct prw_light {
     bool cast_shadows;
 } prw_light;
 
+/* Light from infinitely far away (manifest "environment"), in cd/m^2.  Either an equirectangular
+ * EXR (linear Rec.709; pixel value x scale = radiance in cd/m^2) or, when file is "", a constant
+ * radiance from every direction.  Mapping of a world direction d (unit): the map direction is
+ * d' = R_y(-rotation) d (R_y: right-handed rotation about +Y, so a positive rotation turns the map's
+ * -Z towards world -X); u = 0.5 + atan2(d'.x, -d'.z) / (2 pi) (image centre column = -Z, u grows
+ * towards +X), v = acos(d'.y) / pi (row 0 = zenith +Y); pixel coordinates (u W, v H).  The scene
+ * only holds the path (resolved against the manifest) and a hash of the file's bytes; renderers read
+ * the pixels (prw_exr_read). */
+typedef struct prw_environment {
+    bool present;       /* false: black */
+    char file[1024];    /* resolved path, "" = uniform */
+    uint64_t file_hash; /* FNV-1a of the file's bytes at load */
+    double scale;       /* cd/m^2 per unit of the file's values */
+    double rotation;    /* radians about +Y */
+    float uniform[3];   /* cd/m^2 (linear RGB) when file is "" */
+} prw_environment;
+
 typedef struct prw_scene {
     prw_mesh *meshes;
     uint32_t mesh_count;
@@ -127,6 +144,7 @@ typedef struct prw_scene {
     bool has_bounds;
     prw_dvec3 bounds_min, bounds_max; /* world */
     char source[256]; /* manifest path or "demo" */
+    prw_environment environment; /* zeroed: none */
 } prw_scene;
 
 prw_scene *prw_scene_create(void);

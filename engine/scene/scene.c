@@ -549,6 +549,7 @@ uint64_t prw_scene_hash(const prw_scene *s)
         H(h, m->base_color_tex);
         H(h, m->metallic);
         H(h, m->roughness);
+        H(h, m->specular);
         H(h, m->metal_rough_tex);
         H(h, m->normal_tex);
         H(h, m->normal_scale);
@@ -604,6 +605,15 @@ uint64_t prw_scene_hash(const prw_scene *s)
         H(h, l->height);
         uint8_t sh = l->cast_shadows;
         H(h, sh);
+    }
+    /* only when present, so hashes of scenes without an environment stay as they were */
+    const prw_environment *env = &s->environment;
+    if (env->present) {
+        HA(h, env->file, strlen(env->file));
+        H(h, env->file_hash);
+        H(h, env->scale);
+        H(h, env->rotation);
+        HA(h, env->uniform, sizeof env->uniform);
     }
     return h;
 }

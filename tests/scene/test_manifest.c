@@ -297,6 +297,46 @@ static void test_in_memory(void)
     prw_scene_destroy(s);
 }
 
+/* "environment": a file (resolved against the manifest, hashed) or a uniform radiance; errors. */
+static void test_environment(void)
+{
+    write_text(tmp_path("sky.exr"), "not really an EXR: the manifest only checks that it opens");
+    const char *path = tmp_path("env.json");
+    write_text(path, "{\"prw_manifest\": 1, \"environment\": {\"file\": \"sky.exr\", \"scale\": 2.5,"
+                     " \"rotation_deg\": 90}}");
+    prw_scene *s = prw_scene_create();
+    prw_error e;
+    uint64_t h0 = prw_scene_hash(s);
+    CHECK_OK(prw_scene_load_manifest(s, path, &e), &e);
+    const prw_environment *env = &s->environment;
+    CHECK(env->present && env->scale == 2.5);
+    CHECK_NEAR(env->rotation, PRW_PI / 2, 1e-12);
+    CHECK_MSG(strcmp(env->file, tmp_path("sky.exr")) == 0, "%s", env->file);
+    CHECK(env->file_hash != 0 && prw_scene_hash(s) != h0);
+    prw_scene_destroy(s);
+
+    const char uni[] = "{\"prw_manifest\": 1, \"environment\": {\"uniform_cd_m2\": [1, 2, 3]}}";
+    s = prw_scene_create();
+    CHECK_OK(prw_scene_parse_manifest(s, uni, strlen(uni), "uni.json", &e), &e);
+    CHECK(s->environment.present && s->environment.file[0] == '\0');
+    CHECK(s->environment.uniform[0] == 1 && s->environment.uniform[1] == 2 && s->environment.uniform[2] == 3);
+    prw_scene_destroy(s);
+
+    expect_error("env_both.json",
+                 "{\"prw_manifest\": 1, \"environment\": {\"file\": \"sky.exr\", \"uniform_cd_m2\": [1,1,1]}}",
+                 ":environment:", "exactly one", NULL);
+    expect_error("env_key.json", "{\"prw_manifest\": 1, \"environment\": {\"uniform_cd_m2\": [1,1,1], \"scal\": 1}}",
+                 ":environment:", "unknown key 'scal'", NULL);
+    expect_error("env_missing.json", "{\"prw_manifest\": 1, \"environment\": {\"file\": \"nope.exr\"}}",
+                 ":environment.file:", "nope.exr", "cannot open");
+    expect_error("env_neg.json", "{\"prw_manifest\": 1, \"environment\": {\"uniform_cd_m2\": [1,-1,1]}}",
+                 ":environment.uniform_cd_m2:", NULL, NULL);
+    expect_error("env_type.json", "{\"prw_manifest\": 1, \"environment\": [1]}", ":environment:", "object", NULL);
+    expect_error("env_scale_uni.json",
+                 "{\"prw_manifest\": 1, \"environment\": {\"uniform_cd_m2\": [1,1,1], \"scale\": 2}}",
+                 ":environment:", "'file' only", NULL);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -304,6 +344,7 @@ int main(int argc, char **argv)
         {"errors", test_errors},
         {"in_memory", test_in_memory},
         {"exposure_settings", test_exposure_settings},
+        {"environment", test_environment},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }

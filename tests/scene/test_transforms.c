@@ -401,6 +401,10 @@ static void test_hash(void)
     CHECK(prw_scene_hash(a) != h0);
     a->materials[0].roughness = 1.0f;
     CHECK(prw_scene_hash(a) == h0);
+    a->materials[0].specular = 0.0f; /* every material parameter keys the reference cache */
+    CHECK(prw_scene_hash(a) != h0);
+    a->materials[0].specular = 1.0f;
+    CHECK(prw_scene_hash(a) == h0);
     a->nodes[1].translation.x += 1e-9;
     CHECK(prw_scene_hash(a) != h0);
     a->nodes[1].translation.x = b->nodes[1].translation.x;
