@@ -9,6 +9,7 @@ PKGS=(
   libembree-dev libtbb-dev
   xvfb xauth
   clang libclang-rt-14-dev
+  libglu1-mesa-dev
   python3-skimage
 )
 missing=()

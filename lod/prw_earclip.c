@@ -1,0 +1,375 @@
+/* Ear clipping of polygons with holes (after D. Eberly, "Triangulation by Ear Clipping"), on a
+ * circular doubly-linked node list with exact orientation tests. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "prw_earclip.h"
+#include "prw_predicates.h"
+
+typedef struct node {
+    int pt;         /* point index */
+    int prev, next; /* node indices */
+} node;
+
+typedef struct ctx {
+    const double *xy;
+    node *nodes;
+    int count, cap;
+    int *tris;
+    int ntris, tcap;
+} ctx;
+
+static const double *P(const ctx *c, int nd) { return c->xy + 2 * c->nodes[nd].pt; }
+
+static int new_node(ctx *c, int pt)
+{
+    if (c->count == c->cap) {
+        c->cap = c->cap ? 2 * c->cap : 64;
+        c->nodes = prw_realloc(c->nodes, sizeof(node) * (size_t)c->cap);
+    }
+    c->nodes[c->count].pt = pt;
+    c->nodes[c->count].prev = c->nodes[c->count].next = c->count;
+    return c->count++;
+}
+
+static void emit(ctx *c, int a, int b, int d)
+{
+    if (c->ntris == c->tcap) {
+        c->tcap = c->tcap ? 2 * c->tcap : 64;
+        c->tris = prw_realloc(c->tris, sizeof(int) * 3 * (size_t)c->tcap);
+    }
+    c->tris[3 * c->ntris] = c->nodes[a].pt;
+    c->tris[3 * c->ntris + 1] = c->nodes[b].pt;
+    c->tris[3 * c->ntris + 2] = c->nodes[d].pt;
+    c->ntris++;
+}
+
+static bool same(const double *a, const double *b) { return a[0] == b[0] && a[1] == b[1]; }
+
+/* Loop as a ring; reversed if its orientation is not `ccw`.  Returns the first node. */
+static int make_ring(ctx *c, const int *idx, int n, bool ccw, double area)
+{
+    bool rev = (area > 0) != ccw;
+    int first = -1, last = -1;
+    for (int k = 0; k < n; k++) {
+        int i = rev ? idx[n - 1 - k] : idx[k];
+        int nd = new_node(c, i);
+        if (first < 0) first = nd;
+        else {
+            c->nodes[last].next = nd;
+            c->nodes[nd].prev = last;
+        }
+        last = nd;
+    }
+    c->nodes[last].next = first;
+    c->nodes[first].prev = last;
+    return first;
+}
+
+static double loop_area(const double *xy, const int *idx, int n)
+{
+    double ox = xy[2 * idx[0]], oy = xy[2 * idx[0] + 1], s = 0;
+    for (int i = 1; i + 1 < n; i++) {
+        double ax = xy[2 * idx[i]] - ox, ay = xy[2 * idx[i] + 1] - oy;
+        double bx = xy[2 * idx[i + 1]] - ox, by = xy[2 * idx[i + 1] + 1] - oy;
+        s += ax * by - ay * bx;
+    }
+    return 0.5 * s;
+}
+
+/* -1 on the boundary, 0 outside, 1 inside (even-odd, exact). */
+static int point_in_loop(const double *xy, const int *idx, int n, const double *p)
+{
+    int c = 0;
+    for (int i = 0, j = n - 1; i < n; j = i++) {
+        const double *a = xy + 2 * idx[j], *b = xy + 2 * idx[i];
+        if (p[0] >= fmin(a[0], b[0]) && p[0] <= fmax(a[0], b[0]) && p[1] >= fmin(a[1], b[1]) &&
+            p[1] <= fmax(a[1], b[1]) && prw_orient2d(a, b, p) == 0)
+            return -1;
+        bool aa = a[1] > p[1], ba = b[1] > p[1];
+        if (aa == ba) continue;
+        const double *lo = aa ? b : a, *hi = aa ? a : b;
+        if (prw_orient2d(lo, hi, p) > 0) c ^= 1;
+    }
+    return c;
+}
+
+/* Does loop `in` lie inside loop `out`?  Decided at the first vertex or edge midpoint of `in`
+ * that is not on `out`. */
+static bool loop_inside(const double *xy, const int *in, int nin, const int *out, int nout)
+{
+    for (int i = 0; i < nin; i++) {
+        const double *a = xy + 2 * in[i], *b = xy + 2 * in[(i + 1) % nin];
+        double mid[2] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+        int r = point_in_loop(xy, out, nout, a);
+        if (r >= 0) return r == 1;
+        r = point_in_loop(xy, out, nout, mid);
+        if (r >= 0) return r == 1;
+    }
+    return false; /* identical loops: treat as not nested */
+}
+
+/* Closed (strict = false) or open (strict = true) point-in-triangle test for a CCW triangle. */
+static bool in_triangle(const double *a, const double *b, const double *d, const double *p, bool strict)
+{
+    int o1 = prw_orient2d(a, b, p), o2 = prw_orient2d(b, d, p), o3 = prw_orient2d(d, a, p);
+    if (strict) return o1 > 0 && o2 > 0 && o3 > 0;
+    return o1 >= 0 && o2 >= 0 && o3 >= 0;
+}
+
+/* Joins the hole ring (starting at any node) into the outer ring. */
+static void bridge(ctx *c, int outer, int hole)
+{
+    /* M: the hole's rightmost vertex */
+    int m = hole, it = c->nodes[hole].next;
+    while (it != hole) {
+        const double *p = P(c, it), *q = P(c, m);
+        if (p[0] > q[0] || (p[0] == q[0] && p[1] > q[1])) m = it;
+        it = c->nodes[it].next;
+    }
+    const double *M = P(c, m);
+    /* nearest upward edge crossed by the ray M + t(1, 0), t >= 0 */
+    double best = INFINITY;
+    int ea = -1;
+    it = outer;
+    do {
+        int nx = c->nodes[it].next;
+        const double *a = P(c, it), *b = P(c, nx);
+        if (a[1] < b[1] && a[1] <= M[1] && M[1] <= b[1]) {
+            double x = a[1] == M[1] ? a[0] : b[1] == M[1] ? b[0] : a[0] + (M[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
+            if (x >= M[0] && x < best) {
+                best = x;
+                ea = it;
+            }
+        }
+        it = nx;
+    } while (it != outer);
+    int pn;
+    if (ea < 0) {
+        pn = outer; /* no crossing (degenerate input): bridge to the outer start */
+    } else {
+        int eb = c->nodes[ea].next;
+        const double *a = P(c, ea), *b = P(c, eb);
+        double I[2] = {best, M[1]};
+        if (same(a, I)) pn = ea;
+        else if (same(b, I)) pn = eb;
+        else {
+            pn = a[0] > b[0] ? ea : eb;
+            const double *Pp = P(c, pn);
+            /* reflex vertices inside triangle (M, I, P) block the view: take the one with the
+             * smallest angle to the ray */
+            double tri[3][2] = {{M[0], M[1]}, {I[0], I[1]}, {Pp[0], Pp[1]}};
+            if (prw_orient2d(tri[0], tri[1], tri[2]) < 0) {
+                double t[2] = {tri[1][0], tri[1][1]};
+                tri[1][0] = tri[2][0];
+                tri[1][1] = tri[2][1];
+                tri[2][0] = t[0];
+                tri[2][1] = t[1];
+            }
+            double best_ang = INFINITY, best_d = INFINITY;
+            it = outer;
+            do {
+                int pv = c->nodes[it].prev, nx = c->nodes[it].next;
+                const double *r = P(c, it);
+                if (it != pn && prw_orient2d(P(c, pv), r, P(c, nx)) < 0 && in_triangle(tri[0], tri[1], tri[2], r, false) &&
+                    r[0] > M[0]) {
+                    double ang = fabs(r[1] - M[1]) / (r[0] - M[0]);
+                    double d = (r[0] - M[0]) * (r[0] - M[0]) + (r[1] - M[1]) * (r[1] - M[1]);
+                    if (ang < best_ang || (ang == best_ang && d < best_d)) {
+                        best_ang = ang;
+                        best_d = d;
+                        pn = it;
+                    }
+                }
+                it = nx;
+            } while (it != outer);
+        }
+    }
+    /* splice: ... P -> M -> ... -> M.prev -> M' -> P' -> P.next ... */
+    int m2 = new_node(c, c->nodes[m].pt);
+    int p2 = new_node(c, c->nodes[pn].pt);
+    int pnext = c->nodes[pn].next, mprev = c->nodes[m].prev;
+    c->nodes[pn].next = m;
+    c->nodes[m].prev = pn;
+    c->nodes[mprev].next = m2;
+    c->nodes[m2].prev = mprev;
+    c->nodes[m2].next = p2;
+    c->nodes[p2].prev = m2;
+    c->nodes[p2].next = pnext;
+    c->nodes[pnext].prev = p2;
+}
+
+static void unlink_node(ctx *c, int nd)
+{
+    int pv = c->nodes[nd].prev, nx = c->nodes[nd].next;
+    c->nodes[pv].next = nx;
+    c->nodes[nx].prev = pv;
+}
+
+static bool is_ear(const ctx *c, int pv, int cur, int nx, int n, bool strict)
+{
+    const double *a = P(c, pv), *b = P(c, cur), *d = P(c, nx);
+    double lo0 = fmin(a[0], fmin(b[0], d[0])), hi0 = fmax(a[0], fmax(b[0], d[0]));
+    double lo1 = fmin(a[1], fmin(b[1], d[1])), hi1 = fmax(a[1], fmax(b[1], d[1]));
+    int it = c->nodes[nx].next;
+    for (int k = 0; k < n - 3; k++, it = c->nodes[it].next) {
+        const double *q = P(c, it);
+        if (q[0] < lo0 || q[0] > hi0 || q[1] < lo1 || q[1] > hi1) continue;
+        if (same(q, a) || same(q, b) || same(q, d)) {
+            /* a pinch (the ring passes through a corner again): the other sheet's neighbours must
+             * not enter the ear */
+            const double *qp = P(c, c->nodes[it].prev), *qn = P(c, c->nodes[it].next);
+            if ((!same(qp, a) && !same(qp, b) && !same(qp, d) && in_triangle(a, b, d, qp, true)) ||
+                (!same(qn, a) && !same(qn, b) && !same(qn, d) && in_triangle(a, b, d, qn, true)))
+                return false;
+            continue;
+        }
+        if (in_triangle(a, b, d, q, strict)) return false;
+    }
+    /* the diagonal a-d must not cross a ring edge */
+    it = c->nodes[nx].next;
+    for (int k = 0; k < n - 3; k++, it = c->nodes[it].next) {
+        int jt = c->nodes[it].next;
+        const double *q = P(c, it), *r = P(c, jt);
+        if (fmax(q[0], r[0]) < lo0 || fmin(q[0], r[0]) > hi0 || fmax(q[1], r[1]) < lo1 || fmin(q[1], r[1]) > hi1) continue;
+        int o1 = prw_orient2d(a, d, q), o2 = prw_orient2d(a, d, r), o3 = prw_orient2d(q, r, a), o4 = prw_orient2d(q, r, d);
+        if (o1 * o2 < 0 && o3 * o4 < 0) return false;
+    }
+    return true;
+}
+
+static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
+{
+    int n = 1;
+    for (int it = c->nodes[start].next; it != start; it = c->nodes[it].next) n++;
+    int cur = start, stall = 0, pass = 0;
+    while (n > 3) {
+        int pv = c->nodes[cur].prev, nx = c->nodes[cur].next;
+        const double *a = P(c, pv), *b = P(c, cur), *d = P(c, nx);
+        if (same(b, d) || same(a, b)) { /* duplicate point: drop without a triangle */
+            unlink_node(c, cur);
+            n--;
+            cur = nx;
+            stall = 0;
+            continue;
+        }
+        int o = prw_orient2d(a, b, d);
+        if (o == 0 && (b[0] - a[0]) * (d[0] - b[0]) + (b[1] - a[1]) * (d[1] - b[1]) < 0) {
+            unlink_node(c, cur); /* spike: the boundary doubles back on itself */
+            n--;
+            cur = nx;
+            stall = 0;
+            continue;
+        }
+        if (o > 0 && is_ear(c, pv, cur, nx, n, pass == 1)) {
+            emit(c, pv, cur, nx);
+            unlink_node(c, cur);
+            n--;
+            cur = nx;
+            stall = 0;
+            pass = 0;
+            continue;
+        }
+        cur = nx;
+        if (++stall <= n) continue;
+        stall = 0;
+        if (pass == 0) {
+            pass = 1;
+            continue;
+        }
+        /* forced: the convex vertex with the largest triangle */
+        int bestn = -1;
+        double besta = 0;
+        int it = cur;
+        for (int k = 0; k < n; k++, it = c->nodes[it].next) {
+            const double *x = P(c, c->nodes[it].prev), *y = P(c, it), *z = P(c, c->nodes[it].next);
+            if (prw_orient2d(x, y, z) <= 0) continue;
+            double ar = (y[0] - x[0]) * (z[1] - x[1]) - (y[1] - x[1]) * (z[0] - x[0]);
+            if (ar > besta) {
+                besta = ar;
+                bestn = it;
+            }
+        }
+        if (bestn < 0) {
+            st->leftover += n;
+            return;
+        }
+        emit(c, c->nodes[bestn].prev, bestn, c->nodes[bestn].next);
+        cur = c->nodes[bestn].next;
+        unlink_node(c, bestn);
+        n--;
+        st->forced++;
+        pass = 0;
+    }
+    int pv = c->nodes[cur].prev, nx = c->nodes[cur].next;
+    if (n == 3 && prw_orient2d(P(c, pv), P(c, cur), P(c, nx)) > 0) emit(c, pv, cur, nx);
+    else if (n == 3) st->leftover += 3;
+}
+
+typedef struct hole_ref {
+    int ring;
+    double maxx;
+} hole_ref;
+
+static int cmp_hole(const void *a, const void *b)
+{
+    double x = ((const hole_ref *)a)->maxx, y = ((const hole_ref *)b)->maxx;
+    return (x < y) - (x > y); /* descending */
+}
+
+bool prw_earclip(const double *xy, const int *idx, const int *start, int nloops, int **tris, int *ntris,
+                 prw_earclip_stats *st, prw_error *e)
+{
+    ctx c = {xy, NULL, 0, 0, NULL, 0, 0};
+    memset(st, 0, sizeof *st);
+    int *depth = prw_calloc((size_t)nloops + 1, sizeof(int));
+    int *parent = prw_malloc(sizeof(int) * ((size_t)nloops + 1));
+    double *area = prw_malloc(sizeof(double) * ((size_t)nloops + 1));
+    for (int l = 0; l < nloops; l++) {
+        int n = start[l + 1] - start[l];
+        if (n < 3) {
+            free(depth);
+            free(parent);
+            free(area);
+            return prw_fail(e, "earclip: loop %d has %d points", l, n);
+        }
+        area[l] = loop_area(xy, idx + start[l], n);
+        parent[l] = -1;
+    }
+    /* containment: depth = number of containing loops; parent = the deepest container */
+    for (int l = 0; l < nloops; l++)
+        for (int k = 0; k < nloops; k++)
+            if (k != l && loop_inside(xy, idx + start[l], start[l + 1] - start[l], idx + start[k], start[k + 1] - start[k]))
+                depth[l]++;
+    for (int l = 0; l < nloops; l++)
+        for (int k = 0; k < nloops; k++)
+            if (k != l && depth[k] == depth[l] - 1 &&
+                loop_inside(xy, idx + start[l], start[l + 1] - start[l], idx + start[k], start[k + 1] - start[k]))
+                parent[l] = k;
+    hole_ref *holes = prw_malloc(sizeof(hole_ref) * ((size_t)nloops + 1));
+    for (int l = 0; l < nloops; l++) {
+        if (depth[l] % 2) continue;
+        int outer = make_ring(&c, idx + start[l], start[l + 1] - start[l], true, area[l]);
+        int nh = 0;
+        for (int k = 0; k < nloops; k++) {
+            if (parent[k] != l || depth[k] % 2 == 0) continue;
+            int n = start[k + 1] - start[k];
+            holes[nh].ring = make_ring(&c, idx + start[k], n, false, area[k]);
+            holes[nh].maxx = -INFINITY;
+            for (int i = 0; i < n; i++) holes[nh].maxx = fmax(holes[nh].maxx, xy[2 * idx[start[k] + i]]);
+            nh++;
+        }
+        qsort(holes, (size_t)nh, sizeof *holes, cmp_hole);
+        for (int h = 0; h < nh; h++) bridge(&c, outer, holes[h].ring);
+        clip_ring(&c, outer, st);
+    }
+    free(holes);
+    free(depth);
+    free(parent);
+    free(area);
+    free(c.nodes);
+    *tris = c.tris;
+    *ntris = c.ntris;
+    return true;
+}

@@ -1,0 +1,52 @@
+/* prw_iges — IGES 5.3 reader for trimmed NURBS models.
+ *
+ * Promises:
+ *  - ASCII fixed-80-column files (S, G, D, P, T sections in that order; the Start section may be
+ *    empty; lines end in LF or CRLF, or the file is a bare run of 80-column records).  Every
+ *    record is checked: length 80 (trailing blanks beyond 80 tolerated), section letter in column
+ *    73, sequence number 1, 2, … in columns 74–80, D records in pairs, P back-pointers, and the
+ *    Terminate record's section counts.  Binary and compressed forms are rejected.
+ *  - Parameters use the delimiters from the Global section (Hollerith strings nH…; reals with E
+ *    or D exponents).  Units: Global unit flag 1–11 (flag 3: the unit name) → metres, divided by
+ *    the model space scale (parameter 13: model/real-world ratio).  Transformation matrices (124,
+ *    chained) are applied.  The output is in metres.
+ *  - Converted: 100, 102, 110, 124, 126, 128, 142, 144, 314; 108 (a bilinear patch covering the
+ *    bounding / trim curves, or the display size), 118 (degree (p, 1) ruled NURBS on equal
+ *    relative parameters), 120 (A8.1 revolution, rational quadratic circle of ≤ 4 arcs), 122
+ *    (C(u) + v·d) — exactly, see lod/nurbs_json.md §IGES for the constructions.
+ *  - Drawn: every 144, 128, 108, 118, 120 and 122 whose Directory Entry subordinate switch is
+ *    "independent" or "logically dependent" (physically dependent entities are parts of others);
+ *    a surface referenced by a 144 is never drawn untrimmed.  A 142 without a parameter-space
+ *    curve (or on a 108, which has no IGES parameterisation) is projected into (u, v) by point
+ *    inversion.
+ *  - Everything else (e.g. 143, 186, 502–514, annotation) is skipped: info->warning lists each
+ *    skipped type with its count, in one line; nothing is printed.
+ *  - A malformed record fails the whole read with "<name>:<line>: <reason>", line = 1-based line
+ *    of the offending record in the file.
+ */
+#ifndef PRW_IGES_H
+#define PRW_IGES_H
+
+#include "prw_nurbs_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct prw_iges_info {
+    char warning[1024]; /* "" when nothing was skipped; else "skipped N entities: 143 x2, 186 x1" */
+    int entities;       /* directory entries */
+    int trimmed, untrimmed;
+    int skipped;
+    double metres_per_unit; /* unit factor / model space scale, as applied */
+    double max_projection_distance; /* largest distance of a projected 142 curve point (metres) */
+} prw_iges_info;
+
+bool prw_iges_parse(const char *data, size_t size, const char *name, prw_nurbs_model *out, prw_iges_info *info,
+                    prw_error *e);
+bool prw_iges_load(const char *path, prw_nurbs_model *out, prw_iges_info *info, prw_error *e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

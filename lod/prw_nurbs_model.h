@@ -1,0 +1,65 @@
+/* prw_nurbs_model — a CAD model as a list of trimmed NURBS surfaces (what the IGES and JSON
+ * readers produce, and what the seam graph / LOD stages will consume).
+ *
+ * Promises:
+ *  - Lengths are metres (readers convert units and apply transforms before returning).
+ *  - A trimmed surface is its NURBS surface plus trim loops in its (u, v) domain.  loops[0] is the
+ *    outer loop unless `natural_outer` is set, in which case the outer boundary is the domain
+ *    rectangle and every loop is an inner loop.  Each loop is an ordered list of segments; a
+ *    segment is a 2-D NURBS curve in (u, v) (a polyline is a degree-1 curve) and optionally the
+ *    3-D model-space curve it came from (IGES 142 "C"), kept for the seam graph.
+ *  - Loop orientation is NOT required: the inside test is even-odd (see prw_trim.h).
+ *  - Every curve / surface in a model has passed validation.
+ */
+#ifndef PRW_NURBS_MODEL_H
+#define PRW_NURBS_MODEL_H
+
+#include "prw_nurbs.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct prw_trim_segment {
+    prw_nurbs_curve uv;     /* dim 2, in the surface's (u, v) */
+    prw_nurbs_curve *model; /* optional dim-3 model-space curve (metres), NULL if none */
+} prw_trim_segment;
+
+typedef struct prw_trim_loop {
+    prw_trim_segment *segs;
+    int count;
+} prw_trim_loop;
+
+typedef struct prw_trimmed_surface {
+    prw_nurbs_surface surface;
+    prw_trim_loop *loops;
+    int nloops;
+    bool natural_outer; /* outer boundary = domain rectangle; all loops are holes */
+    bool has_colour;
+    float colour[3]; /* linear 0..1 */
+    int source;      /* IGES DE sequence number / JSON index, for messages and the seam graph */
+} prw_trimmed_surface;
+
+typedef struct prw_nurbs_model {
+    prw_trimmed_surface *surfaces;
+    size_t count, cap;
+} prw_nurbs_model;
+
+void prw_nurbs_model_init(prw_nurbs_model *m);
+void prw_nurbs_model_free(prw_nurbs_model *m);
+/* Appends a zeroed surface and returns it (natural_outer = true, no loops). */
+prw_trimmed_surface *prw_nurbs_model_add(prw_nurbs_model *m);
+/* Removes the last surface (freeing it) — for readers that fail half-way through one. */
+void prw_nurbs_model_pop(prw_nurbs_model *m);
+void prw_trimmed_surface_free(prw_trimmed_surface *t);
+/* Appends an empty loop; returns it. */
+prw_trim_loop *prw_trimmed_surface_add_loop(prw_trimmed_surface *t);
+/* Appends a segment taking ownership of *uv (and of *model when not NULL; it is heap-copied). */
+void prw_trim_loop_add(prw_trim_loop *l, prw_nurbs_curve *uv, prw_nurbs_curve *model);
+/* World-space bounding box of all surfaces (control hulls). false when the model is empty. */
+bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

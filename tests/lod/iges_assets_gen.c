@@ -1,0 +1,37 @@
+/* Writes the hand-made IGES test models into a directory: iges_assets_gen <dir>
+ * (used to produce the assets/nurbs IGES files and the fuzz seed corpus). */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "iges_models.h"
+
+static int save(const char *dir, const char *name, char *data, size_t n)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (!f || fwrite(data, 1, n, f) != n) {
+        fprintf(stderr, "%s: cannot write\n", path);
+        return 1;
+    }
+    fclose(f);
+    free(data);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 2) {
+        fprintf(stderr, "usage: iges_assets_gen <dir>\n");
+        return 2;
+    }
+    size_t n;
+    int err = 0;
+    char *s = iges_model_sphere_rev(&n);
+    err |= save(argv[1], "sphere_rev.igs", s, n);
+    s = iges_model_trimmed_plate(&n);
+    err |= save(argv[1], "trimmed_plate.igs", s, n);
+    s = iges_model_all_entities(&n);
+    err |= save(argv[1], "all_entities.igs", s, n);
+    return err;
+}

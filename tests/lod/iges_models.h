@@ -1,0 +1,24 @@
+/* iges_models — the hand-made IGES test models (also written to assets/nurbs by
+ * iges_assets_gen).  Each returns a NUL-terminated file image (caller frees). */
+#ifndef IGES_MODELS_H
+#define IGES_MODELS_H
+
+#include <stddef.h>
+
+/* 120: a 100 semicircle (radius 1000 mm) revolved about a 110 axis -> sphere of radius 1 m;
+ * colour from a 314 (30 %, 60 %, 90 %). */
+char *iges_model_sphere_rev(size_t *len);
+/* 144 on a 100 x 100 mm 128 plate (physically dependent): outer 142 along the domain boundary
+ * (102 of 110s in (u, v) + 102 of 110s in model space), inner 142 with a (u, v) circle hole at
+ * (30, 50) r 15 mm, inner 142 given only in model space (circle at (70, 50) r 10 mm, projected);
+ * the 144 carries a 124 translating by (10, 0, 0) mm. */
+char *iges_model_trimmed_plate(size_t *len);
+/* Independent 108 (bounded by a circle r 20 at z = 5), 118 (line to semicircle), 122 (quarter
+ * arc extruded 30 along z), 128 (bilinear, with a 124 rotation about z by 90° and shift), an
+ * independent 126 curve, and unsupported 143, 186, 212, 406, 502. */
+char *iges_model_all_entities(size_t *len);
+/* One 128 unit square (0..1 in x, y) written with the given unit flag / name / model scale, and
+ * `subord` for its DE; `used_by_144` adds a 144 (natural outer) that references it. */
+char *iges_model_units(int unit_flag, const char *unit, double scale, int subord, int used_by_144, size_t *len);
+
+#endif
