@@ -21,7 +21,7 @@ typedef struct prw_args {
     int argc;
     char **argv;
     bool *used;
-    const char *positional[8];
+    const char *positional[64];
     int positional_count;
 } prw_args;
 
@@ -45,6 +45,10 @@ int prw_cmd_render(int argc, char **argv);
 int prw_cmd_info(int argc, char **argv);
 int prw_cmd_walk(int argc, char **argv);
 int prw_cmd_compare(int argc, char **argv);
+int prw_cmd_reference(int argc, char **argv);
+int prw_cmd_reference_merge(int argc, char **argv);
+int prw_cmd_bench(int argc, char **argv);
+int prw_cmd_bench_merge(int argc, char **argv);
 
 /* The demo job: a window when a display exists, else a headless render to files. */
 int prw_run_demo(void);

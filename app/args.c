@@ -76,7 +76,7 @@ bool prw_args_finish(prw_args *a, prw_error *e)
         if (a->used[i]) continue;
         if (strncmp(a->argv[i], "--", 2) == 0 || (a->argv[i][0] == '-' && a->argv[i][1] != '\0'))
             return prw_fail(e, "unknown option '%s' (see --help)", a->argv[i]);
-        if (a->positional_count >= 8) return prw_fail(e, "too many arguments");
+        if (a->positional_count >= (int)PRW_ARRAY_LEN(a->positional)) return prw_fail(e, "too many arguments");
         a->positional[a->positional_count++] = a->argv[i];
     }
     return true;

@@ -28,12 +28,19 @@ static void render_usage(void)
            "  --frames N         render N timed frames after one warm-up and report the median (default 1)\n"
            "  --shadow-size N    shadow-map resolution (default 1024)\n"
            "  --ss N             N x N supersampling for stills, box-filtered in linear HDR (default 1)\n"
+           "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
+           "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
+           "  --tonemap OP       exposure, reinhard, neutral, adaptive or absolute (default exposure);\n"
+           "                     absolute prints the fractions below black / above peak / out of gamut\n"
+           "  --tm-overlay       paint those pixels (below black blue, above peak red, out of gamut magenta)\n"
            "  --pass-times       time each pass with GPU timestamps (a separate measurement: each\n"
            "                     timestamp flushes on lavapipe, so frame times then include that cost)\n");
 }
 
 typedef struct render_job {
     const char *scene_path, *out, *png, *camera;
+    const char *display, *tonemap; /* NULL: srgb, exposure */
+    bool tm_overlay;
     uint32_t width, height, msaa, shadow_size, supersample;
     long frames;
     bool has_ev, pass_times;
@@ -83,6 +90,11 @@ static int prw_render_job_run(const render_job *job)
                           .shadow_size = job->shadow_size, .supersample = job->supersample,
                           .timestamps = job->pass_times};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
+    prw_display disp;
+    prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE, .overlay = job->tm_overlay};
+    if (!prw_display_resolve(job->display ? job->display : "srgb", &disp, &e) ||
+        (job->tonemap && !prw_tm_op_parse(job->tonemap, &tms.op, &e)) || !prw_renderer_set_tonemap(r, &disp, &tms, &e))
+        goto done;
     prw_frame_stats st;
     if (!prw_renderer_render(r, &view, 1, &st, &e)) goto done; /* warm-up: pipelines JIT here */
     times = prw_calloc((size_t)job->frames, sizeof(double));
@@ -115,7 +127,14 @@ static int prw_render_job_run(const render_job *job)
     }
     char abs_out[PATH_MAX], abs_png[PATH_MAX];
     printf("wrote %s (linear HDR, cd/m^2)\n", realpath(job->out, abs_out) ? abs_out : job->out);
-    printf("wrote %s (display-encoded, EV100 %.2f)\n", realpath(job->png, abs_png) ? abs_png : job->png, view.ev100);
+    printf("wrote %s (display-encoded for %s, %s %s, tone map %s, EV100 %.2f)\n",
+           realpath(job->png, abs_png) ? abs_png : job->png, disp.name, prw_eotf_name(disp.eotf),
+           prw_primaries_name(disp.primaries), prw_tm_op_name(tms.op), view.ev100);
+    prw_tm_report rep;
+    if (prw_renderer_tonemap_report(r, NULL, &rep) && rep.pixels)
+        printf("display range %.3g..%.4g cd/m^2: %.2f %% below black, %.2f %% above peak, %.2f %% out of gamut\n",
+               prw_display_min(&disp), prw_display_max(&disp), 100.0 * (double)rep.below_black / (double)rep.pixels,
+               100.0 * (double)rep.above_peak / (double)rep.pixels, 100.0 * (double)rep.out_of_gamut / (double)rep.pixels);
     printf("frame time %.2f ms (median of %ld, %ux%u, %ux MSAA, %ux%u supersampling, %llu triangles, device %s)\n",
            median, job->frames, job->width, job->height, job->msaa, job->supersample, job->supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));
@@ -191,6 +210,16 @@ int prw_cmd_render(int argc, char **argv)
     if ((v = prw_args_value(&a, "ss", &e, &bad))) {
         if (!prw_parse_int(v, "--ss", 1, 8, &n, &e)) bad = true;
         job.supersample = (uint32_t)n;
+    }
+    job.display = prw_args_value(&a, "display", &e, &bad);
+    job.tonemap = prw_args_value(&a, "tonemap", &e, &bad);
+    job.tm_overlay = prw_args_flag(&a, "tm-overlay");
+    {
+        prw_display d;
+        prw_tm_op op;
+        if (!bad && ((job.display && !prw_display_resolve(job.display, &d, &e)) ||
+                     (job.tonemap && !prw_tm_op_parse(job.tonemap, &op, &e))))
+            bad = true;
     }
     if (!bad && !prw_args_finish(&a, &e)) bad = true;
     if (!bad && a.positional_count > 1) bad = true, prw_fail(&e, "render takes one SCENE, got %d", a.positional_count);

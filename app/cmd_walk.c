@@ -33,6 +33,8 @@ static void walk_usage(void)
            "  --camera NAME   start camera (default: the first)\n"
            "  --frames N      exit after N frames (0 = run until closed; default 0)\n"
            "  --msaa 1|4      (default 4)\n"
+           "  --display PROFILE  display profile: built-in name or .json file (default srgb)\n"
+           "  --tonemap OP       exposure, reinhard, neutral, adaptive or absolute (default exposure)\n"
            "  controls: WASD move, Q/E down/up, right mouse drag to look, +/- speed, Esc quits\n");
 }
 
@@ -74,6 +76,8 @@ int prw_cmd_walk(int argc, char **argv)
     uint32_t w = 1280, h = 720, msaa = 4;
     long frames = 0, n;
     const char *v, *camera = prw_args_value(&a, "camera", &e, &bad);
+    const char *display_name = prw_args_value(&a, "display", &e, &bad);
+    const char *tonemap_name = prw_args_value(&a, "tonemap", &e, &bad);
     if ((v = prw_args_value(&a, "size", &e, &bad)) && !prw_parse_size(v, &w, &h, &e)) bad = true;
     if ((v = prw_args_value(&a, "frames", &e, &bad)) && !prw_parse_int(v, "--frames", 0, 100000000, &frames, &e))
         bad = true;
@@ -122,6 +126,14 @@ int prw_cmd_walk(int argc, char **argv)
     if (!prw_swapchain_create(gpu, win, true, &sc, &e)) goto done;
     prw_render_desc rd = {.width = w, .height = h, .msaa = msaa};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
+    {
+        prw_display disp;
+        prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE};
+        if (!prw_display_resolve(display_name ? display_name : "srgb", &disp, &e) ||
+            (tonemap_name && !prw_tm_op_parse(tonemap_name, &tms.op, &e)) ||
+            !prw_renderer_set_tonemap(r, &disp, &tms, &e))
+            goto done;
+    }
 
     prw_view view;
     if (!prw_view_from_camera(scene, cam, w, h, &view, &e)) goto done;

@@ -24,6 +24,10 @@ static void usage(FILE *f)
             "  walk [SCENE]     open a window and walk through the scene\n"
             "  info SCENE       print the scene's content and the passes it needs\n"
             "  compare REF TEST error of TEST against reference REF (RMSE, relMSE, PSNR, SSIM, LDR-/HDR-FLIP)\n"
+            "  reference [SCENE] path-traced reference EXR (cd/m^2) + variance EXR, same camera and pixels\n"
+            "  reference-merge A.acc B.acc ... --out ref.exr   merge tiles / sample batches bit-exactly\n"
+            "  bench [SCENE] [PATH.json]   camera-path benchmark: frame/pass times, memory, error vs references\n"
+            "  bench-merge DIR1 DIR2 ... --out DIR   join the outputs of bench --shard runs bit-exactly\n"
             "  SCENE is a manifest (.json) or 'demo' (the default).  'prw COMMAND --help' for options.\n"
             "\n"
             "global options:\n"
@@ -104,6 +108,10 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "walk") == 0) return prw_cmd_walk(sub_argc, sub_argv);
     if (strcmp(cmd, "info") == 0) return prw_cmd_info(sub_argc, sub_argv);
     if (strcmp(cmd, "compare") == 0) return prw_cmd_compare(sub_argc, sub_argv);
+    if (strcmp(cmd, "reference") == 0) return prw_cmd_reference(sub_argc, sub_argv);
+    if (strcmp(cmd, "reference-merge") == 0) return prw_cmd_reference_merge(sub_argc, sub_argv);
+    if (strcmp(cmd, "bench") == 0) return prw_cmd_bench(sub_argc, sub_argv);
+    if (strcmp(cmd, "bench-merge") == 0) return prw_cmd_bench_merge(sub_argc, sub_argv);
     if (strcmp(cmd, "help") == 0) {
         usage(stdout);
         return 0;

@@ -10,6 +10,9 @@
  *    mixture's solid-angle density, equal to prw_bsdf_pdf(wo, wi).  Returns false (no sample) when the
  *    drawn direction is below the horizon or wo is.
  *  - Each sampler also stands alone (cosine, GGX VNDF) with its pdf, for the chi-square tests.
+ *  - prw_bsdf_pdf() is 0 when wo or wi is below the horizon; over the upper hemisphere it integrates
+ *    to the fraction of prw_bsdf_sample() draws that succeed.  The multiple-scattering lobe is
+ *    sampled through the cosine lobe; lobe probabilities depend on wo only.
  *  - Deterministic: no internal state; u in [0,1)^3 comes from the caller.
  */
 #ifndef PRW_BSDF_H
@@ -40,8 +43,9 @@ void prw_sample_ggx_vndf(const double wo[3], double alpha, const double u[2], do
 /* Density of wi = reflect(wo, wm) with wm drawn by prw_sample_ggx_vndf. */
 double prw_pdf_ggx_reflect(const double wo[3], const double wi[3], double alpha);
 
-/* An orthonormal basis (t, b, n) around unit n, continuous except at n = (0, 0, -1)
- * (Duff et al. 2017). */
+/* A right-handed orthonormal basis (t, b, n) around unit n (Duff et al. 2017): orthonormal to
+ * rounding for every n; continuous except across the plane n.z = 0, where the sign branch that
+ * removes the singularity at n = (0, 0, -1) flips. */
 void prw_frame_from_normal(const double n[3], double t[3], double b[3]);
 
 #ifdef __cplusplus

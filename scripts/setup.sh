@@ -11,6 +11,7 @@ PKGS=(
   clang libclang-rt-14-dev
   libglu1-mesa-dev
   python3-skimage
+  gnuplot-nox
 )
 missing=()
 for p in "${PKGS[@]}"; do

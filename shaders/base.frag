@@ -82,13 +82,18 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q[4])
     return 0.5 * abs(sum);
 }
 
-vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
+// The shared material model (prw_brdf.h) per RGB channel, from cosines.
+vec3 brdf_cos(float NoV, float NoL, float NoH, float VoH, vec3 base, float metallic, float roughness, float specular)
 {
-    vec3 h = normalize(v + l);
-    float NoV = dot(n, v), NoL = dot(n, l), NoH = dot(n, h), VoH = dot(v, h);
     return vec3(prw_brdf_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness, specular),
                 prw_brdf_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness, specular),
                 prw_brdf_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness, specular));
+}
+
+vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
+{
+    vec3 h = normalize(v + l);
+    return brdf_cos(dot(n, v), dot(n, l), dot(n, h), dot(v, h), base, metallic, roughness, specular);
 }
 
 void main()
@@ -144,15 +149,9 @@ void main()
             vec3 lp = c + du * su + dv * sv;
             vec3 l = normalize(lp - v_pos);
             vec3 h = normalize(v + l);
+            // The full model (diffuse + specular) evaluated at the representative direction.
             float NoV = max(dot(n, v), 1e-4), NoL = max(dot(n, l), 1e-4);
-            float alpha = prw_alpha_from_roughness(roughness);
-            float spec_common = prw_D_ggx(clamp(dot(n, h), 0.0, 1.0), alpha) * prw_V_smith_ggx(NoV, NoL, alpha);
-            float VoH = clamp(dot(v, h), 0.0, 1.0);
-            vec3 f;
-            for (int k = 0; k < 3; k++) {
-                float f0 = prw_f0(base[k], metallic, specular);
-                f[k] = (1.0 - metallic) * prw_lambert(base[k]) + spec_common * prw_F_schlick(f0, VoH);
-            }
+            vec3 f = brdf_cos(NoV, NoL, dot(n, h), dot(v, h), base, metallic, roughness, specular);
             radiance += f * rgb * E * shadow_factor(L, v_pos, n);
             continue;
         }

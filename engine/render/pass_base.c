@@ -74,6 +74,74 @@ static void node_pc(prw_dmat4 world, prw_dvec3 origin, draw_pc *pc)
     pc->normal_m[3] = det < 0 ? -1.0f : 1.0f; /* mirrored nodes flip the bitangent */
 }
 
+/* The scene's draws and the rect lights' emitting quads for view vi (also replayed by pass_extra_work). */
+void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
+{
+    prw_renderer *r = ctx->r;
+    const prw_scene *s = r->scene;
+    prw_view_targets *t = &r->views[vi];
+    VkDeviceSize zero = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &r->vertices.buffer, &zero);
+    vkCmdBindIndexBuffer(cmd, r->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    VkPipeline bound = VK_NULL_HANDLE;
+    for (uint32_t ni = 0; ni < s->node_count; ni++) {
+        uint32_t first, count;
+        prw_render_node_draws(r, ni, &first, &count);
+        if (!count) continue;
+        draw_pc pc;
+        node_pc(s->nodes[ni].world, ctx->origin, &pc);
+        for (uint32_t k = first; k < first + count; k++) {
+            const prw_draw_mesh *dm = &r->meshes[k];
+            int mi = dm->material >= 0 && (uint32_t)dm->material < s->material_count ? dm->material : 0;
+            bool two = s->material_count && s->materials[mi].double_sided;
+            VkPipeline p = r->base_pipes[two][pc.normal_m[3] < 0.0f];
+            if (p != bound) {
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1,
+                                        &t->globals_set, 0, NULL);
+                bound = p;
+            }
+            vkCmdPushConstants(cmd, r->base_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 1, 1,
+                                    &r->material_sets[mi], 0, NULL);
+            vkCmdDrawIndexed(cmd, dm->index_count, 1, dm->first_index, dm->vertex_offset, 0);
+            ctx->triangles += dm->index_count / 3;
+            ctx->draws++;
+        }
+    }
+    /* rect lights: their emitting surface, one-sided towards the light's -Z */
+    for (uint32_t li = 0; li < s->light_count; li++) {
+        const prw_light *l = &s->lights[li];
+        if (l->type != PRW_LIGHT_RECT) continue;
+        prw_dmat4 w = s->nodes[l->node].world;
+        prw_dvec3 ax = prw_v3_norm(prw_v3(w.m[0], w.m[1], w.m[2])), ay = prw_v3_norm(prw_v3(w.m[4], w.m[5], w.m[6]));
+        prw_dvec3 az = prw_v3_norm(prw_v3(w.m[8], w.m[9], w.m[10]));
+        prw_dmat4 m = prw_dm4_identity();
+        for (int k = 0; k < 3; k++) {
+            m.m[k] = (&ax.x)[k] * 0.5 * l->width;
+            m.m[4 + k] = (&ay.x)[k] * 0.5 * l->height;
+            m.m[8 + k] = (&az.x)[k];
+            m.m[12 + k] = w.m[12 + k];
+        }
+        draw_pc pc;
+        node_pc(m, ctx->origin, &pc);
+        VkPipeline p = r->base_pipes[0][pc.normal_m[3] < 0.0f];
+        if (p != bound) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1, &t->globals_set, 0,
+                                    NULL);
+            bound = p;
+        }
+        vkCmdPushConstants(cmd, r->base_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 1, 1,
+                                &r->material_sets[r->scene_material_slots + li], 0, NULL);
+        vkCmdDrawIndexed(cmd, r->light_quad.index_count, 1, r->light_quad.first_index, r->light_quad.vertex_offset,
+                         0);
+        ctx->triangles += 2;
+        ctx->draws++;
+    }
+}
+
 static bool base_needed(const prw_frame_ctx *ctx)
 {
     return ctx->view_count > 0; /* produces the HDR image even for an empty scene (cleared) */
@@ -83,8 +151,6 @@ static bool base_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
 {
     (void)e;
     prw_renderer *r = ctx->r;
-    const prw_scene *s = r->scene;
-    VkDeviceSize zero = 0;
     for (uint32_t vi = 0; vi < ctx->view_count; vi++) {
         prw_view_targets *t = &r->views[vi];
         prw_gpu_globals g;
@@ -127,65 +193,7 @@ static bool base_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
         };
         vkCmdBeginRendering(cmd, &ri);
         prw_cmd_viewport(cmd, w, h);
-        vkCmdBindVertexBuffers(cmd, 0, 1, &r->vertices.buffer, &zero);
-        vkCmdBindIndexBuffer(cmd, r->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-        VkPipeline bound = VK_NULL_HANDLE;
-        for (uint32_t ni = 0; ni < s->node_count; ni++) {
-            uint32_t first, count;
-            prw_render_node_draws(r, ni, &first, &count);
-            if (!count) continue;
-            draw_pc pc;
-            node_pc(s->nodes[ni].world, ctx->origin, &pc);
-            for (uint32_t k = first; k < first + count; k++) {
-                const prw_draw_mesh *dm = &r->meshes[k];
-                int mi = dm->material >= 0 && (uint32_t)dm->material < s->material_count ? dm->material : 0;
-                bool two = s->material_count && s->materials[mi].double_sided;
-                VkPipeline p = r->base_pipes[two][pc.normal_m[3] < 0.0f];
-                if (p != bound) {
-                    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
-                    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1,
-                                            &t->globals_set, 0, NULL);
-                    bound = p;
-                }
-                vkCmdPushConstants(cmd, r->base_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 1, 1,
-                                        &r->material_sets[mi], 0, NULL);
-                vkCmdDrawIndexed(cmd, dm->index_count, 1, dm->first_index, dm->vertex_offset, 0);
-                ctx->triangles += dm->index_count / 3;
-                ctx->draws++;
-            }
-        }
-        /* rect lights: their emitting surface, one-sided towards the light's -Z */
-        for (uint32_t li = 0; li < s->light_count; li++) {
-            const prw_light *l = &s->lights[li];
-            if (l->type != PRW_LIGHT_RECT) continue;
-            prw_dmat4 w = s->nodes[l->node].world;
-            prw_dvec3 ax = prw_v3_norm(prw_v3(w.m[0], w.m[1], w.m[2])), ay = prw_v3_norm(prw_v3(w.m[4], w.m[5], w.m[6]));
-            prw_dvec3 az = prw_v3_norm(prw_v3(w.m[8], w.m[9], w.m[10]));
-            prw_dmat4 m = prw_dm4_identity();
-            for (int k = 0; k < 3; k++) {
-                m.m[k] = (&ax.x)[k] * 0.5 * l->width;
-                m.m[4 + k] = (&ay.x)[k] * 0.5 * l->height;
-                m.m[8 + k] = (&az.x)[k];
-                m.m[12 + k] = w.m[12 + k];
-            }
-            draw_pc pc;
-            node_pc(m, ctx->origin, &pc);
-            VkPipeline p = r->base_pipes[0][pc.normal_m[3] < 0.0f];
-            if (p != bound) {
-                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
-                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1, &t->globals_set, 0,
-                                        NULL);
-                bound = p;
-            }
-            vkCmdPushConstants(cmd, r->base_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 1, 1,
-                                    &r->material_sets[r->scene_material_slots + li], 0, NULL);
-            vkCmdDrawIndexed(cmd, r->light_quad.index_count, 1, r->light_quad.first_index, r->light_quad.vertex_offset,
-                             0);
-            ctx->triangles += 2;
-            ctx->draws++;
-        }
+        prw_base_record_draws(ctx, vi, cmd);
         vkCmdEndRendering(cmd);
     }
     return true;

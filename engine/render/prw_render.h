@@ -2,11 +2,14 @@
  *
  * Promises:
  *  - Output per view: linear HDR radiance in cd/m^2 (RGBA16F, 4x MSAA resolved in linear HDR by
- *    averaging samples) and a display-encoded 8-bit image from the provisional tone map
- *    (exposure from EV100, clamp, sRGB OETF).
+ *    averaging samples) and the display signal from display-aware tone mapping (prw_tonemap.h) as
+ *    float (prw_renderer_read_signal) and 8-bit; by default the "srgb" display with the exposure
+ *    operator, identical to the former provisional tone map (exposure from EV100, clamp, sRGB OETF).
  *  - Passes: "shadow" (once per frame for all views: one depth layer per spot/rect/directional light,
  *    six per point light), "base" (per view: emission + shadowed direct light), "downsample" (only
- *    with N x N supersampling: box filter to the output size), "tonemap" (per view).
+ *    with N x N supersampling: box filter to the output size), "tm_stats" (once for all views: frame
+ *    log-average and largest luminance; only when the operator or pixel classification needs it),
+ *    "tonemap" (per view).
  *    A pass whose needed() is false records nothing.
  *  - Rect lights are drawn as one-sided emissive quads (their visible surface); a scene should not
  *    add a separate emissive mesh for them (the reference counts emissive meshes as emitters too).
@@ -21,6 +24,7 @@
 #include "prw_gpu.h"
 #include "prw_image.h"
 #include "prw_scene.h"
+#include "prw_tonemap.h"
 #include "prw_view.h"
 
 #ifdef __cplusplus
@@ -38,6 +42,8 @@ typedef struct prw_render_desc {
     uint32_t max_views;      /* 0 -> 1 */
     bool timestamps;         /* per-pass GPU times (each timestamp flushes on lavapipe) */
     uint32_t supersample;    /* N x N supersampling for stills (box filter in linear HDR); 0 -> 1 */
+    float extra_gpu_work;    /* test knob (pass_extra_work.c): re-draws the base pass over this fraction of
+                                the image into a scratch target; the image is unchanged; 0 = off */
 } prw_render_desc;
 
 typedef struct prw_frame_stats {
@@ -67,6 +73,23 @@ bool prw_renderer_read_hdr(prw_renderer *r, uint32_t v, prw_image *out, prw_erro
 bool prw_renderer_read_ldr(prw_renderer *r, uint32_t v, uint8_t *rgba, prw_error *e);
 /* The display-encoded image of view v (RGBA8 UNORM holding sRGB-encoded values), for presenting. */
 prw_gpu_image *prw_renderer_ldr_image(prw_renderer *r, uint32_t v);
+
+/* Display-aware tone mapping (prw_tonemap.h; issue 6), used from the next frame on.  Default: the
+ * built-in "srgb" display with the exposure operator, i.e. the provisional tone map (exposure from
+ * EV100, clamp, sRGB).  d or s may be NULL to keep the current one. */
+bool prw_renderer_set_tonemap(prw_renderer *r, const prw_display *d, const prw_tonemap_settings *s, prw_error *e);
+void prw_renderer_get_tonemap(const prw_renderer *r, prw_display *d, prw_tonemap_settings *s);
+/* Reads back view v's display signal V before quantisation (RGBA float, A = 1). */
+bool prw_renderer_read_signal(prw_renderer *r, uint32_t v, prw_image *out, prw_error *e);
+/* The last frame's tone-mapping statistics (all views) and pixel classification; returns false
+ * (report zeroed) when the frame did not classify (exposure/neutral/reinhard/adaptive without
+ * settings.report or overlay).  Call after the frame completed. */
+bool prw_renderer_tonemap_report(prw_renderer *r, prw_tm_stats *stats, prw_tm_report *rep);
+/* Tone-maps an arbitrary linear HDR image (cd/m^2, Rec.709) on the GPU with the current settings
+ * and exposure ev100: signal V (RGBA float), statistics and report (may be NULL).  For tests and
+ * files; the image may not have more 16x16 tiles than max_views * the renderer's size. */
+bool prw_renderer_tonemap_image(prw_renderer *r, const prw_image *hdr, double ev100, prw_image *signal,
+                                prw_tm_stats *stats, prw_tm_report *rep, prw_error *e);
 
 /* Names of the passes this scene needs for `count` views, for `prw info` (writes a comma list). */
 void prw_renderer_describe_passes(const prw_scene *scene, uint32_t count, char *buf, size_t cap);

@@ -14,6 +14,7 @@ enum {
     PRW_RES_HDR = 1u << 2,    /* per-view resolved HDR radiance */
     PRW_RES_LDR = 1u << 3,    /* per-view display-encoded image */
     PRW_RES_HDR_SS = 1u << 4, /* per-view supersampled HDR (N*W x N*H) */
+    PRW_RES_TM_STATS = 1u << 5, /* tone-mapping frame statistics (pass_tonemap.c) */
 };
 
 /* std140 mirror of shaders/common.glsl */
@@ -57,6 +58,7 @@ typedef struct prw_shadow_view {
 typedef struct prw_view_targets {
     prw_gpu_image msaa_color, depth, hdr, ldr;
     prw_gpu_image hdr_ss; /* supersampling only: the base pass renders here */
+    prw_gpu_image extra_color; /* desc.extra_gpu_work > 0 only: pass_extra_work's scratch colour target */
     prw_buffer globals;   /* UPLOAD */
     VkDescriptorSet globals_set, tonemap_set, downsample_set;
 } prw_view_targets;
@@ -111,13 +113,25 @@ struct prw_renderer {
 
     prw_pass_graph graph;
     prw_frame_stats last;
+
+    struct prw_tm_gpu *tm; /* display-aware tone mapping state (pass_tonemap.c) */
 };
 
 /* The pass table (pass_shadow.c, pass_base.c, pass_tonemap.c). */
 extern const prw_pass prw_pass_shadow;
 extern const prw_pass prw_pass_base;
 extern const prw_pass prw_pass_tonemap;
+extern const prw_pass prw_pass_tm_stats; /* tone-mapping statistics, once for all views */
+/* Tone-mapping pipelines, per-view signal images and descriptor sets (pass_tonemap.c); after the
+ * view targets exist.  destroy is safe on a partly created state. */
+bool prw_tm_gpu_create(prw_renderer *r, prw_error *e);
+void prw_tm_gpu_destroy(prw_renderer *r);
 extern const prw_pass prw_pass_downsample;
+extern const prw_pass prw_pass_extra_work; /* in the graph only when desc.extra_gpu_work > 0 */
+
+/* The base pass's draws for view vi inside an open rendering scope (pass_base.c; the caller binds
+ * nothing and sets viewport/scissor).  Counts triangles and draws into ctx. */
+void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd);
 
 /* Helpers shared by passes (renderer.c). */
 prw_mat4 prw_render_rel_model(prw_dmat4 world, prw_dvec3 origin);

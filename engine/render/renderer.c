@@ -105,8 +105,7 @@ static bool create_pipelines(prw_renderer *r, prw_error *e)
         .depth_bias = true,
     };
     if (!prw_pipeline_graphics(r->gpu, &shadow, &r->shadow_pipe, e)) return false;
-    return prw_pipeline_compute(r->gpu, prw_shader_tonemap_comp(), r->tonemap_layout_pl, &r->tonemap_pipe, e) &&
-           prw_pipeline_compute(r->gpu, prw_shader_downsample_comp(), r->storage2_layout_pl, &r->downsample_pipe, e);
+    return prw_pipeline_compute(r->gpu, prw_shader_downsample_comp(), r->storage2_layout_pl, &r->downsample_pipe, e);
 }
 
 static bool create_shadow_map(prw_renderer *r, prw_error *e)
@@ -155,6 +154,9 @@ static bool create_view_targets(prw_renderer *r, uint32_t vi, prw_error *e)
         !prw_image_create(r->gpu, &depth, &t->depth, e) || !prw_image_create(r->gpu, &hdr, &t->hdr, e) ||
         !prw_image_create(r->gpu, &ldr, &t->ldr, e) || (ss > 1 && !prw_image_create(r->gpu, &hdr_ss, &t->hdr_ss, e)))
         return false;
+    prw_image_desc extra = color;
+    extra.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    if (r->desc.extra_gpu_work > 0 && !prw_image_create(r->gpu, &extra, &t->extra_color, e)) return false;
     if (!prw_buffer_create(r->gpu, sizeof(prw_gpu_globals), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
                            &t->globals, e) ||
         !prw_desc_alloc(r->gpu, r->pool, r->globals_layout, &t->globals_set, e) ||
@@ -182,7 +184,9 @@ static bool build_graph(prw_renderer *r, prw_error *e)
 {
     prw_pass_graph_init(&r->graph, PRW_RES_SCENE);
     return prw_pass_graph_add(&r->graph, &prw_pass_shadow, e) && prw_pass_graph_add(&r->graph, &prw_pass_base, e) &&
-           prw_pass_graph_add(&r->graph, &prw_pass_downsample, e) && prw_pass_graph_add(&r->graph, &prw_pass_tonemap, e);
+           prw_pass_graph_add(&r->graph, &prw_pass_downsample, e) && prw_pass_graph_add(&r->graph, &prw_pass_tm_stats, e) &&
+           prw_pass_graph_add(&r->graph, &prw_pass_tonemap, e) &&
+           (r->desc.extra_gpu_work <= 0 || prw_pass_graph_add(&r->graph, &prw_pass_extra_work, e));
 }
 
 bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_desc *desc, prw_renderer **out,
@@ -215,6 +219,7 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
          prw_render_upload_geometry(r, e) && prw_render_upload_textures(r, e) && prw_render_upload_materials(r, e) &&
          create_shadow_map(r, e) && build_graph(r, e);
     for (uint32_t v = 0; ok && v < r->desc.max_views; v++) ok = create_view_targets(r, v, e);
+    ok = ok && prw_tm_gpu_create(r, e);
     if (ok && r->desc.timestamps) ok = prw_timer_create(gpu, 64, &r->timer, e);
     if (!ok) {
         prw_renderer_destroy(r);
@@ -231,6 +236,7 @@ void prw_renderer_destroy(prw_renderer *r)
     prw_error ignored;
     prw_gpu_wait_idle(gpu, &ignored);
     VkDevice dev = prw_gpu_device(gpu);
+    prw_tm_gpu_destroy(r);
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) {
         prw_view_targets *t = &r->views[v];
         prw_image_destroy(gpu, &t->msaa_color);
@@ -238,6 +244,7 @@ void prw_renderer_destroy(prw_renderer *r)
         prw_image_destroy(gpu, &t->hdr);
         prw_image_destroy(gpu, &t->hdr_ss);
         prw_image_destroy(gpu, &t->ldr);
+        prw_image_destroy(gpu, &t->extra_color);
         prw_buffer_destroy(gpu, &t->globals);
     }
     prw_image_destroy(gpu, &r->shadow_map);

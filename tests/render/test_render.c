@@ -153,10 +153,11 @@ static void test_far_from_origin(void)
     prw_scene_destroy(b);
 }
 
-/* Closed form: a rough dielectric plane (rho, roughness 1) under a point light of I cd at height d,
- * seen straight down at the foot point: L = f * I / d^2 cd/m^2 with, at normal incidence,
- * f = rho/pi + D*V*F, D = 1/(pi alpha^2) = 1/pi, V = 1/(4 alpha) = 1/4, F = f0 = 0.04 (written out
- * here by hand, not through the material header).  No shadows, nothing else in the scene. */
+/* Closed form: a Lambertian plane (rho, specular 0: no specular layer, so the material model's
+ * diffuse-specular coupling vanishes and f = rho/pi exactly; roughness 1) under a point light of
+ * I cd at height d, seen straight down at the foot point: L = f * I / d^2 cd/m^2 (written out here
+ * by hand, not through the material header; the specular lobes are pinned by tests/materials).
+ * No shadows, nothing else in the scene. */
 static void test_point_light_closed_form(void)
 {
     if (!gpu_up()) return prw_test_failures++, (void)0;
@@ -165,6 +166,7 @@ static void test_point_light_closed_form(void)
     prw_material m = prw_material_default();
     m.base_color[0] = m.base_color[1] = m.base_color[2] = 0.5f;
     m.roughness = 1.0f;
+    m.specular = 0.0f;
     int mi = prw_scene_add_material(s, &m);
     /* plane y = 0, front face up: cross(u, v) = +Y */
     CHECK(prw_scene_add_quad(s, "plane", prw_v3(0, 0, 0), prw_v3(0, 0, 10), prw_v3(10, 0, 0), mi, &e) >= 0);
@@ -193,17 +195,18 @@ static void test_point_light_closed_form(void)
         double sum = 0;
         for (int y = 31; y <= 32; y++)
             for (int x = 31; x <= 32; x++) sum += hdr.rgba[4 * (y * 64 + x) + 1];
-        double f = 0.5 / PRW_PI + (1.0 / PRW_PI) * 0.25 * 0.04;
+        double f = 0.5 / PRW_PI;
         double got = sum / 4, expect = f * 100.0 / 4.0;
         printf("point light over Lambert plane: %.5f cd/m^2, closed form %.5f\n", got, expect);
         /* the pixels sit ~0.003 rad off the foot point: cos^3 falloff < 1e-4; RGBA16F: 1e-3 */
         CHECK_NEAR(got, expect, 0.003 * expect);
         /* shadow pass skipped (no shadow-casting light) and listed as such */
         for (uint32_t i = 0; i < st.pass_count; i++) {
-            bool expect_skip = strcmp(st.passes[i].name, "shadow") == 0 || strcmp(st.passes[i].name, "downsample") == 0;
+            bool expect_skip = strcmp(st.passes[i].name, "shadow") == 0 || strcmp(st.passes[i].name, "downsample") == 0 ||
+                               strcmp(st.passes[i].name, "tm_stats") == 0;
             CHECK_MSG(st.passes[i].skipped == expect_skip, "pass %s skipped=%d", st.passes[i].name, st.passes[i].skipped);
         }
-        CHECK(st.pass_count == 4);
+        CHECK(st.pass_count == 5);
     }
     prw_image_free(&hdr);
     /* The plane mirrored by its node (scale x = -1, winding flipped) must look the same: front faces
@@ -216,7 +219,7 @@ static void test_point_light_closed_form(void)
         double sum = 0;
         for (int y = 31; y <= 32; y++)
             for (int x = 31; x <= 32; x++) sum += hdr.rgba[4 * (y * 64 + x) + 1];
-        double f = 0.5 / PRW_PI + (1.0 / PRW_PI) * 0.25 * 0.04;
+        double f = 0.5 / PRW_PI;
         printf("mirrored plane: %.5f cd/m^2\n", sum / 4);
         CHECK_NEAR(sum / 4, f * 100.0 / 4.0, 0.003 * f * 100.0 / 4.0);
     }

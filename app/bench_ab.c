@@ -1,0 +1,98 @@
+/* bench_ab — A/B mode (DESIGN.md §5 "Timing"): configurations A and B on two renderers in one process,
+ * interleaved frame by frame, timestamps off.  Pair i renders path frame (i mod frames) with both, in
+ * the order A,B on even pairs and B,A on odd ones (so neither always runs second); at least 30 pairs,
+ * or one pass over the path when it is longer.  Each renderer first renders --warmup untimed frames.
+ * The figure is median(B) / median(A) of the frame times (wall time of prw_renderer_render), with a
+ * 95 % interval from a paired bootstrap (resampling pairs; 4000 resamples, seed 1).  Writes ab.csv
+ * (pair, frame, a_ms, b_ms) and ab.json in --out; no references are rendered in this mode.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_internal.h"
+
+#define AB_MIN_PAIRS 30
+#define AB_RESAMPLES 4000
+#define AB_SEED 1
+
+static bool timed_frame(prw_renderer *r, const prw_view *v, double *ms, prw_error *e)
+{
+    double t0 = prw_now();
+    if (!prw_renderer_render(r, v, 1, NULL, e)) return false;
+    *ms = (prw_now() - t0) * 1000.0;
+    return true;
+}
+
+static bool write_ab(const bench_ctx *c, const uint32_t *frames, const double *ta, const double *tb, uint32_t n,
+                     const char *a_knobs, const char *b_knobs, const prw_stats_ratio *ratio, prw_error *e)
+{
+    char path[4200], json[4200];
+    bench_join(path, sizeof path, c->o.out_dir, "ab.csv");
+    bench_join(json, sizeof json, c->o.out_dir, "ab.json");
+    FILE *f = fopen(path, "w");
+    if (!f) return prw_fail(e, "%s: cannot write", path);
+    for (int i = 0; i < c->res.meta.count; i++) fprintf(f, "# %s: %s\n", c->res.meta.key[i], c->res.meta.value[i]);
+    fprintf(f, "# A: %s\n# B: %s\npair,frame,a_ms,b_ms\n", a_knobs, b_knobs);
+    for (uint32_t i = 0; i < n; i++) fprintf(f, "%u,%u,%.17g,%.17g\n", i, frames[i], ta[i], tb[i]);
+    bool ok = fclose(f) == 0;
+    f = fopen(json, "w");
+    if (!f) return prw_fail(e, "%s: cannot write", json);
+    fprintf(f,
+            "{\"prw_bench_ab\": 1, \"a\": \"%s\", \"b\": \"%s\", \"pairs\": %u, \"ratio_b_over_a\": %.17g, "
+            "\"ci95\": [%.17g, %.17g], \"median_a_ms\": %.17g, \"median_b_ms\": %.17g, \"resamples\": %d, "
+            "\"seed\": %d, \"bootstrap\": \"paired, percentile interval\"}\n",
+            a_knobs, b_knobs, n, ratio->ratio, ratio->lo, ratio->hi, prw_stats_median(ta, n), prw_stats_median(tb, n),
+            ratio->resamples, AB_SEED);
+    ok = fclose(f) == 0 && ok;
+    if (!ok) return prw_fail(e, "%s: write failed", path);
+    printf("wrote %s, %s\n", path, json);
+    return true;
+}
+
+bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_quality *b, const char *b_text,
+                  prw_error *e)
+{
+    char ka[1024], kb[1024];
+    prw_quality_format(a, ka, sizeof ka);
+    prw_quality_format(b, kb, sizeof kb);
+    bench_machine_meta(&c->res.meta, gpu);
+    prw_render_desc da = prw_quality_render_desc(a, c->o.width, c->o.height);
+    prw_render_desc db = prw_quality_render_desc(b, c->o.width, c->o.height);
+    prw_renderer *ra = NULL, *rb = NULL;
+    uint32_t n = c->nframes > AB_MIN_PAIRS ? c->nframes : AB_MIN_PAIRS;
+    double *ta = prw_calloc(n, sizeof *ta), *tb = prw_calloc(n, sizeof *tb);
+    uint32_t *fr = prw_calloc(n, sizeof *fr);
+    bool ok = prw_renderer_create(gpu, c->scene, &da, &ra, e) && prw_renderer_create(gpu, c->scene, &db, &rb, e);
+    prw_view v;
+    if (ok) ok = bench_frame_view(c, c->frames[0], &v, e);
+    for (long w = 0; ok && w < c->o.warmup; w++) ok = prw_renderer_render(ra, &v, 1, NULL, e) && prw_renderer_render(rb, &v, 1, NULL, e);
+    fprintf(stderr, "bench A/B: A = %s\n           B = %s (%s)\n", ka, kb, b_text);
+    for (uint32_t i = 0; ok && i < n; i++) {
+        fr[i] = c->frames[i % c->nframes];
+        ok = bench_frame_view(c, fr[i], &v, e);
+        if (ok && i % 2 == 0) ok = timed_frame(ra, &v, &ta[i], e) && timed_frame(rb, &v, &tb[i], e);
+        else if (ok) ok = timed_frame(rb, &v, &tb[i], e) && timed_frame(ra, &v, &ta[i], e);
+        fprintf(stderr, "\rframes: %u/%u pairs   ", i + 1, n);
+        fflush(stderr);
+    }
+    fprintf(stderr, "\n");
+    prw_renderer_destroy(ra);
+    prw_renderer_destroy(rb);
+    prw_stats_ratio ratio;
+    if (ok && !prw_stats_bootstrap_median_ratio(ta, n, tb, n, true, AB_RESAMPLES, AB_SEED, &ratio))
+        ok = prw_fail(e, "bench A/B: no ratio (zero frame times)");
+    if (ok && prw_gpu_validation_count(gpu) != 0)
+        ok = prw_fail(e, "%u Vulkan validation messages (see above)", prw_gpu_validation_count(gpu));
+    if (ok) ok = write_ab(c, fr, ta, tb, n, ka, kb, &ratio, e);
+    if (ok)
+        printf("A/B: B/A = %.3f, 95 %% interval [%.3f, %.3f] (median frame time A %.2f ms, B %.2f ms; %u interleaved "
+               "frames each at %ux%u; paired bootstrap, %d resamples, seed %d; B = %s)\n",
+               ratio.ratio, ratio.lo, ratio.hi, prw_stats_median(ta, n), prw_stats_median(tb, n), n, c->o.width,
+               c->o.height, AB_RESAMPLES, AB_SEED, b_text);
+    free(ta);
+    free(tb);
+    free(fr);
+    return ok;
+}

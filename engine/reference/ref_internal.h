@@ -1,0 +1,108 @@
+/* Private to engine/reference: the prepared scene (Embree + emitter tables + environment) and the
+ * per-sample integrator. */
+#ifndef PRW_REF_INTERNAL_H
+#define PRW_REF_INTERNAL_H
+
+#include <embree3/rtcore.h>
+
+#include "prw_reference.h"
+
+/* One mesh drawn by one node: world-space, camera-relative float vertices given to Embree. */
+typedef struct ref_inst {
+    const prw_mesh *mesh;
+    const prw_material *mat;
+    float *pos;          /* 3 per vertex (+1 float padding for Embree's 16-byte loads) */
+    double nmat[9];      /* normal matrix (inverse transpose of the world 3x3), row-major */
+    double lmat[9];      /* world 3x3, row-major (tangents) */
+    bool flip;           /* negative determinant: winding (front face) flips */
+    double emit_pdf_area;/* > 0: emissive; density per m^2 of the emissive-triangle sampler */
+} ref_inst;
+
+typedef struct ref_rect {
+    double c[3];          /* centre, camera-relative */
+    double ax[3], ay[3];  /* half-axes (unit node x/y columns times w/2, h/2) */
+    double dx[3], dy[3];  /* dual vectors: dot(p - c, dx) in [-1, 1] inside */
+    double np[3];         /* unit plane normal */
+    double emit[3];       /* unit: the side it emits to (node -Z) */
+    double area;
+    double L[3];          /* cd/m^2 */
+} ref_rect;
+
+typedef struct ref_delta {
+    prw_light_type type;
+    double p[3];     /* camera-relative position (point, spot) */
+    double dir[3];   /* unit: spot axis / directional light travel direction (node -Z) */
+    double I[3];     /* cd (point, spot) or lux (directional), times colour */
+    double range, cos_inner, cos_outer;
+} ref_delta;
+
+typedef struct ref_env {
+    int kind;             /* 0 none, 1 uniform, 2 map */
+    double uniform[3];
+    int w, h;
+    float *rgb;           /* 3 per pixel, scaled to cd/m^2, negatives and non-finite clamped to 0 */
+    double cr, sr;        /* cos, sin of the rotation */
+    double *marg;         /* h + 1: CDF over rows */
+    double *cond;         /* h * (w + 1): CDF within each row */
+    double *pdf_uv;       /* w * h: density over [0,1]^2 */
+} ref_env;
+
+struct prw_ref_renderer {
+    const prw_scene *scene;
+    prw_dvec3 origin;
+    int threads;
+    RTCDevice dev;
+    RTCScene rtc;
+    ref_inst *inst;
+    uint32_t inst_count;
+    /* emissive triangles: CDF over area * luminance */
+    uint32_t etri_count;
+    uint32_t *etri_inst, *etri_prim;
+    double *etri_cdf; /* etri_count + 1 */
+    ref_rect *rects;
+    uint32_t rect_count;
+    ref_delta *deltas;
+    uint32_t delta_count;
+    ref_env env;
+    float srgb_lut[256];
+};
+
+/* Per-thread state: the random-number key and counters. */
+typedef struct ref_rng {
+    uint64_t key;  /* hash of (seed, pixel, sample) */
+    uint32_t dim;
+} ref_rng;
+
+static inline uint64_t ref_splitmix(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+static inline ref_rng ref_rng_make(uint64_t seed, uint64_t pixel, uint64_t sample)
+{
+    ref_rng r;
+    r.key = ref_splitmix(ref_splitmix(ref_splitmix(seed) ^ pixel) ^ (sample * 0xd1342543de82ef95ull));
+    r.dim = 0;
+    return r;
+}
+
+/* Uniform in [0, 1): a pure function of (key, dimension). */
+static inline double ref_rand(ref_rng *r)
+{
+    uint64_t h = ref_splitmix(r->key ^ ref_splitmix(0x5851f42d4c957f2dull + r->dim++));
+    return (double)(h >> 11) * 0x1.0p-53;
+}
+
+/* One sample's radiance through image point (x, y) (pixels); rays counts traced rays. */
+void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filter f, double x, double y,
+                      ref_rng *rng, double out[3], uint64_t *rays);
+
+/* Environment radiance towards world direction d (unit) and its sampling density (solid angle). */
+void ref_env_eval(const ref_env *env, const double d[3], double L[3], double *pdf);
+/* Samples a direction; returns false when there is nothing to sample. */
+bool ref_env_sample(const ref_env *env, double u1, double u2, double d[3], double L[3], double *pdf);
+
+#endif

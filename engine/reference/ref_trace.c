@@ -1,0 +1,607 @@
+/* ref_trace.c — one path sample: unidirectional path tracing with next-event estimation, MIS
+ * (power heuristic) for every emitter that can also be hit, Russian roulette, light-path filters.
+ * Conventions are listed in prw_reference.h.
+ *
+ * Random dimensions are laid out per scattering vertex (not consumed in sequence), so skipping work
+ * a filter does not need never shifts the numbers later decisions use:
+ *   camera: 0, 1;  vertex k >= 1: base = 2 + (k - 1) * S, S = 9 + 2 * rects, with offsets
+ *   0..2 BSDF sample, 3 Russian roulette, 4..6 emissive triangle, 7..8 environment, 9 + 2i rect i. */
+#include <math.h>
+#include <string.h>
+
+#include "prw_brdf.h"
+#include "prw_bsdf.h"
+#include "ref_internal.h"
+
+#define RR_START 3
+#define RR_MAX_SURVIVAL 0.95
+#define SAFETY_DEPTH 65536
+
+typedef struct surf {
+    double p[3];      /* hit point, camera-relative */
+    double ng[3];     /* geometric normal, on the side of the incoming ray (after two-sided flip) */
+    double ns[3];     /* shading normal */
+    double eps;       /* ray offset for this point */
+    bool front;
+    const ref_inst *in;
+    uint32_t prim;
+    double uv[2];
+    double bary[3];   /* weights of the triangle's vertices 0, 1, 2 */
+    double t;
+} surf;
+
+static inline double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static inline void norm3(double a[3])
+{
+    double l = sqrt(dot3(a, a));
+    if (l > 0) a[0] /= l, a[1] /= l, a[2] /= l;
+}
+static inline void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline double maxabs3(const double a[3]) { return fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2]))); }
+
+static inline double power_heuristic(double a, double b)
+{
+    double a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0 ? a2 / (a2 + b2) : 0;
+}
+
+/* ---- filters ---- */
+
+static bool accept(prw_ref_filter f, int k)
+{
+    switch (f.kind) {
+    case PRW_REF_EMISSION: return k == 0;
+    case PRW_REF_DIRECT: return k <= 1;
+    case PRW_REF_INDIRECT: return k >= 2;
+    case PRW_REF_DEPTH: return k == f.depth;
+    case PRW_REF_MAX_DEPTH: return k <= f.depth;
+    case PRW_REF_DIFFUSE_LAST:
+    case PRW_REF_GLOSSY_LAST: return k >= 1;
+    default: return true;
+    }
+}
+
+static int max_depth(prw_ref_filter f)
+{
+    switch (f.kind) {
+    case PRW_REF_EMISSION: return 0;
+    case PRW_REF_DIRECT: return 1;
+    case PRW_REF_DEPTH:
+    case PRW_REF_MAX_DEPTH: return f.depth;
+    default: return SAFETY_DEPTH;
+    }
+}
+
+/* ---- textures ---- */
+
+/* Bilinear, repeat wrap; sRGB channels (rgb) decoded before filtering.  uv (0,0) = top-left. */
+static void tex_sample(const prw_ref_renderer *r, const prw_texture *t, const double uv[2], double out[4])
+{
+    double x = uv[0] * t->width - 0.5, y = uv[1] * t->height - 0.5;
+    if (!isfinite(x) || !isfinite(y)) x = y = 0;
+    double fx0 = floor(x), fy0 = floor(y);
+    double fx = x - fx0, fy = y - fy0;
+    long ix = (long)fmod(fx0, (double)t->width), iy = (long)fmod(fy0, (double)t->height);
+    if (ix < 0) ix += t->width;
+    if (iy < 0) iy += t->height;
+    long ix1 = (ix + 1) % t->width, iy1 = (iy + 1) % t->height;
+    const long xs[2] = {ix, ix1}, ys[2] = {iy, iy1};
+    const double wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy};
+    out[0] = out[1] = out[2] = out[3] = 0;
+    for (int b = 0; b < 2; b++)
+        for (int a = 0; a < 2; a++) {
+            const uint8_t *px = t->rgba8 + 4 * ((size_t)ys[b] * t->width + xs[a]);
+            double w = wx[a] * wy[b];
+            for (int c = 0; c < 4; c++) {
+                double v = (t->srgb && c < 3) ? r->srgb_lut[px[c]] : px[c] / 255.0;
+                out[c] += w * v;
+            }
+        }
+}
+
+static const prw_texture *tex_of(const prw_ref_renderer *r, int idx)
+{
+    return idx >= 0 && (uint32_t)idx < r->scene->texture_count && r->scene->textures[idx].rgba8 ? &r->scene->textures[idx]
+                                                                                               : NULL;
+}
+
+/* ---- ray queries ---- */
+
+static bool isect(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, struct RTCRayHit *rh)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    memset(rh, 0, sizeof *rh);
+    rh->ray.org_x = (float)o[0];
+    rh->ray.org_y = (float)o[1];
+    rh->ray.org_z = (float)o[2];
+    rh->ray.dir_x = (float)d[0];
+    rh->ray.dir_y = (float)d[1];
+    rh->ray.dir_z = (float)d[2];
+    rh->ray.tnear = (float)tnear;
+    rh->ray.tfar = INFINITY;
+    rh->ray.mask = 0xffffffffu;
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(r->rtc, &ctx, rh);
+    return rh->hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
+/* Closest front-facing rect light along the ray with t in (tmin, tmax); -1 if none. */
+static int rect_hit(const prw_ref_renderer *r, const double o[3], const double d[3], double tmin, double tmax,
+                    double *t_out, int skip)
+{
+    int best = -1;
+    for (uint32_t i = 0; i < r->rect_count; i++) {
+        if ((int)i == skip) continue;
+        const ref_rect *q = &r->rects[i];
+        double de = dot3(d, q->emit);
+        if (!(de < 0)) continue; /* back face or parallel: invisible */
+        double cmo[3] = {q->c[0] - o[0], q->c[1] - o[1], q->c[2] - o[2]};
+        double t = dot3(cmo, q->np) / dot3(d, q->np);
+        if (!(t > tmin && t < tmax)) continue;
+        double rel[3] = {o[0] + t * d[0] - q->c[0], o[1] + t * d[1] - q->c[1], o[2] + t * d[2] - q->c[2]};
+        double a = dot3(rel, q->dx), b = dot3(rel, q->dy);
+        if (fabs(a) > 1 || fabs(b) > 1) continue;
+        tmax = t;
+        best = (int)i;
+    }
+    *t_out = tmax;
+    return best;
+}
+
+/* True when the segment from o along d (unit) up to tmax is blocked by a surface or a rect light
+ * (other than rect `skip`). */
+static bool occluded(const prw_ref_renderer *r, const double o[3], const double d[3], double tmax, int skip,
+                     uint64_t *rays)
+{
+    (*rays)++;
+    double tr;
+    if (rect_hit(r, o, d, 0, tmax, &tr, skip) >= 0) return true;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay ray;
+    memset(&ray, 0, sizeof ray);
+    ray.org_x = (float)o[0];
+    ray.org_y = (float)o[1];
+    ray.org_z = (float)o[2];
+    ray.dir_x = (float)d[0];
+    ray.dir_y = (float)d[1];
+    ray.dir_z = (float)d[2];
+    ray.tnear = 0.0f;
+    ray.tfar = isfinite(tmax) ? (float)tmax : INFINITY;
+    ray.mask = 0xffffffffu;
+    rtcOccluded1(r->rtc, &ctx, &ray);
+    return ray.tfar < 0;
+}
+
+static void tri_verts(const ref_inst *in, uint32_t prim, double v[3][3])
+{
+    const uint32_t *ix = in->mesh->indices + 3 * prim;
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 3; c++) v[k][c] = in->pos[3 * ix[k] + c];
+}
+
+static double offset_eps(const double p[3], double tri_max) { return 2e-6 * (1.0 + fmax(maxabs3(p), tri_max)); }
+
+/* Geometric normal (front side, winding flipped for mirrored instances), unit; returns tri max |coord|. */
+static double tri_normal(const ref_inst *in, const double v[3][3], double ng[3])
+{
+    double a[3], b[3];
+    for (int c = 0; c < 3; c++) a[c] = v[1][c] - v[0][c], b[c] = v[2][c] - v[0][c];
+    cross3(a, b, ng);
+    norm3(ng);
+    if (in->flip) ng[0] = -ng[0], ng[1] = -ng[1], ng[2] = -ng[2];
+    return fmax(maxabs3(v[0]), fmax(maxabs3(v[1]), maxabs3(v[2])));
+}
+
+static void fill_surf(const prw_ref_renderer *r, const struct RTCRayHit *rh, const double d[3], surf *s)
+{
+    const ref_inst *in = &r->inst[rh->hit.geomID];
+    s->in = in;
+    s->prim = rh->hit.primID;
+    double v[3][3];
+    tri_verts(in, s->prim, v);
+    double bu = rh->hit.u, bv = rh->hit.v, bw = 1 - bu - bv;
+    for (int c = 0; c < 3; c++) s->p[c] = bw * v[0][c] + bu * v[1][c] + bv * v[2][c];
+    double tm = tri_normal(in, v, s->ng);
+    s->eps = offset_eps(s->p, tm);
+    s->front = dot3(s->ng, d) < 0;
+    const prw_mesh *m = in->mesh;
+    const uint32_t *ix = m->indices + 3 * s->prim;
+    double w3[3] = {bw, bu, bv};
+    memcpy(s->bary, w3, sizeof w3);
+    double no[3] = {0, 0, 0};
+    s->uv[0] = s->uv[1] = 0;
+    for (int k = 0; k < 3; k++) {
+        for (int c = 0; c < 3; c++) no[c] += w3[k] * m->normals[3 * ix[k] + c];
+        s->uv[0] += w3[k] * m->uvs[2 * ix[k]];
+        s->uv[1] += w3[k] * m->uvs[2 * ix[k] + 1];
+    }
+    for (int row = 0; row < 3; row++)
+        s->ns[row] = in->nmat[row * 3] * no[0] + in->nmat[row * 3 + 1] * no[1] + in->nmat[row * 3 + 2] * no[2];
+    norm3(s->ns);
+    if (!(dot3(s->ns, s->ns) > 0.5)) memcpy(s->ns, s->ng, sizeof s->ns);
+    s->t = rh->ray.tfar;
+}
+
+/* Emitted radiance of the surface (material emission x emissive texture). */
+static bool surf_emission(const prw_ref_renderer *r, const surf *s, double Le[3])
+{
+    const prw_material *mt = s->in->mat;
+    if (!(mt->emission[0] > 0 || mt->emission[1] > 0 || mt->emission[2] > 0)) return false;
+    for (int c = 0; c < 3; c++) Le[c] = mt->emission[c];
+    const prw_texture *t = tex_of(r, mt->emissive_tex);
+    if (t) {
+        double tx[4];
+        tex_sample(r, t, s->uv, tx);
+        for (int c = 0; c < 3; c++) Le[c] *= tx[c];
+    }
+    return Le[0] > 0 || Le[1] > 0 || Le[2] > 0;
+}
+
+/* ---- shading ---- */
+
+typedef struct shade {
+    prw_bsdf b;
+    double t[3], bt[3], n[3]; /* local frame, n = shading normal */
+    double wo[3];             /* local */
+} shade;
+
+static void to_local(const shade *sh, const double w[3], double l[3])
+{
+    l[0] = dot3(w, sh->t);
+    l[1] = dot3(w, sh->bt);
+    l[2] = dot3(w, sh->n);
+}
+
+static void to_world(const shade *sh, const double l[3], double w[3])
+{
+    for (int c = 0; c < 3; c++) w[c] = sh->t[c] * l[0] + sh->bt[c] * l[1] + sh->n[c] * l[2];
+}
+
+static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], shade *sh)
+{
+    const prw_material *mt = s->in->mat;
+    double base[4] = {mt->base_color[0], mt->base_color[1], mt->base_color[2], mt->base_color[3]};
+    const prw_texture *tb = tex_of(r, mt->base_color_tex);
+    if (tb) {
+        double tx[4];
+        tex_sample(r, tb, s->uv, tx);
+        for (int c = 0; c < 4; c++) base[c] *= tx[c];
+    }
+    double metallic = mt->metallic, rough = mt->roughness;
+    const prw_texture *tm = tex_of(r, mt->metal_rough_tex);
+    if (tm) {
+        double tx[4];
+        tex_sample(r, tm, s->uv, tx);
+        rough *= tx[1];
+        metallic *= tx[2];
+    }
+    for (int c = 0; c < 3; c++) sh->b.base[c] = base[c];
+    sh->b.metallic = metallic;
+    sh->b.roughness = rough;
+    sh->b.specular = mt->specular;
+
+    double n[3];
+    memcpy(n, s->ns, sizeof n);
+    if (!s->front) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2]; /* double-sided back face (base.frag) */
+    const prw_texture *tn = tex_of(r, mt->normal_tex);
+    if (tn) {
+        const prw_mesh *m = s->in->mesh;
+        const uint32_t *ix = m->indices + 3 * s->prim;
+        double tg[3] = {0, 0, 0}, sign = 0;
+        const double *area = s->bary;
+        for (int k = 0; k < 3; k++) {
+            const float *tt = m->tangents + 4 * ix[k];
+            for (int c = 0; c < 3; c++) tg[c] += area[k] * tt[c];
+            sign += area[k] * tt[3];
+        }
+        double tw[3];
+        for (int row = 0; row < 3; row++)
+            tw[row] = s->in->lmat[row * 3] * tg[0] + s->in->lmat[row * 3 + 1] * tg[1] + s->in->lmat[row * 3 + 2] * tg[2];
+        double dn = dot3(tw, n);
+        for (int c = 0; c < 3; c++) tw[c] -= n[c] * dn;
+        double tl = sqrt(dot3(tw, tw));
+        if (tl > 1e-8) {
+            for (int c = 0; c < 3; c++) tw[c] /= tl;
+            double bw[3];
+            cross3(n, tw, bw);
+            if (sign < 0) bw[0] = -bw[0], bw[1] = -bw[1], bw[2] = -bw[2];
+            double tx[4];
+            tex_sample(r, tn, s->uv, tx);
+            double x = (tx[0] * 2 - 1) * mt->normal_scale, y = (tx[1] * 2 - 1) * mt->normal_scale, z = tx[2] * 2 - 1;
+            for (int c = 0; c < 3; c++) n[c] = tw[c] * x + bw[c] * y + n[c] * z;
+            norm3(n);
+        }
+    }
+    /* bend a shading normal facing away from the viewer back (base.frag) */
+    double wo[3] = {-d[0], -d[1], -d[2]};
+    double nv = dot3(n, wo);
+    if (nv < 1e-4) {
+        for (int c = 0; c < 3; c++) n[c] += wo[c] * (1e-4 - nv);
+        norm3(n);
+    }
+    memcpy(sh->n, n, sizeof n);
+    prw_frame_from_normal(sh->n, sh->t, sh->bt);
+    to_local(sh, wo, sh->wo);
+}
+
+/* Class weight per channel for the diffuse-last / glossy-last filters: the diffuse lobe's share
+ * (prw_brdf_diffuse_channel of the shared model) of the BSDF value fv for direction wl (local). */
+static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
+{
+    for (int c = 0; c < 3; c++) {
+        double kd = prw_brdf_diffuse_channel((float)sh->wo[2], (float)wl[2], (float)sh->b.base[c],
+                                             (float)sh->b.metallic, (float)sh->b.roughness, (float)sh->b.specular);
+        double x = fv[c] > 0 ? kd / fv[c] : 0;
+        x = fmin(fmax(x, 0.0), 1.0);
+        cw[c] = f.kind == PRW_REF_DIFFUSE_LAST ? x : f.kind == PRW_REF_GLOSSY_LAST ? 1 - x : 1;
+    }
+}
+
+typedef struct path {
+    const prw_ref_renderer *r;
+    prw_ref_filter f;
+    ref_rng *rng;
+    uint64_t *rays;
+    double beta[3]; /* throughput (filter-independent) */
+    double cls[3];  /* filter class weights fixed at the eye vertex */
+    double L[3];
+    int k;          /* scattering vertices so far */
+} path;
+
+static void add(path *pa, const double w3[3], const double Le[3], double w)
+{
+    for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * w3[c] * Le[c] * w;
+}
+
+/* One next-event connection from s in world direction wi (unit): Li is radiance (pdf_l > 0) or the
+ * delta light's irradiance-like factor (pdf_l == 0).  target: the light point (NULL: infinitely far
+ * along wi); the shadow ray runs from the offset origin to target, stopping target_eps short. */
+static void connect(path *pa, const surf *s, const shade *sh, const double wi[3], const double *target,
+                    double target_eps, int skip_rect, const double Li[3], double pdf_l)
+{
+    if (!(dot3(s->ng, wi) > 0)) return; /* below the geometric surface */
+    double wl[3];
+    to_local(sh, wi, wl);
+    if (!(wl[2] > 0)) return;
+    double fv[3];
+    prw_bsdf_eval(&sh->b, sh->wo, wl, fv);
+    if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) return;
+    double o[3], sd[3], tmax = INFINITY;
+    for (int c = 0; c < 3; c++) o[c] = s->p[c] + s->ng[c] * s->eps;
+    memcpy(sd, wi, sizeof sd);
+    if (target) {
+        for (int c = 0; c < 3; c++) sd[c] = target[c] - o[c];
+        double dist = sqrt(dot3(sd, sd));
+        if (!(dist > 0)) return;
+        for (int c = 0; c < 3; c++) sd[c] /= dist;
+        tmax = dist * (1 - 1e-7) - target_eps;
+        if (!(tmax > 0)) return;
+    }
+    if (occluded(pa->r, o, sd, tmax, skip_rect, pa->rays)) return;
+    double w = 1;
+    if (pdf_l > 0) w = power_heuristic(pdf_l, prw_bsdf_pdf(&sh->b, sh->wo, wl)) / pdf_l;
+    double cw[3] = {1, 1, 1};
+    if (pa->k == 1) class_weight(pa->f, sh, wl, fv, cw);
+    for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * wl[2] * Li[c] * w;
+}
+
+static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
+{
+    const prw_ref_renderer *r = pa->r;
+    /* delta lights */
+    for (uint32_t i = 0; i < r->delta_count; i++) {
+        const ref_delta *dl = &r->deltas[i];
+        double wi[3], Li[3];
+        if (dl->type == PRW_LIGHT_DIRECTIONAL) {
+            for (int c = 0; c < 3; c++) wi[c] = -dl->dir[c], Li[c] = dl->I[c];
+        } else {
+            double dv[3] = {dl->p[0] - s->p[0], dl->p[1] - s->p[1], dl->p[2] - s->p[2]};
+            double d2 = fmax(dot3(dv, dv), 1e-8), dist = sqrt(d2);
+            for (int c = 0; c < 3; c++) wi[c] = dv[c] / dist;
+            double E = 1.0 / d2;
+            if (dl->range > 0) {
+                double q = d2 / (dl->range * dl->range);
+                E *= fmin(fmax(1 - q * q, 0.0), 1.0);
+            }
+            if (dl->type == PRW_LIGHT_SPOT) {
+                double cd = -dot3(wi, dl->dir);
+                double sp = fmin(fmax((cd - dl->cos_outer) / fmax(dl->cos_inner - dl->cos_outer, 1e-4), 0.0), 1.0);
+                E *= sp * sp;
+            }
+            if (!(E > 0)) continue;
+            for (int c = 0; c < 3; c++) Li[c] = dl->I[c] * E;
+        }
+        connect(pa, s, sh, wi, dl->type == PRW_LIGHT_DIRECTIONAL ? NULL : dl->p, 0, -1, Li, 0);
+    }
+    /* rect lights: uniform area sampling */
+    for (uint32_t i = 0; i < r->rect_count; i++) {
+        const ref_rect *q = &r->rects[i];
+        pa->rng->dim = base + 9 + 2 * i;
+        double a = 2 * ref_rand(pa->rng) - 1, b = 2 * ref_rand(pa->rng) - 1;
+        double lp[3], dv[3];
+        for (int c = 0; c < 3; c++) {
+            lp[c] = q->c[c] + a * q->ax[c] + b * q->ay[c];
+            dv[c] = lp[c] - s->p[c];
+        }
+        double d2 = dot3(dv, dv), dist = sqrt(d2);
+        if (!(dist > 0)) continue;
+        double wi[3] = {dv[0] / dist, dv[1] / dist, dv[2] / dist};
+        double cl = -dot3(wi, q->emit);
+        if (!(cl > 0)) continue;
+        double pdf = d2 / (cl * q->area);
+        connect(pa, s, sh, wi, lp, 0, (int)i, q->L, pdf);
+    }
+    /* emissive triangles: one sample */
+    if (r->etri_count) {
+        pa->rng->dim = base + 4;
+        double u0 = ref_rand(pa->rng), u1 = ref_rand(pa->rng), u2 = ref_rand(pa->rng);
+        double x = u0 * r->etri_cdf[r->etri_count];
+        uint32_t lo = 0, hi = r->etri_count - 1;
+        while (lo < hi) {
+            uint32_t mid = (lo + hi + 1) / 2;
+            if (r->etri_cdf[mid] <= x) lo = mid;
+            else hi = mid - 1;
+        }
+        while (lo > 0 && r->etri_cdf[lo + 1] == r->etri_cdf[lo]) lo--;
+        const ref_inst *in = &r->inst[r->etri_inst[lo]];
+        uint32_t prim = r->etri_prim[lo];
+        double v[3][3], ng[3];
+        tri_verts(in, prim, v);
+        double tm = tri_normal(in, v, ng);
+        double su = sqrt(u1), b0 = 1 - su, b1 = u2 * su, b2 = 1 - b0 - b1;
+        double lp[3], dv[3];
+        for (int c = 0; c < 3; c++) {
+            lp[c] = b0 * v[0][c] + b1 * v[1][c] + b2 * v[2][c];
+            dv[c] = lp[c] - s->p[c];
+        }
+        double d2 = dot3(dv, dv), dist = sqrt(d2);
+        if (dist > 0) {
+            double wi[3] = {dv[0] / dist, dv[1] / dist, dv[2] / dist};
+            double cl = -dot3(wi, ng);
+            if (in->mat->double_sided) cl = fabs(cl);
+            if (cl > 0) {
+                /* emission at the sampled point (texture via its uv) */
+                surf ls;
+                memset(&ls, 0, sizeof ls);
+                ls.in = in;
+                ls.prim = prim;
+                const uint32_t *ix = in->mesh->indices + 3 * prim;
+                double w3[3] = {b0, b1, b2};
+                for (int k = 0; k < 3; k++) {
+                    ls.uv[0] += w3[k] * in->mesh->uvs[2 * ix[k]];
+                    ls.uv[1] += w3[k] * in->mesh->uvs[2 * ix[k] + 1];
+                }
+                double Le[3];
+                if (surf_emission(r, &ls, Le)) {
+                    double pdf = in->emit_pdf_area * d2 / cl;
+                    connect(pa, s, sh, wi, lp, 2 * offset_eps(lp, tm), -1, Le, pdf);
+                }
+            }
+        }
+    }
+    /* environment: one sample */
+    if (r->env.kind) {
+        pa->rng->dim = base + 7;
+        double u0 = ref_rand(pa->rng), u1 = ref_rand(pa->rng);
+        double wi[3], Le[3], pdf;
+        if (ref_env_sample(&r->env, u0, u1, wi, Le, &pdf)) connect(pa, s, sh, wi, NULL, 0, -1, Le, pdf);
+    }
+}
+
+void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filter f, double x, double y,
+                      ref_rng *rng, double out[3], uint64_t *rays)
+{
+    path pa;
+    memset(&pa, 0, sizeof pa);
+    pa.r = r;
+    pa.f = f;
+    pa.rng = rng;
+    pa.rays = rays;
+    for (int c = 0; c < 3; c++) pa.beta[c] = pa.cls[c] = 1;
+    const int kmax = max_depth(f);
+    const uint32_t S = 9 + 2 * r->rect_count;
+
+    prw_dvec3 dd = prw_view_ray_dir(v, x, y);
+    double o[3] = {v->eye.x - r->origin.x, v->eye.y - r->origin.y, v->eye.z - r->origin.z};
+    double d[3] = {dd.x, dd.y, dd.z};
+    const double *m = v->view.m;
+    double fwd[3] = {-m[2], -m[6], -m[10]};
+    double tnear = v->znear > 0 ? v->znear / fmax(dot3(d, fwd), 1e-6) : 0;
+    double pdf_prev = 0; /* solid-angle density of the BSDF sample that made the current ray */
+
+    for (;;) {
+        struct RTCRayHit rh;
+        surf s;
+        bool hit = false;
+        /* camera rays pass through back faces of single-sided materials (the rasterizer culls them) */
+        for (int guard = 0; guard < 256; guard++) {
+            (*rays)++;
+            hit = isect(r, o, d, tnear, &rh);
+            if (!hit) break;
+            fill_surf(r, &rh, d, &s);
+            if (pa.k > 0 || s.front || s.in->mat->double_sided) break;
+            tnear = s.t + s.eps;
+            hit = false;
+            if (guard == 255) break;
+        }
+        double t_surf = hit ? s.t : INFINITY;
+        double t_rect;
+        int ri = rect_hit(r, o, d, tnear, t_surf, &t_rect, -1);
+        if (ri >= 0) {
+            if (accept(f, pa.k)) {
+                const ref_rect *q = &r->rects[ri];
+                double w = 1;
+                if (pa.k > 0) {
+                    double cl = -dot3(d, q->emit);
+                    double pdf_l = t_rect * t_rect / (cl * q->area);
+                    w = power_heuristic(pdf_prev, pdf_l);
+                }
+                add(&pa, pa.cls, q->L, w);
+            }
+            break;
+        }
+        if (!hit) {
+            if (r->env.kind && accept(f, pa.k)) {
+                double Le[3], pdf_l;
+                ref_env_eval(&r->env, d, Le, &pdf_l);
+                double w = pa.k > 0 ? power_heuristic(pdf_prev, pdf_l) : 1;
+                add(&pa, pa.cls, Le, w);
+            }
+            break;
+        }
+        if (!s.front && !s.in->mat->double_sided) break; /* opaque black back face */
+        double Le[3];
+        if (accept(f, pa.k) && surf_emission(r, &s, Le)) {
+            double w = 1;
+            if (pa.k > 0) {
+                double cl = fabs(dot3(d, s.ng));
+                double pdf_l = cl > 0 ? s.in->emit_pdf_area * s.t * s.t / cl : 0;
+                w = power_heuristic(pdf_prev, pdf_l);
+            }
+            add(&pa, pa.cls, Le, w);
+        }
+        pa.k++;
+        if (pa.k > kmax) break;
+        if (!s.front)
+            for (int c = 0; c < 3; c++) s.ng[c] = -s.ng[c];
+        shade sh;
+        setup_shade(r, &s, d, &sh);
+        uint32_t base = 2 + (uint32_t)(pa.k - 1) * S;
+        /* next-event paths from this vertex have pa.k scattering vertices */
+        if (accept(f, pa.k)) next_event(&pa, &s, &sh, base);
+        /* BSDF sample (its emitter hits also have pa.k scattering vertices) */
+        rng->dim = base;
+        double u[3] = {ref_rand(rng), ref_rand(rng), ref_rand(rng)};
+        double wl[3], pdf;
+        if (!prw_bsdf_sample(&sh.b, sh.wo, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
+        double wi[3];
+        to_world(&sh, wl, wi);
+        norm3(wi);
+        if (!(dot3(s.ng, wi) > 0)) break;
+        double fv[3];
+        prw_bsdf_eval(&sh.b, sh.wo, wl, fv);
+        if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) break;
+        if (pa.k == 1) class_weight(f, &sh, wl, fv, pa.cls);
+        for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] * wl[2] / pdf;
+        pdf_prev = pdf;
+        if (pa.k >= RR_START) {
+            rng->dim = base + 3;
+            double q = fmin(RR_MAX_SURVIVAL, fmax(pa.beta[0], fmax(pa.beta[1], pa.beta[2])));
+            if (!(ref_rand(rng) < q)) break;
+            for (int c = 0; c < 3; c++) pa.beta[c] /= q;
+        }
+        if (pa.k >= SAFETY_DEPTH) break;
+        for (int c = 0; c < 3; c++) o[c] = s.p[c] + s.ng[c] * s.eps;
+        memcpy(d, wi, sizeof d);
+        tnear = 0;
+    }
+    for (int c = 0; c < 3; c++) out[c] = pa.L[c];
+}

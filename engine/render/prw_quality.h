@@ -1,0 +1,92 @@
+/* prw_quality — the ONE quality-knob struct of DESIGN.md §5, its named presets, and the parsers of
+ * `--preset NAME`, `--vs CONFIG` and `--sweep SPEC`.
+ *
+ * Promises:
+ *  - Every knob has a name (the spelling on the command line), a range, and a flag saying whether
+ *    the renderer uses it yet.  Knobs marked "no effect yet" are carried through configs, sweeps and
+ *    output files unchanged, so later issues only have to switch them on.
+ *  - Presets low / medium / high / ultra are points in this space (prw_quality_preset()); the
+ *    default (prw_quality_default()) is "high".
+ *  - A config string is an optional preset name followed by knob assignments, separated by ';' or
+ *    ',': "ultra", "msaa=1", "low;shadow_size=2048", "msaa=1,shadow_size=512".
+ *  - A sweep spec is knob ranges separated by ';', values by ',': "msaa=1,4;shadow_size=512,1024,2048";
+ *    it expands to the Cartesian product, the first knob varying slowest, applied to a base config.
+ *  - Errors are one line in prw_error naming the offending text and the accepted values.
+ *  - prw_quality_render_desc() is the only place knobs turn into renderer settings.
+ */
+#ifndef PRW_QUALITY_H
+#define PRW_QUALITY_H
+
+#include "prw_core.h"
+#include "prw_render.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct prw_quality {
+    /* used by the renderer */
+    uint32_t msaa;             /* 1 or 4 samples per pixel, resolved in linear HDR */
+    uint32_t shadow_size;      /* shadow-map resolution, texels a side */
+    uint32_t supersample;      /* N x N supersampling (box filter in linear HDR) */
+    /* no effect yet (the features arrive with later issues) */
+    double lod_pixel_tolerance; /* LOD: screen-space geometric error, pixels */
+    uint32_t btf_clusters;      /* BTF: clusters */
+    uint32_t btf_components;    /* BTF: components per cluster */
+    uint32_t ssdo_samples;      /* SSDO: samples per pixel */
+    double ssdo_radius;         /* SSDO: radius, metres */
+    uint32_t vpl_count;         /* VPLs for indirect light */
+    uint32_t ism_size;          /* imperfect shadow map size, texels a side */
+    uint32_t kernel_taps;       /* filter kernel taps (glare / blur) */
+    uint32_t envmap_size;       /* environment map size, texels (height) */
+    double billboard_error;     /* billboard clouds: error, pixels */
+    uint32_t radiosity_size;    /* radiosity texture size, texels a side */
+    /* hidden test knob: extra GPU work as a fraction of the frame (A/B calibration); 0 = off */
+    double extra_gpu_work;
+} prw_quality;
+
+typedef enum prw_knob_type { PRW_KNOB_U32 = 0, PRW_KNOB_F64 } prw_knob_type;
+
+typedef struct prw_knob_info {
+    const char *name;
+    prw_knob_type type;
+    size_t offset;       /* into prw_quality */
+    double min, max;
+    bool implemented;    /* false: "no effect yet" */
+    bool hidden;         /* test knobs: accepted, not listed in help */
+    const char *help;
+} prw_knob_info;
+
+/* The knob table, in struct order. */
+const prw_knob_info *prw_quality_knobs(uint32_t *count);
+const prw_knob_info *prw_quality_find_knob(const char *name);
+double prw_quality_get(const prw_quality *q, const prw_knob_info *k);
+/* Sets a knob after checking its range (and msaa in {1, 4}); value names the text for messages. */
+bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_error *e);
+
+prw_quality prw_quality_default(void); /* = preset "high" */
+/* "low" | "medium" | "high" | "ultra"; false with a one-line error otherwise. */
+bool prw_quality_preset(const char *name, prw_quality *out, prw_error *e);
+/* Parses a config string (see above) on top of base. */
+bool prw_quality_parse_config(const char *text, const prw_quality *base, prw_quality *out, prw_error *e);
+
+/* Expands a sweep spec over base; *out (free()) receives *count configs (at most 4096). */
+bool prw_quality_parse_sweep(const char *spec, const prw_quality *base, prw_quality **out, uint32_t *count,
+                             prw_error *e);
+
+/* "msaa=4;shadow_size=1024;...": every knob in table order (hidden ones only when non-zero), values
+ * printed so that prw_quality_parse_config() gives back the same struct. */
+void prw_quality_format(const prw_quality *q, char *buf, size_t cap);
+/* Only the knobs that differ from `base` ("" when none). */
+void prw_quality_format_diff(const prw_quality *q, const prw_quality *base, char *buf, size_t cap);
+
+/* Renderer settings for these knobs at width x height (timestamps off, one view). */
+prw_render_desc prw_quality_render_desc(const prw_quality *q, uint32_t width, uint32_t height);
+
+/* Help text: one line per visible knob with its range and "no effect yet" where true. */
+void prw_quality_describe(char *buf, size_t cap);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

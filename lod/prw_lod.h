@@ -1,0 +1,125 @@
+/* prw_lod — per-patch LOD hierarchies on the seam graph (Meseth ch. 6.2), crack-free at any mix of
+ * per-patch levels, and their extraction.
+ *
+ * Levels: level 0 is the finest tessellation (prw_tess_fixed with the sewing points as the fixed
+ * boundary, chord = the seam graph's chord, then edge flips that remove 3-D slivers and move toward
+ * the 3-D Delaunay criterion); level k >= 1 targets tau_k = tau0 · 2^k (tau0 = the
+ * sewing chord tolerance).
+ *
+ * Segment ladders (prw_lod_ladder.c): per segment, nested subsets of its sewing points — level k
+ * drops points greedily (smallest error first) while the polyline stays within ½·tau_k of the
+ * exact curve (sampled: every finer sewing point and PRW_SEAM_DENSE exact points per edge), never
+ * below the segment's min_interior.  keep[i] = the coarsest level still holding point i; a
+ * coarser polyline is a subset of every finer one.
+ *
+ * Patch hierarchy (prw_lod_build.c): greedy half-edge collapses v → w ordered by the thesis cost
+ * (max distance of v to the new edges (w, v_i) + the error stored at v), each checked, then
+ * accepted if every new triangle's error bound is <= tau_k.  Dependency / validity rules:
+ *  - nodes (segment ends) never move; an interior sewing point only collapses into its active
+ *    neighbour along its own boundary ring (so along its own segment), and only at a level where
+ *    the segment's ladder has dropped it;
+ *  - link condition on the welded mesh (sewing points with equal global id — the two ends of a
+ *    collapsed edge — count as one vertex);
+ *  - every new triangle keeps positive (u, v) orientation (exact predicate), a 3-D normal within
+ *    90° of the exact surface normal at its (u, v) centroid and non-zero 3-D area (triangles joining
+ *    two copies of one node are degenerate by construction and dropped at output);
+ *  - a triangle with boundary edges must admit the centroid fan used at display time (below) with
+ *    ALL finest sewing points between its boundary vertices: the fan is star-shaped from the (u, v)
+ *    centroid, which implies (exactly) that every subset is too.
+ * Error bound of a triangle (measured directly against the exact surface, so nothing accumulates):
+ * max of (a) |L_T(u,v) − S(u,v)| over 28 barycentric samples (L_T = linear interpolation of the
+ * vertex positions; this bounds both one-sided distances over the triangle's (u, v) region), (b)
+ * the same for the finest centroid fan, (c) the distance of the exact boundary-curve samples
+ * between its boundary vertices to the chord; times 1.1, plus 1e-9 x the model diagonal (sampling
+ * and inversion noise).  Triangles joining two copies of one node carry no error (not drawn).  A
+ * level's bound is the max over its triangles.
+ *
+ * Display rule (prw_lod_emit): a segment is drawn at the FINER of its two patches' levels
+ * (thesis §6.3: the trim error stays below the acceptable error of every adjacent patch), using
+ * the points of the union of its ladder and both patches' active boundary sets at that level
+ * (`seg_keep`).  A patch triangle whose boundary edge misses some of those points is replaced by a
+ * fan from its (u, v) centroid (3-D position = mean of its corners) through them.  Both patches
+ * therefore draw the same sewing points, bit-identical, on every shared segment.
+ */
+#ifndef PRW_LOD_H
+#define PRW_LOD_H
+
+#include <stdint.h>
+
+#include "prw_seam.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PRW_LOD_MAX_LEVELS 20
+
+typedef struct prw_lod_options {
+    int levels;    /* 0: 14 */
+    double tau0;   /* 0: the seam graph's chord */
+    int max_cells; /* finest tessellation grid cap per direction; 0: 48 */
+} prw_lod_options;
+
+typedef struct prw_lod_patch {
+    bool ok;
+    int nverts, nbound; /* boundary vertices are 0 .. nbound-1 = ring positions */
+    double *uv;
+    prw_dvec3 *pos;
+    int *gid;        /* global sewing id (>= 0) or -1 */
+    int *removed_at; /* first level without the vertex (levels: never removed) */
+    int nrings;
+    int *ring_start;  /* nrings + 1 */
+    int *ring_of;     /* per boundary vertex */
+    int *ring_seg;    /* per boundary vertex: its segment (for a node: the use starting there) */
+    int *ring_sidx;   /* per boundary vertex: sewing index in segment order */
+    unsigned char *ring_rev; /* per boundary vertex: its use walks the segment backwards */
+    int *tri_start;   /* levels + 1 offsets (in triangles) */
+    int *tris;        /* 3 local vertex ids per triangle */
+    double *err;      /* per level: error bound (metres) */
+    prw_dvec3 lo, hi; /* control hull ∪ sewing points */
+} prw_lod_patch;
+
+typedef struct prw_lod_model {
+    const prw_seam_graph *g;
+    int levels;
+    double tau0;
+    prw_lod_patch *patches;
+    int npatches;
+    int **seg_keep; /* per segment, per sewing point: coarsest level displaying it (INT32_MAX at ends) */
+    int **ladder;   /* per segment: the curve-only ladder (subset of seg_keep) */
+    int failed_patches;
+    char first_problem[256];
+    size_t finest_triangles;
+} prw_lod_model;
+
+/* Segment ladders only (also called by prw_lod_build). */
+void prw_lod_ladders(const prw_seam_graph *g, int levels, double tau0, int **ladder);
+
+bool prw_lod_build(const prw_nurbs_model *m, const prw_seam_graph *g, const prw_lod_options *o, prw_lod_model *lm,
+                   prw_error *e);
+void prw_lod_free(prw_lod_model *lm);
+
+/* seg_level[s] = min over the segment's patches of patch_level (the finer). */
+void prw_lod_segment_levels(const prw_lod_model *lm, const int *patch_level, int *seg_level);
+
+typedef struct prw_lod_mesh {
+    double *pos; /* 3 per vertex */
+    size_t nverts, vcap;
+    uint32_t *tris;
+    size_t ntris, tcap;
+    int *map; /* scratch */
+    int mapcap;
+    int fans; /* triangles replaced by fans */
+} prw_lod_mesh;
+
+/* Appends patch `patch` at `level` (its segments at seg_level) to out. */
+void prw_lod_emit(const prw_lod_model *lm, int patch, int level, const int *seg_level, prw_lod_mesh *out);
+void prw_lod_mesh_reset(prw_lod_mesh *out);
+void prw_lod_mesh_free(prw_lod_mesh *out);
+/* Triangles patch `patch` draws at `level` (before fans). */
+int prw_lod_patch_triangles(const prw_lod_model *lm, int patch, int level);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

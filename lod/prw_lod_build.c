@@ -1,0 +1,535 @@
+/* Per-patch LOD hierarchies: finest fixed-boundary tessellation, then greedy half-edge collapses
+ * bounded by the triangle error bounds, snapshotted per level (see prw_lod.h). */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "prw_lod_internal.h"
+#include "prw_predicates.h"
+#include "prw_tess_fixed.h"
+
+typedef struct hentry {
+    double cost;
+    int v, w;
+    unsigned sv, sw;
+} hentry;
+
+typedef struct heap {
+    hentry *a;
+    int n, cap;
+} heap;
+
+static void hpush(heap *h, hentry x)
+{
+    if (h->n == h->cap) {
+        h->cap = h->cap ? 2 * h->cap : 256;
+        h->a = prw_realloc(h->a, sizeof(hentry) * (size_t)h->cap);
+    }
+    int i = h->n++;
+    while (i > 0 && h->a[(i - 1) / 2].cost > x.cost) {
+        h->a[i] = h->a[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h->a[i] = x;
+}
+
+static hentry hpop(heap *h)
+{
+    hentry top = h->a[0], x = h->a[--h->n];
+    int i = 0;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= h->n) break;
+        if (c + 1 < h->n && h->a[c + 1].cost < h->a[c].cost) c++;
+        if (h->a[c].cost >= x.cost) break;
+        h->a[i] = h->a[c];
+        i = c;
+    }
+    if (h->n) h->a[i] = x;
+    return top;
+}
+
+typedef struct work {
+    const prw_seam_graph *g;
+    const prw_nurbs_surface *s;
+    prw_lod_patch *p;
+    int **ladder;
+    int *tri;
+    unsigned char *alive;
+    double *terr;
+    int ntri;
+    lod_ivec *vt;
+    unsigned char *active;
+    unsigned *stamp;
+    heap h;
+    lod_ivec nb, nb2, tmp;
+    int level;
+} work;
+
+static int key(const work *w, int v) { return w->p->gid[v] >= 0 ? w->p->gid[v] : w->g->ngids + v; }
+
+static void neighbours(const work *w, int v, lod_ivec *out)
+{
+    out->n = 0;
+    for (int k = 0; k < w->vt[v].n; k++) {
+        const int *t = w->tri + 3 * w->vt[v].v[k];
+        for (int q = 0; q < 3; q++) {
+            int u = t[q];
+            if (u == v) continue;
+            bool seen = false;
+            for (int i = 0; i < out->n && !seen; i++) seen = out->v[i] == u;
+            if (!seen) lod_ipush(out, u);
+        }
+    }
+}
+
+static double seg_dist(prw_dvec3 x, prw_dvec3 a, prw_dvec3 b)
+{
+    prw_dvec3 ab = prw_v3_sub(b, a), ap = prw_v3_sub(x, a);
+    double l2 = prw_v3_dot(ab, ab), t = l2 > 0 ? prw_v3_dot(ap, ab) / l2 : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return prw_v3_len(prw_v3_sub(x, prw_v3_add(a, prw_v3_scale(ab, t))));
+}
+
+/* May v move at all at the current level, and may it move onto w (topologically)? */
+static bool allowed(work *w, int v, int to)
+{
+    const prw_lod_patch *p = w->p;
+    if (v < p->nbound) {
+        if (p->gid[v] < w->g->nnodes) return false; /* a node */
+        if (w->ladder[p->ring_seg[v]][p->ring_sidx[v]] >= w->level) return false;
+        if (to >= p->nbound) return false;
+        return lod_span(p, v, to, w->active, 0, &w->tmp); /* consecutive present ring vertices */
+    }
+    return true;
+}
+
+static void push_candidates(work *w, int v)
+{
+    if (!w->active[v]) return;
+    neighbours(w, v, &w->nb);
+    double verr = 0;
+    for (int k = 0; k < w->vt[v].n; k++) verr = fmax(verr, w->terr[w->vt[v].v[k]]);
+    for (int i = 0; i < w->nb.n; i++) {
+        int to = w->nb.v[i];
+        if (!allowed(w, v, to)) continue;
+        /* cheap cost: distance of v to the planes of the triangles that would replace its own (and,
+         * for a boundary vertex, to the new boundary edge) */
+        double eps = 0;
+        prw_dvec3 pv = w->p->pos[v], pt = w->p->pos[to];
+        for (int k = 0; k < w->vt[v].n; k++) {
+            const int *t = w->tri + 3 * w->vt[v].v[k];
+            if (t[0] == to || t[1] == to || t[2] == to) continue;
+            prw_dvec3 q[3];
+            for (int c = 0; c < 3; c++) q[c] = t[c] == v ? pt : w->p->pos[t[c]];
+            prw_dvec3 n = prw_v3_cross(prw_v3_sub(q[1], q[0]), prw_v3_sub(q[2], q[0]));
+            double ln = prw_v3_len(n);
+            if (ln > 0) eps = fmax(eps, fabs(prw_v3_dot(prw_v3_sub(pv, q[0]), n)) / ln);
+        }
+        if (v < w->p->nbound)
+            for (int j = 0; j < w->nb.n; j++)
+                if (j != i && w->nb.v[j] < w->p->nbound && lod_span(w->p, v, w->nb.v[j], w->active, 0, &w->tmp))
+                    eps = fmax(eps, seg_dist(pv, pt, w->p->pos[w->nb.v[j]]));
+        hpush(&w->h, (hentry){verr + eps, v, to, w->stamp[v], w->stamp[to]});
+    }
+}
+
+/* Full check of v -> to; on success *maxerr is the largest new triangle error. */
+static bool check(work *w, int v, int to, double tau)
+{
+    const prw_lod_patch *p = w->p;
+    if (!allowed(w, v, to)) return false;
+    /* welded link condition */
+    lod_ivec *nv = &w->nb, *nt = &w->nb2;
+    neighbours(w, v, nv);
+    neighbours(w, to, nt);
+    int kto = key(w, to);
+    for (int i = 0; i < nv->n; i++)
+        if (nv->v[i] != to && key(w, nv->v[i]) == kto) return false;
+    int common = 0, opposite = 0;
+    for (int i = 0; i < nv->n; i++) {
+        int u = nv->v[i];
+        if (u == to) continue;
+        bool in = false;
+        for (int j = 0; j < nt->n && !in; j++) in = nt->v[j] != v && key(w, nt->v[j]) == key(w, u);
+        common += in;
+    }
+    for (int k = 0; k < w->vt[v].n; k++) {
+        const int *t = w->tri + 3 * w->vt[v].v[k];
+        opposite += t[0] == to || t[1] == to || t[2] == to;
+    }
+    if (common != opposite) return false;
+    /* geometry of the new triangles */
+    w->active[v] = 0;
+    bool ok = true;
+    for (int k = 0; k < w->vt[v].n && ok; k++) {
+        int t[3];
+        memcpy(t, w->tri + 3 * w->vt[v].v[k], sizeof t);
+        if (t[0] == to || t[1] == to || t[2] == to) continue;
+        for (int q = 0; q < 3; q++)
+            if (t[q] == v) t[q] = to;
+        double e;
+        ok = lod_triangle_eval(w->g, w->s, p, t[0], t[1], t[2], w->active, &e) && e <= tau;
+    }
+    w->active[v] = 1;
+    return ok;
+}
+
+static void remove_tri_from(work *w, int v, int t)
+{
+    lod_ivec *l = &w->vt[v];
+    for (int i = 0; i < l->n; i++)
+        if (l->v[i] == t) {
+            l->v[i] = l->v[--l->n];
+            return;
+        }
+}
+
+static void collapse(work *w, int v, int to)
+{
+    prw_lod_patch *p = w->p;
+    w->active[v] = 0;
+    p->removed_at[v] = w->level;
+    lod_ivec l = w->vt[v];
+    for (int k = 0; k < l.n; k++) {
+        int ti = l.v[k];
+        int *t = w->tri + 3 * ti;
+        if (t[0] == to || t[1] == to || t[2] == to) {
+            w->alive[ti] = 0;
+            for (int q = 0; q < 3; q++)
+                if (t[q] != v) remove_tri_from(w, t[q], ti);
+            continue;
+        }
+        for (int q = 0; q < 3; q++)
+            if (t[q] == v) t[q] = to;
+        lod_ipush(&w->vt[to], ti);
+    }
+    w->vt[v].n = 0;
+    /* new errors for the triangles around `to` (their spans may have changed too) */
+    for (int k = 0; k < w->vt[to].n; k++) {
+        int ti = w->vt[to].v[k];
+        const int *t = w->tri + 3 * ti;
+        lod_triangle_eval(w->g, w->s, p, t[0], t[1], t[2], w->active, &w->terr[ti]);
+    }
+    neighbours(w, to, &w->nb2);
+    lod_ivec ring = {0};
+    for (int i = 0; i < w->nb2.n; i++) lod_ipush(&ring, w->nb2.v[i]);
+    lod_ipush(&ring, to);
+    for (int i = 0; i < ring.n; i++) w->stamp[ring.v[i]]++;
+    for (int i = 0; i < ring.n; i++) {
+        int u = ring.v[i];
+        push_candidates(w, u);
+        neighbours(w, u, &w->tmp);
+        lod_ivec nn = {0};
+        for (int j = 0; j < w->tmp.n; j++) lod_ipush(&nn, w->tmp.v[j]);
+        for (int j = 0; j < nn.n; j++) push_candidates(w, nn.v[j]);
+        free(nn.v);
+    }
+    free(ring.v);
+}
+
+/* Level-0 clean-up: edge flips (valid in (u, v) and in 3-D only) — first for triangles failing the
+ * 3-D test (a sliver along a straight boundary: flip its longest edge), then towards the 3-D
+ * Delaunay criterion (opposite angles summing to more than π), which removes the long ear-clipping
+ * slivers of the boundary strip. */
+static double angle_at(prw_dvec3 a, prw_dvec3 b, prw_dvec3 c)
+{
+    prw_dvec3 u = prw_v3_sub(b, a), v = prw_v3_sub(c, a);
+    return atan2(prw_v3_len(prw_v3_cross(u, v)), prw_v3_dot(u, v));
+}
+
+static bool try_flip(work *w, int t, int k)
+{
+    const prw_lod_patch *p = w->p;
+    int *tr = w->tri + 3 * t;
+    int x = tr[k], y = tr[(k + 1) % 3], z = tr[(k + 2) % 3], t2 = -1, o = -1;
+    for (int i = 0; i < w->vt[x].n && t2 < 0; i++) {
+        int u = w->vt[x].v[i];
+        const int *r = w->tri + 3 * u;
+        if (u == t) continue;
+        for (int q = 0; q < 3; q++)
+            if (r[q] == y && r[(q + 1) % 3] == x) t2 = u, o = r[(q + 2) % 3];
+    }
+    if (t2 < 0 || o == z) return false;
+    for (int i = 0; i < w->vt[z].n; i++) { /* the new edge z-o must not exist already */
+        const int *r = w->tri + 3 * w->vt[z].v[i];
+        if (r[0] == o || r[1] == o || r[2] == o) return false;
+    }
+    int n1[3] = {z, x, o}, n2[3] = {z, o, y};
+    for (int h = 0; h < 2; h++) {
+        const int *n = h ? n2 : n1;
+        double uvc[2];
+        prw_dvec3 xc;
+        if (prw_orient2d(p->uv + 2 * n[0], p->uv + 2 * n[1], p->uv + 2 * n[2]) <= 0) return false;
+        lod_centroid(p, n[0], n[1], n[2], uvc, &xc);
+        if (!lod_tri3_ok(w->s, p, w->g->diag, n[0], n[1], n[2], uvc, p->pos[n[0]], p->pos[n[1]], p->pos[n[2]])) return false;
+    }
+    memcpy(tr, n1, sizeof n1);
+    memcpy(w->tri + 3 * t2, n2, sizeof n2);
+    remove_tri_from(w, x, t2);
+    remove_tri_from(w, y, t);
+    lod_ipush(&w->vt[z], t2);
+    lod_ipush(&w->vt[o], t);
+    return true;
+}
+
+static void improve_level0(work *w)
+{
+    const prw_lod_patch *p = w->p;
+    for (int pass = 0; pass < 30; pass++) {
+        int flips = 0;
+        for (int t = 0; t < w->ntri; t++) {
+            int *tr = w->tri + 3 * t;
+            double uvc[2];
+            prw_dvec3 xc;
+            lod_centroid(p, tr[0], tr[1], tr[2], uvc, &xc);
+            if (!lod_tri3_ok(w->s, p, w->g->diag, tr[0], tr[1], tr[2], uvc, p->pos[tr[0]], p->pos[tr[1]], p->pos[tr[2]])) {
+                int k = 0;
+                double best = -1;
+                for (int q = 0; q < 3; q++) {
+                    double l = prw_v3_len(prw_v3_sub(p->pos[tr[(q + 1) % 3]], p->pos[tr[q]]));
+                    if (l > best) best = l, k = q;
+                }
+                flips += try_flip(w, t, k);
+                continue;
+            }
+            for (int k = 0; k < 3; k++) {
+                int x = tr[k], y = tr[(k + 1) % 3], z = tr[(k + 2) % 3], o = -1;
+                for (int i = 0; i < w->vt[x].n && o < 0; i++) {
+                    const int *r = w->tri + 3 * w->vt[x].v[i];
+                    for (int q = 0; q < 3; q++)
+                        if (r[q] == y && r[(q + 1) % 3] == x) o = r[(q + 2) % 3];
+                }
+                if (o < 0) continue;
+                double sum = angle_at(p->pos[z], p->pos[x], p->pos[y]) + angle_at(p->pos[o], p->pos[y], p->pos[x]);
+                if (sum > PRW_PI + 1e-9 && try_flip(w, t, k)) {
+                    flips++;
+                    break;
+                }
+            }
+        }
+        if (!flips) break;
+    }
+}
+
+static void snapshot(work *w, lod_ivec *tris, int level)
+{
+    prw_lod_patch *p = w->p;
+    p->tri_start[level] = tris->n / 3;
+    double e = 0;
+    for (int t = 0; t < w->ntri; t++) {
+        if (!w->alive[t]) continue;
+        for (int q = 0; q < 3; q++) lod_ipush(tris, w->tri[3 * t + q]);
+        e = fmax(e, w->terr[t]);
+    }
+    p->err[level] = e;
+}
+
+/* Rings from the seam loops; fails (patch not drawn) on loops that cannot be tessellated. */
+static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int max_cells, prw_error *e)
+{
+    const prw_seam_graph *g = lm->g;
+    const prw_seam_patch *P = &g->patches[pi];
+    prw_lod_patch *p = &lm->patches[pi];
+    p->lo = P->lo;
+    p->hi = P->hi;
+    if (P->skipped) return prw_fail(e, "patch %d: skipped by the seam graph", pi);
+    lod_ivec rs = {0}, seg = {0}, sidx = {0}, rev = {0}, side = {0};
+    lod_ipush(&rs, 0);
+    for (int l = 0; l < P->nloops; l++) {
+        int first = seg.n;
+        for (int u = 0; u < P->loops[l].count; u++) {
+            const prw_seam_use *us = &P->loops[l].uses[u];
+            int n = g->segs[us->seg].npts;
+            for (int k = 0; k < n - 1; k++) {
+                lod_ipush(&seg, us->seg);
+                lod_ipush(&sidx, us->reversed ? n - 1 - k : k);
+                lod_ipush(&rev, us->reversed);
+                lod_ipush(&side, us->side);
+            }
+        }
+        /* a loop needs 3 distinct sewing points */
+        int distinct = 0;
+        for (int i = first; i < seg.n && distinct < 3; i++) {
+            int gi = prw_seam_point_gid(g, seg.v[i], sidx.v[i]);
+            bool dup = false;
+            for (int j = first; j < i && !dup; j++) dup = prw_seam_point_gid(g, seg.v[j], sidx.v[j]) == gi;
+            distinct += !dup;
+        }
+        if (distinct < 3) seg.n = sidx.n = rev.n = side.n = first;
+        else lod_ipush(&rs, seg.n);
+    }
+    int nb = seg.n;
+    p->nrings = rs.n - 1;
+    p->ring_start = rs.v;
+    p->ring_seg = seg.v;
+    p->ring_sidx = sidx.v;
+    p->ring_rev = prw_malloc((size_t)nb + 1);
+    p->ring_of = prw_malloc(sizeof(int) * (size_t)nb + 1);
+    double *buv = prw_malloc(sizeof(double) * 2 * (size_t)nb + 1);
+    for (int r = 0; r < p->nrings; r++)
+        for (int i = p->ring_start[r]; i < p->ring_start[r + 1]; i++) p->ring_of[i] = r;
+    for (int i = 0; i < nb; i++) {
+        p->ring_rev[i] = (unsigned char)rev.v[i];
+        const double *uv = g->segs[seg.v[i]].uv[side.v[i]];
+        buv[2 * i] = uv[2 * sidx.v[i]];
+        buv[2 * i + 1] = uv[2 * sidx.v[i] + 1];
+    }
+    free(rev.v);
+    free(side.v);
+    p->nbound = nb;
+    const prw_nurbs_surface *s = &m->surfaces[pi].surface;
+    prw_tess_fixed_mesh tm;
+    if (p->nrings == 0) {
+        free(buv);
+        return prw_fail(e, "patch %d: no boundary loop with 3 distinct sewing points", pi);
+    }
+    /* ear clipping can strand collinear boundary chains for some grids: retry with other cell sizes */
+    static const double scales[] = {1, 0.7, 1.4, 0.5, 2};
+    bool tok = false;
+    for (int k = 0; k < 5 && !tok; k++) tok = prw_tess_fixed(s, buv, p->ring_start, p->nrings, g->chord, max_cells, scales[k], &tm, e);
+    if (!tok) {
+        free(buv);
+        return prw_fail_wrap(e, "patch %d", pi);
+    }
+    free(buv);
+    p->nverts = tm.nverts;
+    p->uv = tm.uv;
+    tm.uv = NULL;
+    p->pos = prw_malloc(sizeof(prw_dvec3) * (size_t)p->nverts);
+    p->gid = prw_malloc(sizeof(int) * (size_t)p->nverts);
+    p->removed_at = prw_malloc(sizeof(int) * (size_t)p->nverts);
+    for (int v = 0; v < p->nverts; v++) {
+        p->removed_at[v] = lm->levels;
+        if (v < nb) {
+            p->gid[v] = prw_seam_point_gid(g, p->ring_seg[v], p->ring_sidx[v]);
+            p->pos[v] = g->segs[p->ring_seg[v]].pts[p->ring_sidx[v]];
+        } else {
+            p->gid[v] = -1;
+            p->pos[v] = prw_nurbs_surface_eval(s, p->uv[2 * v], p->uv[2 * v + 1]);
+        }
+    }
+    work w;
+    memset(&w, 0, sizeof w);
+    w.g = g;
+    w.s = s;
+    w.p = p;
+    w.ladder = lm->ladder;
+    w.ntri = tm.ntris;
+    w.tri = tm.tris;
+    tm.tris = NULL;
+    prw_tess_fixed_free(&tm);
+    w.alive = prw_malloc((size_t)w.ntri + 1);
+    w.terr = prw_malloc(sizeof(double) * (size_t)w.ntri + 1);
+    w.vt = prw_calloc((size_t)p->nverts, sizeof(lod_ivec));
+    w.active = prw_malloc((size_t)p->nverts);
+    w.stamp = prw_calloc((size_t)p->nverts, sizeof(unsigned));
+    memset(w.active, 1, (size_t)p->nverts);
+    for (int t = 0; t < w.ntri; t++) {
+        w.alive[t] = 1;
+        for (int q = 0; q < 3; q++) lod_ipush(&w.vt[w.tri[3 * t + q]], t);
+    }
+    improve_level0(&w);
+    for (int t = 0; t < w.ntri; t++)
+        lod_triangle_eval(g, s, p, w.tri[3 * t], w.tri[3 * t + 1], w.tri[3 * t + 2], w.active, &w.terr[t]);
+    p->tri_start = prw_malloc(sizeof(int) * (size_t)(lm->levels + 1));
+    p->err = prw_malloc(sizeof(double) * (size_t)lm->levels);
+    lod_ivec tris = {0};
+    snapshot(&w, &tris, 0);
+    for (int k = 1; k < lm->levels; k++) {
+        w.level = k;
+        double tau = lm->tau0 * ldexp(1.0, k);
+        w.h.n = 0;
+        for (int v = 0; v < p->nverts; v++) push_candidates(&w, v);
+        while (w.h.n > 0) {
+            hentry x = hpop(&w.h);
+            if (x.cost > tau) break;
+            if (!w.active[x.v] || !w.active[x.w] || w.stamp[x.v] != x.sv || w.stamp[x.w] != x.sw) continue;
+            if (!check(&w, x.v, x.w, tau)) continue;
+            collapse(&w, x.v, x.w);
+        }
+        snapshot(&w, &tris, k);
+    }
+    p->tri_start[lm->levels] = tris.n / 3;
+    p->tris = tris.v;
+    for (int v = 0; v < p->nverts; v++) free(w.vt[v].v);
+    free(w.vt);
+    free(w.tri);
+    free(w.alive);
+    free(w.terr);
+    free(w.active);
+    free(w.stamp);
+    free(w.h.a);
+    free(w.nb.v);
+    free(w.nb2.v);
+    free(w.tmp.v);
+    p->ok = true;
+    return true;
+}
+
+bool prw_lod_build(const prw_nurbs_model *m, const prw_seam_graph *g, const prw_lod_options *o, prw_lod_model *lm,
+                   prw_error *e)
+{
+    memset(lm, 0, sizeof *lm);
+    prw_lod_options opt = o ? *o : (prw_lod_options){0};
+    lm->g = g;
+    lm->levels = opt.levels > 0 ? (opt.levels > PRW_LOD_MAX_LEVELS ? PRW_LOD_MAX_LEVELS : opt.levels) : 14;
+    lm->tau0 = opt.tau0 > 0 ? opt.tau0 : g->chord;
+    if ((int)m->count != g->npatches) return prw_fail(e, "lod: model has %zu patches, seam graph %d", m->count, g->npatches);
+    lm->npatches = g->npatches;
+    lm->patches = prw_calloc((size_t)g->npatches + 1, sizeof(prw_lod_patch));
+    lm->ladder = prw_malloc(sizeof(int *) * (size_t)g->nsegs + 1);
+    lm->seg_keep = prw_malloc(sizeof(int *) * (size_t)g->nsegs + 1);
+    for (int s = 0; s < g->nsegs; s++) {
+        lm->ladder[s] = prw_malloc(sizeof(int) * (size_t)g->segs[s].npts);
+        lm->seg_keep[s] = prw_malloc(sizeof(int) * (size_t)g->segs[s].npts);
+    }
+    prw_lod_ladders(g, lm->levels, lm->tau0, lm->ladder);
+    for (int s = 0; s < g->nsegs; s++) memcpy(lm->seg_keep[s], lm->ladder[s], sizeof(int) * (size_t)g->segs[s].npts);
+    for (int pi = 0; pi < g->npatches; pi++) {
+        prw_error pe;
+        if (!build_patch(lm, m, pi, opt.max_cells > 0 ? opt.max_cells : 48, &pe)) {
+            lm->failed_patches++;
+            if (!lm->first_problem[0]) snprintf(lm->first_problem, sizeof lm->first_problem, "%.200s", pe.msg);
+            continue;
+        }
+        const prw_lod_patch *p = &lm->patches[pi];
+        lm->finest_triangles += (size_t)(p->tri_start[1] - p->tri_start[0]);
+        for (int v = 0; v < p->nbound; v++) {
+            if (p->gid[v] < g->nnodes) continue;
+            int *k = &lm->seg_keep[p->ring_seg[v]][p->ring_sidx[v]];
+            if (p->removed_at[v] - 1 > *k) *k = p->removed_at[v] - 1;
+        }
+    }
+    return true;
+}
+
+void prw_lod_free(prw_lod_model *lm)
+{
+    for (int pi = 0; pi < lm->npatches; pi++) {
+        prw_lod_patch *p = &lm->patches[pi];
+        free(p->uv);
+        free(p->pos);
+        free(p->gid);
+        free(p->removed_at);
+        free(p->ring_start);
+        free(p->ring_of);
+        free(p->ring_seg);
+        free(p->ring_sidx);
+        free(p->ring_rev);
+        free(p->tri_start);
+        free(p->tris);
+        free(p->err);
+    }
+    free(lm->patches);
+    if (lm->g)
+        for (int s = 0; s < lm->g->nsegs; s++) {
+            free(lm->ladder[s]);
+            free(lm->seg_keep[s]);
+        }
+    free(lm->ladder);
+    free(lm->seg_keep);
+    memset(lm, 0, sizeof *lm);
+}

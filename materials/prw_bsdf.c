@@ -1,0 +1,168 @@
+/* prw_bsdf — evaluation through prw_brdf.h and importance sampling for the CPU side (see prw_bsdf.h). */
+#include "prw_bsdf.h"
+
+#include <math.h>
+
+#include "prw_brdf.h"
+
+#define PI 3.14159265358979323846
+
+static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > hi ? hi : x; }
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* The alpha the sampler uses: the header's mapping, in double. */
+static double alpha_of(const prw_bsdf *b)
+{
+    double r = clampd(b->roughness, 0, 1);
+    return fmax(r * r, (double)PRW_MIN_ALPHA);
+}
+
+void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3])
+{
+    f[0] = f[1] = f[2] = 0;
+    if (wo[2] <= 0 || wi[2] <= 0) return;
+    double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
+    double hl = sqrt(dot3(h, h));
+    if (!(hl > 0)) return;
+    for (int k = 0; k < 3; k++) h[k] /= hl;
+    /* VoH = (wo.h) = (wi.h) mathematically; the symmetric form keeps f(wo, wi) = f(wi, wo) bit-exact
+     * in double before the float boundary. */
+    float NoV = (float)wo[2], NoL = (float)wi[2], NoH = (float)h[2];
+    float VoH = (float)(0.5 * (dot3(wo, h) + dot3(wi, h)));
+    for (int c = 0; c < 3; c++)
+        f[c] = prw_brdf_channel(NoV, NoL, NoH, VoH, (float)b->base[c], (float)b->metallic, (float)b->roughness,
+                                (float)b->specular);
+}
+
+/* ---- lobes ---- */
+
+void prw_sample_cosine(const double u[2], double wi[3])
+{
+    /* Malley's method: uniform on the unit disk (polar map r = sqrt(u0)), lifted to the hemisphere. */
+    double r = sqrt(u[0]), ph = 2 * PI * u[1];
+    wi[0] = r * cos(ph);
+    wi[1] = r * sin(ph);
+    wi[2] = sqrt(fmax(0.0, 1 - u[0]));
+}
+
+double prw_pdf_cosine(const double wi[3]) { return wi[2] > 0 ? wi[2] / PI : 0; }
+
+void prw_sample_ggx_vndf(const double wo[3], double alpha, const double u[2], double wm[3])
+{
+    /* Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4): stretch the view
+     * direction to the alpha = 1 configuration, sample the projected area of the hemisphere as seen
+     * from it (a disk whose far half is squashed by (1 + cos theta)/2), unproject onto the
+     * hemisphere and unstretch the normal. */
+    double vh[3] = {alpha * wo[0], alpha * wo[1], wo[2]};
+    double vl = sqrt(dot3(vh, vh));
+    for (int k = 0; k < 3; k++) vh[k] /= vl;
+    double len2 = vh[0] * vh[0] + vh[1] * vh[1];
+    double t1[3] = {1, 0, 0};
+    if (len2 > 0) {
+        double il = 1 / sqrt(len2);
+        t1[0] = -vh[1] * il, t1[1] = vh[0] * il, t1[2] = 0;
+    }
+    double t2[3] = {vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2], vh[0] * t1[1] - vh[1] * t1[0]};
+    double r = sqrt(u[0]), ph = 2 * PI * u[1];
+    double p1 = r * cos(ph), p2 = r * sin(ph);
+    double s = 0.5 * (1 + vh[2]);
+    p2 = (1 - s) * sqrt(fmax(0.0, 1 - p1 * p1)) + s * p2;
+    double pz = sqrt(fmax(0.0, 1 - p1 * p1 - p2 * p2));
+    double nh[3];
+    for (int k = 0; k < 3; k++) nh[k] = p1 * t1[k] + p2 * t2[k] + pz * vh[k];
+    wm[0] = alpha * nh[0], wm[1] = alpha * nh[1], wm[2] = fmax(1e-12, nh[2]);
+    double ml = sqrt(dot3(wm, wm));
+    for (int k = 0; k < 3; k++) wm[k] /= ml;
+}
+
+/* Smith masking G1 for GGX: 1 / (1 + Lambda), Lambda = (sqrt(1 + alpha^2 tan^2) - 1) / 2 (Heitz 2014). */
+static double smith_g1(const double w[3], double alpha)
+{
+    double z2 = w[2] * w[2];
+    if (!(z2 > 0)) return 0;
+    double t2 = fmax(0.0, 1 - z2) / z2;
+    return 2 / (1 + sqrt(1 + alpha * alpha * t2));
+}
+
+static double ggx_D(double cos_m, double alpha)
+{
+    if (cos_m <= 0) return 0;
+    double a2 = alpha * alpha, c2 = cos_m * cos_m;
+    double d = c2 * (a2 - 1) + 1;
+    return a2 / (PI * d * d);
+}
+
+double prw_pdf_ggx_reflect(const double wo[3], const double wi[3], double alpha)
+{
+    if (wo[2] <= 0) return 0;
+    double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
+    double hl = sqrt(dot3(h, h));
+    if (!(hl > 0)) return 0;
+    for (int k = 0; k < 3; k++) h[k] /= hl;
+    double oh = dot3(wo, h);
+    if (oh <= 0 || h[2] <= 0) return 0;
+    /* D_v(wm) = G1(wo) max(0, wo.wm) D(wm) / cos(theta_o); dwi = 4 (wo.wm) dwm. */
+    return smith_g1(wo, alpha) * ggx_D(h[2], alpha) / (4 * wo[2]);
+}
+
+/* ---- mixture ---- */
+
+/* Probability of choosing the GGX lobe: specular albedo / (specular + diffuse-like albedo), both
+ * estimated per channel from the fitted albedos at mu_o and averaged over RGB.  The multiple-scattering lobe
+ * is cosine-like and counted with the diffuse lobe (it is sampled through the cosine lobe). */
+static double spec_probability(const prw_bsdf *b, double mu_o)
+{
+    float mo = (float)clampd(mu_o, 0, 1), r = (float)clampd(b->roughness, 0, 1);
+    double m = clampd(b->metallic, 0, 1), s = clampd(b->specular, 0, 1);
+    double e = 1 - prw_ggx_Ec(mo, r), ec = prw_ggx_Ec(mo, r), ec_avg = prw_ggx_Ec_avg(r);
+    double ed = prw_ggx_Ed(mo, r);
+    double fms_d = prw_F_ms((float)(s * PRW_DIELECTRIC_F_AVG), (float)ec_avg);
+    double e_ds = s * ed + fms_d * ec;
+    double spec = 0, diff = 0;
+    for (int c = 0; c < 3; c++) {
+        double base = clampd(b->base[c], 0, 1);
+        double fm = prw_F_schlick((float)base, (float)mo);
+        double fms_m = prw_F_ms((float)(base + (1 - base) / 21), (float)ec_avg);
+        spec += (1 - m) * s * ed + m * fm * e;
+        diff += (1 - m) * (base * (1 - e_ds) + fms_d * ec) + m * fms_m * ec;
+    }
+    if (!(spec + diff > 0)) return 0.5;
+    return clampd(spec / (spec + diff), 0.05, 0.95);
+}
+
+double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3])
+{
+    if (wo[2] <= 0 || wi[2] <= 0) return 0;
+    double ps = spec_probability(b, wo[2]);
+    return ps * prw_pdf_ggx_reflect(wo, wi, alpha_of(b)) + (1 - ps) * prw_pdf_cosine(wi);
+}
+
+bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf)
+{
+    *pdf = 0;
+    if (wo[2] <= 0) return false;
+    double ps = spec_probability(b, wo[2]);
+    if (u[0] < ps) {
+        double wm[3];
+        prw_sample_ggx_vndf(wo, alpha_of(b), u + 1, wm);
+        double om = dot3(wo, wm);
+        for (int k = 0; k < 3; k++) wi[k] = 2 * om * wm[k] - wo[k];
+        double l = sqrt(dot3(wi, wi));
+        for (int k = 0; k < 3; k++) wi[k] /= l;
+    } else {
+        prw_sample_cosine(u + 1, wi);
+    }
+    if (wi[2] <= 0) return false;
+    *pdf = prw_bsdf_pdf(b, wo, wi);
+    return *pdf > 0;
+}
+
+void prw_frame_from_normal(const double n[3], double t[3], double b[3])
+{
+    /* Duff et al. 2017, "Building an Orthonormal Basis, Revisited", JCGT 6(1), listing 3. */
+    double sign = copysign(1.0, n[2]);
+    double a = -1 / (sign + n[2]);
+    double c = n[0] * n[1] * a;
+    t[0] = 1 + sign * n[0] * n[0] * a, t[1] = sign * c, t[2] = -sign * n[0];
+    b[0] = c, b[1] = sign + n[1] * n[1] * a, b[2] = -n[1];
+}

@@ -1,0 +1,74 @@
+/* Two-sided sampled distance between a mesh and a trimmed surface (see lod_distance.h). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "lod_distance.h"
+#include "prw_invert.h"
+#include "prw_trim.h"
+
+static prw_dvec3 V(const double *p) { return prw_v3(p[0], p[1], p[2]); }
+
+/* Closest point on triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5). */
+static double tri_dist(prw_dvec3 p, prw_dvec3 a, prw_dvec3 b, prw_dvec3 c)
+{
+    prw_dvec3 ab = prw_v3_sub(b, a), ac = prw_v3_sub(c, a), ap = prw_v3_sub(p, a);
+    double d1 = prw_v3_dot(ab, ap), d2 = prw_v3_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return prw_v3_len(ap);
+    prw_dvec3 bp = prw_v3_sub(p, b);
+    double d3 = prw_v3_dot(ab, bp), d4 = prw_v3_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return prw_v3_len(bp);
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        double v = d1 / (d1 - d3);
+        return prw_v3_len(prw_v3_sub(p, prw_v3_add(a, prw_v3_scale(ab, v))));
+    }
+    prw_dvec3 cp = prw_v3_sub(p, c);
+    double d5 = prw_v3_dot(ab, cp), d6 = prw_v3_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return prw_v3_len(cp);
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        double w = d2 / (d2 - d6);
+        return prw_v3_len(prw_v3_sub(p, prw_v3_add(a, prw_v3_scale(ac, w))));
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return prw_v3_len(prw_v3_sub(p, prw_v3_add(b, prw_v3_scale(prw_v3_sub(c, b), w))));
+    }
+    double den = 1 / (va + vb + vc), v = vb * den, w = vc * den;
+    return prw_v3_len(prw_v3_sub(p, prw_v3_add(a, prw_v3_add(prw_v3_scale(ab, v), prw_v3_scale(ac, w)))));
+}
+
+double lod_two_sided(const prw_trimmed_surface *t, const prw_lod_mesh *m, int n, int order)
+{
+    double u0, u1, v0, v1, worst = 0;
+    prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
+    prw_trim_region r;
+    prw_error e;
+    if (!prw_trim_region_build(t, 1e-6 * fmax(u1 - u0, v1 - v0), &r, &e)) return INFINITY;
+    for (int i = 0; i <= n; i++)
+        for (int j = 0; j <= n; j++) {
+            double u = u0 + (u1 - u0) * i / n, v = v0 + (v1 - v0) * j / n;
+            if (prw_trim_classify(&r, u, v) == PRW_TRIM_OUTSIDE) continue;
+            prw_dvec3 p = prw_nurbs_surface_eval(&t->surface, u, v);
+            double best = INFINITY;
+            for (size_t k = 0; k < m->ntris; k++) {
+                const uint32_t *tr = m->tris + 3 * k;
+                best = fmin(best, tri_dist(p, V(m->pos + 3 * tr[0]), V(m->pos + 3 * tr[1]), V(m->pos + 3 * tr[2])));
+            }
+            worst = fmax(worst, best);
+        }
+    prw_trim_region_free(&r);
+    for (size_t k = 0; k < m->ntris; k++) {
+        const uint32_t *tr = m->tris + 3 * k;
+        prw_dvec3 a = V(m->pos + 3 * tr[0]), b = V(m->pos + 3 * tr[1]), c = V(m->pos + 3 * tr[2]);
+        for (int i = 0; i <= order; i++)
+            for (int j = 0; i + j <= order; j++) {
+                double wb = (double)i / order, wc = (double)j / order, wa = 1 - wb - wc;
+                prw_dvec3 p = prw_v3_add(prw_v3_add(prw_v3_scale(a, wa), prw_v3_scale(b, wb)), prw_v3_scale(c, wc));
+                double u, v;
+                worst = fmax(worst, prw_nurbs_surface_invert(&t->surface, p, false, &u, &v));
+            }
+    }
+    return worst;
+}
