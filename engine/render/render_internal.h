@@ -60,7 +60,7 @@ typedef struct prw_view_targets {
     prw_gpu_image hdr_ss; /* supersampling only: the base pass renders here */
     prw_gpu_image extra_color; /* desc.extra_gpu_work > 0 only: pass_extra_work's scratch colour target */
     prw_buffer globals;   /* UPLOAD */
-    VkDescriptorSet globals_set, tonemap_set, downsample_set;
+    VkDescriptorSet globals_set, downsample_set;
 } prw_view_targets;
 
 struct prw_frame_ctx {
@@ -103,11 +103,11 @@ struct prw_renderer {
 
     prw_view_targets views[PRW_MAX_VIEWS];
 
-    /* tonemap and downsample both bind two storage images (set layout `tonemap_layout`) */
+    /* downsample binds two storage images (set layout `tonemap_layout`, named for its first user) */
     VkDescriptorSetLayout globals_layout, material_layout, tonemap_layout;
-    VkPipelineLayout base_layout, shadow_layout, tonemap_layout_pl, storage2_layout_pl;
+    VkPipelineLayout base_layout, shadow_layout, storage2_layout_pl;
     /* base pipelines by [double-sided][mirrored]: nodes with a negative determinant flip the winding */
-    VkPipeline base_pipes[2][2], shadow_pipe, tonemap_pipe, downsample_pipe;
+    VkPipeline base_pipes[2][2], shadow_pipe, downsample_pipe;
     prw_desc_pool *pool;
     prw_timer *timer;
 

@@ -56,7 +56,6 @@ static bool create_layouts(prw_renderer *r, prw_error *e)
     VkDescriptorSetLayout base_sets[2] = {r->globals_layout, r->material_layout};
     return prw_pipeline_layout_create(r->gpu, base_sets, 2, 112, &r->base_layout, e) &&
            prw_pipeline_layout_create(r->gpu, NULL, 0, 64, &r->shadow_layout, e) &&
-           prw_pipeline_layout_create(r->gpu, &r->tonemap_layout, 1, 12, &r->tonemap_layout_pl, e) &&
            prw_pipeline_layout_create(r->gpu, &r->tonemap_layout, 1, 12, &r->storage2_layout_pl, e);
 }
 
@@ -160,7 +159,6 @@ static bool create_view_targets(prw_renderer *r, uint32_t vi, prw_error *e)
     if (!prw_buffer_create(r->gpu, sizeof(prw_gpu_globals), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
                            &t->globals, e) ||
         !prw_desc_alloc(r->gpu, r->pool, r->globals_layout, &t->globals_set, e) ||
-        !prw_desc_alloc(r->gpu, r->pool, r->tonemap_layout, &t->tonemap_set, e) ||
         (ss > 1 && !prw_desc_alloc(r->gpu, r->pool, r->tonemap_layout, &t->downsample_set, e)))
         return false;
     if (ss > 1) {
@@ -173,10 +171,6 @@ static bool create_view_targets(prw_renderer *r, uint32_t vi, prw_error *e)
                           sizeof(prw_gpu_globals));
     prw_desc_write_image(r->gpu, t->globals_set, 1, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, r->shadow_map.view,
                          prw_gpu_sampler(r->gpu, PRW_SAMPLER_SHADOW), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    prw_desc_write_image(r->gpu, t->tonemap_set, 0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t->hdr.view, VK_NULL_HANDLE,
-                         VK_IMAGE_LAYOUT_GENERAL);
-    prw_desc_write_image(r->gpu, t->tonemap_set, 1, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t->ldr.view, VK_NULL_HANDLE,
-                         VK_IMAGE_LAYOUT_GENERAL);
     return true;
 }
 
@@ -258,12 +252,12 @@ void prw_renderer_destroy(prw_renderer *r)
     prw_buffer_destroy(gpu, &r->vertices);
     prw_buffer_destroy(gpu, &r->indices);
     free(r->meshes);
-    VkPipeline pipes[7] = {r->base_pipes[0][0], r->base_pipes[0][1], r->base_pipes[1][0], r->base_pipes[1][1],
-                           r->shadow_pipe,        r->tonemap_pipe,       r->downsample_pipe};
-    for (int i = 0; i < 7; i++)
+    VkPipeline pipes[6] = {r->base_pipes[0][0], r->base_pipes[0][1], r->base_pipes[1][0], r->base_pipes[1][1],
+                           r->shadow_pipe,        r->downsample_pipe};
+    for (int i = 0; i < 6; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
-    VkPipelineLayout pls[4] = {r->base_layout, r->shadow_layout, r->tonemap_layout_pl, r->storage2_layout_pl};
-    for (int i = 0; i < 4; i++)
+    VkPipelineLayout pls[3] = {r->base_layout, r->shadow_layout, r->storage2_layout_pl};
+    for (int i = 0; i < 3; i++)
         if (pls[i]) vkDestroyPipelineLayout(dev, pls[i], NULL);
     VkDescriptorSetLayout dls[3] = {r->globals_layout, r->material_layout, r->tonemap_layout};
     for (int i = 0; i < 3; i++)
