@@ -52,7 +52,7 @@ uint64_t prw_stats_rng_next(uint64_t *state);
 uint64_t prw_stats_rng_below(uint64_t *state, uint64_t n);
 
 typedef struct prw_stats_ratio {
-    double ratio;   /* median(b) / median(a) of the inputs */
+    double ratio;   /* the statistic on the inputs (see the function that fills it) */
     double lo, hi;  /* 2.5th and 97.5th percentiles of the bootstrap distribution */
     int resamples;
 } prw_stats_ratio;
@@ -61,6 +61,13 @@ typedef struct prw_stats_ratio {
  * na or nb is 0, resamples < 1, paired with na != nb, or a median of a is 0. */
 bool prw_stats_bootstrap_median_ratio(const double *a, size_t na, const double *b, size_t nb, bool paired,
                                       int resamples, uint64_t seed, prw_stats_ratio *out);
+
+/* Bootstrap 95 % interval of the median of the per-pair ratios b[i] / a[i] (n pairs, resampled as
+ * pairs).  For interleaved A/B timing this is the robust figure: a pair's two frames see the same
+ * scene content and nearly the same machine load, so both cancel in its ratio.  out->ratio is the
+ * median of the n ratios.  Returns false when n is 0, resamples < 1 or some a[i] <= 0. */
+bool prw_stats_bootstrap_pair_ratio(const double *a, const double *b, size_t n, int resamples, uint64_t seed,
+                                    prw_stats_ratio *out);
 
 /* Marks on_front[i] for the Pareto-optimal points (x, y minimised).  Points with a NaN coordinate
  * are never on the front.  Returns the number of points on the front. */

@@ -131,6 +131,33 @@ bool prw_stats_bootstrap_median_ratio(const double *a, size_t na, const double *
     return kept > 0;
 }
 
+bool prw_stats_bootstrap_pair_ratio(const double *a, const double *b, size_t n, int resamples, uint64_t seed,
+                                    prw_stats_ratio *out)
+{
+    memset(out, 0, sizeof *out);
+    if (n == 0 || resamples < 1) return false;
+    for (size_t i = 0; i < n; i++)
+        if (!(a[i] > 0)) return false;
+    double *q = prw_malloc(n * sizeof *q), *rs = prw_malloc(n * sizeof *rs);
+    double *meds = prw_malloc((size_t)resamples * sizeof *meds);
+    for (size_t i = 0; i < n; i++) q[i] = b[i] / a[i];
+    out->ratio = prw_stats_median(q, n);
+    out->resamples = resamples;
+    uint64_t st = seed;
+    for (int r = 0; r < resamples; r++) {
+        for (size_t i = 0; i < n; i++) rs[i] = q[prw_stats_rng_below(&st, n)];
+        prw_stats_sort(rs, n);
+        meds[r] = prw_stats_percentile_sorted(rs, n, 50);
+    }
+    prw_stats_sort(meds, (size_t)resamples);
+    out->lo = prw_stats_percentile_sorted(meds, (size_t)resamples, 2.5);
+    out->hi = prw_stats_percentile_sorted(meds, (size_t)resamples, 97.5);
+    free(q);
+    free(rs);
+    free(meds);
+    return true;
+}
+
 size_t prw_stats_pareto(const double *x, const double *y, size_t n, bool *on_front)
 {
     size_t count = 0;

@@ -117,6 +117,41 @@ static void t_bootstrap_paired(void)
     CHECK(!prw_stats_bootstrap_median_ratio(a, 40, b, 40, false, 0, 1, &p));
 }
 
+/* Median of per-pair ratios.  Hand case: ratios {1, 2, 2}, median 2; a resample's median is 1 with
+ * probability 7/27 (as above), so the percentile interval is [1, 2].  Path case: frame costs vary 4x
+ * along a path and a load burst slows both frames of some pairs 3x; the pair ratios stay 1.2 (x 1 +-1 %
+ * noise), so the figure is 1.2 within the noise while median(b)/median(a) of the same data is not
+ * guaranteed to be. */
+static void t_bootstrap_pair_ratio(void)
+{
+    const double a3[3] = {1, 1, 1}, b3[3] = {1, 2, 2};
+    prw_stats_ratio r;
+    CHECK(prw_stats_bootstrap_pair_ratio(a3, b3, 3, 4000, 7, &r));
+    CHECK_NEAR(r.ratio, 2, 0);
+    CHECK_NEAR(r.lo, 1, 0);
+    CHECK_NEAR(r.hi, 2, 0);
+
+    double a[60], b[60];
+    uint64_t st = 5;
+    for (int i = 0; i < 60; i++) {
+        double cost = 1000 + 3000 * (double)(i % 20) / 19.0;  /* the path: 1..4 s */
+        double burst = (i % 7 == 3) ? 3.0 : 1.0;               /* load burst hits the pair */
+        double u = (double)(prw_stats_rng_next(&st) >> 11) / 9007199254740992.0;
+        a[i] = cost * burst;
+        b[i] = 1.2 * cost * burst * (1 + 0.02 * (u - 0.5));
+    }
+    CHECK(prw_stats_bootstrap_pair_ratio(a, b, 60, 4000, 1, &r));
+    CHECK_NEAR(r.ratio, 1.2, 0.012);
+    CHECK(r.lo <= r.ratio && r.ratio <= r.hi);
+    CHECK(r.lo > 1.2 * 0.99 && r.hi < 1.2 * 1.01);
+    b[10] = 0;
+    CHECK(prw_stats_bootstrap_pair_ratio(a, b, 60, 10, 1, &r)); /* b = 0 is a ratio of 0, allowed */
+    a[10] = 0;
+    CHECK(!prw_stats_bootstrap_pair_ratio(a, b, 60, 10, 1, &r));
+    CHECK(!prw_stats_bootstrap_pair_ratio(a, b, 0, 10, 1, &r));
+    CHECK(!prw_stats_bootstrap_pair_ratio(a3, b3, 3, 0, 1, &r));
+}
+
 /* Noisy frame times: A ~ 100 ms, B ~ 120 ms with 5 % noise; the interval contains 1.2 and is narrow. */
 static void t_bootstrap_noisy(void)
 {
@@ -164,6 +199,7 @@ int main(int argc, char **argv)
         {"bootstrap_hand", t_bootstrap_hand},
         {"bootstrap_paired", t_bootstrap_paired},
         {"bootstrap_noisy", t_bootstrap_noisy},
+        {"bootstrap_pair_ratio", t_bootstrap_pair_ratio},
         {"pareto", t_pareto},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
