@@ -61,8 +61,10 @@ float shadow_factor(prw_gpu_light L, vec3 p, vec3 n)
 
 // Irradiance per unit radiance from the quad q (camera-relative) at p with normal n, after clipping
 // the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
-float quad_irradiance(vec3 p, vec3 n, vec3 q[4])
+// fdir receives the direction of the vector form factor (the irradiance-weighted mean direction).
+float quad_irradiance(vec3 p, vec3 n, vec3 q[4], out vec3 fdir)
 {
+    fdir = n;
     vec3 poly[5];
     int cnt = 0;
     for (int i = 0; i < 4; i++) {
@@ -72,14 +74,53 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q[4])
         if ((da > 0.0) != (db > 0.0) && cnt < 5) poly[cnt++] = a + (b - a) * (da / (da - db));
     }
     if (cnt < 3) return 0.0;
-    float sum = 0.0;
+    vec3 sum = vec3(0.0);
     for (int i = 0; i < cnt; i++) {
         vec3 v0 = normalize(poly[i]), v1 = normalize(poly[(i + 1) % cnt]);
         vec3 cr = cross(v0, v1);
         float l = length(cr);
-        if (l > 1e-9) sum += atan(l, dot(v0, v1)) * dot(n, cr / l);
+        if (l > 1e-9) sum += atan(l, dot(v0, v1)) * (cr / l);
     }
-    return 0.5 * abs(sum);
+    float e = dot(n, sum);
+    if (e < 0.0) sum = -sum;
+    float len = length(sum);
+    if (len > 1e-12) fdir = sum / len;
+    return 0.5 * abs(e);
+}
+
+// Specular lobes of a rect light (centre c, half axes du, dv, emitting towards +ln, radiance 1) at p:
+// midpoint quadrature over the quad, on a grid whose cells subtend at most half the GGX alpha (in
+// radians, seen from p), so the lobe is resolved; at most 32 x 32 cells (near-mirror surfaces
+// reflecting a large light are then under-resolved: seen as a dotted reflection).
+vec3 rect_specular(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                   float roughness, float specular)
+{
+    float alpha = prw_alpha_from_roughness(roughness);
+    float dist = max(length(c - p), 1e-4);
+    float lu = length(du), lv = length(dv);
+    float cell = 0.5 * alpha * dist; // metres on the light per cell, at the light's distance
+    int nu = int(clamp(ceil(2.0 * lu / cell), 1.0, 32.0));
+    int nv = int(clamp(ceil(2.0 * lv / cell), 1.0, 32.0));
+    float NoV = max(dot(n, v), 1e-4);
+    vec3 acc = vec3(0.0);
+    for (int j = 0; j < nv; j++) {
+        float sv = (2.0 * (float(j) + 0.5)) / float(nv) - 1.0;
+        for (int i = 0; i < nu; i++) {
+            float su = (2.0 * (float(i) + 0.5)) / float(nu) - 1.0;
+            vec3 d = c + du * su + dv * sv - p;
+            float d2 = max(dot(d, d), 1e-8);
+            vec3 l = d * inversesqrt(d2);
+            float NoL = dot(n, l), cl = -dot(l, ln);
+            if (NoL <= 0.0 || cl <= 0.0) continue;
+            vec3 h = normalize(v + l);
+            float NoH = dot(n, h), VoH = dot(v, h);
+            vec3 f = vec3(prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness, specular),
+                          prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness, specular),
+                          prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness, specular));
+            acc += f * (NoL * cl / d2);
+        }
+    }
+    return acc * (4.0 * lu * lv / float(nu * nv));
 }
 
 // The shared material model (prw_brdf.h) per RGB channel, from cosines.
@@ -135,24 +176,19 @@ void main()
             if (dot(v_pos - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
             vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
                                 c + L.axis_u.xyz + L.axis_v.xyz, c - L.axis_u.xyz + L.axis_v.xyz);
-            float E = quad_irradiance(v_pos, n, q);
+            vec3 fdir;
+            float E = quad_irradiance(v_pos, n, q, fdir);
             if (E <= 0.0) continue;
-            // Most representative point: the reflected ray's hit on the light's plane, clamped.
-            vec3 r = reflect(-v, n);
-            vec3 ln = L.dir_range.xyz;
-            float denom = dot(r, ln);
-            vec3 hit = c;
-            if (denom < -1e-6) hit = v_pos + r * (dot(c - v_pos, ln) / denom);
-            vec3 du = L.axis_u.xyz, dv = L.axis_v.xyz;
-            float su = clamp(dot(hit - c, du) / dot(du, du), -1.0, 1.0);
-            float sv = clamp(dot(hit - c, dv) / dot(dv, dv), -1.0, 1.0);
-            vec3 lp = c + du * su + dv * sv;
-            vec3 l = normalize(lp - v_pos);
-            vec3 h = normalize(v + l);
-            // The full model (diffuse + specular) evaluated at the representative direction.
-            float NoV = max(dot(n, v), 1e-4), NoL = max(dot(n, l), 1e-4);
-            vec3 f = brdf_cos(NoV, NoL, dot(n, h), dot(v, h), base, metallic, roughness, specular);
-            radiance += f * rgb * E * shadow_factor(L, v_pos, n);
+            // Diffuse: Lambert's polygon formula is exact for a constant lobe; the model's diffuse
+            // coupling term depends on cos(theta_i) only weakly, taken at the vector form factor's
+            // direction.  Specular: quadrature over the quad (rect_specular).
+            float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
+            vec3 fd = vec3(prw_brdf_diffuse_channel(NoV, NoLd, base.r, metallic, roughness, specular),
+                           prw_brdf_diffuse_channel(NoV, NoLd, base.g, metallic, roughness, specular),
+                           prw_brdf_diffuse_channel(NoV, NoLd, base.b, metallic, roughness, specular));
+            vec3 f = fd * E + rect_specular(v_pos, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
+                                            metallic, roughness, specular);
+            radiance += f * rgb * shadow_factor(L, v_pos, n);
             continue;
         }
         vec3 l;
