@@ -32,6 +32,16 @@
  * each exposure c: LDR-FLIP of clamp(t(2^c * rgb)) per channel; the result is the per-pixel max.
  * Tone mapper t: the ACES fit of Narkowicz 2015 ("ACES Filmic Tone Mapping Curve") applied to
  * 0.6 x, the tone mapper [F21] uses.
+ *
+ * Checked (2026-12-01) against the authors' reference implementation (NVlabs/flip, src/cpp/FLIP.h,
+ * read, not copied): the constants qc 0.7, pc 0.4, pt 0.95, w 0.082, qf 0.5; the CSF terms and the
+ * filter radius from the largest b; the separable blue-yellow normalisation (2-D kernel sums to 1);
+ * the clamp to [0,1] in linear RGB after CSF filtering; feature input (Y + 16) / 116 of the
+ * unfiltered image; feature kernels (Gaussian sums to 1, derivative lobes to +1 / -1); feature error
+ * (max(|d edge|, |d point|) / sqrt 2)^qf and colour^(1 - feature); the ACES coefficients with 0.6
+ * pre-exposure, per-channel tone map + clamp, N = max(2, ceil(stop - start)).  Differences: the
+ * RGB->XYZ matrix and reference white here are the 4-digit sRGB ones (FLIP.h uses exact
+ * fractions; the difference is < 1e-4 relative).
  */
 #include "prw_metrics.h"
 
