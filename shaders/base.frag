@@ -88,12 +88,14 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q[4], out vec3 fdir)
     return 0.5 * abs(e);
 }
 
-// Specular lobes of a rect light (centre c, half axes du, dv, emitting towards +ln, radiance 1) at p:
-// midpoint quadrature over the quad, on a grid whose cells subtend at most half the GGX alpha (in
-// radians, seen from p), so the lobe is resolved; at most 32 x 32 cells (near-mirror surfaces
-// reflecting a large light are then under-resolved: seen as a dotted reflection).
-vec3 rect_specular(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
-                   float roughness, float specular)
+// Single-scattering specular of a rect light (centre c, half axes du, dv, emitting towards +ln,
+// radiance 1) at p: the D * V * cos factor is integrated by midpoint quadrature over the quad on a
+// grid whose cells subtend at most half the GGX alpha (radians, seen from p), so the lobe is
+// resolved (at most 32 x 32 cells: near-mirror surfaces reflecting a large light are then
+// under-resolved, seen as a dotted reflection); Fresnel, which varies slowly over the light, is
+// taken at the quadrature's D V-weighted mean cos(v, h).
+vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                          float roughness, float specular)
 {
     float alpha = prw_alpha_from_roughness(roughness);
     float dist = max(length(c - p), 1e-4);
@@ -101,8 +103,8 @@ vec3 rect_specular(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, ve
     float cell = 0.5 * alpha * dist; // metres on the light per cell, at the light's distance
     int nu = int(clamp(ceil(2.0 * lu / cell), 1.0, 32.0));
     int nv = int(clamp(ceil(2.0 * lv / cell), 1.0, 32.0));
-    float NoV = max(dot(n, v), 1e-4);
-    vec3 acc = vec3(0.0);
+    float NoV = min(max(dot(n, v), 1e-4), 1.0);
+    float sum = 0.0, sum_voh = 0.0;
     for (int j = 0; j < nv; j++) {
         float sv = (2.0 * (float(j) + 0.5)) / float(nv) - 1.0;
         for (int i = 0; i < nu; i++) {
@@ -113,14 +115,32 @@ vec3 rect_specular(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, ve
             float NoL = dot(n, l), cl = -dot(l, ln);
             if (NoL <= 0.0 || cl <= 0.0) continue;
             vec3 h = normalize(v + l);
-            float NoH = dot(n, h), VoH = dot(v, h);
-            vec3 f = vec3(prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness, specular),
-                          prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness, specular),
-                          prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness, specular));
-            acc += f * (NoL * cl / d2);
+            float w = prw_D_ggx(prw_clamp01(dot(n, h)), alpha) * prw_V_smith_ggx(NoV, min(NoL, 1.0), alpha) *
+                      (NoL * cl / d2);
+            sum += w;
+            sum_voh += w * prw_clamp01(dot(v, h));
         }
     }
-    return acc * (4.0 * lu * lv / float(nu * nv));
+    if (!(sum > 0.0)) return vec3(0.0);
+    float voh = sum_voh / sum;
+    float m = prw_clamp01(metallic);
+    float f_diel = prw_clamp01(specular) * prw_F_dielectric(voh);
+    vec3 f = vec3((1.0 - m) * f_diel + m * prw_F_schlick(base.r, voh), (1.0 - m) * f_diel + m * prw_F_schlick(base.g, voh),
+                  (1.0 - m) * f_diel + m * prw_F_schlick(base.b, voh));
+    return f * (sum * 4.0 * lu * lv / float(nu * nv));
+}
+
+// Multiple-scattering specular (Kulla-Conty) per channel: a smooth, diffuse-like lobe.
+vec3 specular_ms(float NoV, float NoL, vec3 base, float metallic, float roughness, float specular)
+{
+    float ec_avg = prw_ggx_Ec_avg(roughness);
+    float ms = prw_ggx_ms_shape(min(NoV, 1.0), min(NoL, 1.0), roughness);
+    float m = prw_clamp01(metallic);
+    float diel = prw_F_ms(prw_clamp01(specular) * PRW_DIELECTRIC_F_AVG, ec_avg);
+    vec3 metal = vec3(prw_F_ms(base.r + (1.0 - base.r) * (1.0 / 21.0), ec_avg),
+                      prw_F_ms(base.g + (1.0 - base.g) * (1.0 / 21.0), ec_avg),
+                      prw_F_ms(base.b + (1.0 - base.b) * (1.0 / 21.0), ec_avg));
+    return ms * ((1.0 - m) * diel + m * metal);
 }
 
 // The shared material model (prw_brdf.h) per RGB channel, from cosines.
@@ -179,15 +199,17 @@ void main()
             vec3 fdir;
             float E = quad_irradiance(v_pos, n, q, fdir);
             if (E <= 0.0) continue;
-            // Diffuse: Lambert's polygon formula is exact for a constant lobe; the model's diffuse
-            // coupling term depends on cos(theta_i) only weakly, taken at the vector form factor's
-            // direction.  Specular: quadrature over the quad (rect_specular).
+            // Diffuse and the multiple-scattering specular (both smooth in the light direction):
+            // Lambert's polygon formula E, exact for a constant lobe, with the cosine-dependent
+            // factors taken at the vector form factor's direction.  Single-scattering specular:
+            // quadrature over the quad (rect_specular_single).
             float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
             vec3 fd = vec3(prw_brdf_diffuse_channel(NoV, NoLd, base.r, metallic, roughness, specular),
                            prw_brdf_diffuse_channel(NoV, NoLd, base.g, metallic, roughness, specular),
                            prw_brdf_diffuse_channel(NoV, NoLd, base.b, metallic, roughness, specular));
-            vec3 f = fd * E + rect_specular(v_pos, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
-                                            metallic, roughness, specular);
+            fd += specular_ms(NoV, NoLd, base, metallic, roughness, specular);
+            vec3 f = fd * E + rect_specular_single(v_pos, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
+                                                   metallic, roughness, specular);
             radiance += f * rgb * shadow_factor(L, v_pos, n);
             continue;
         }
