@@ -4,9 +4,10 @@
 #include "prw_brdf.h"
 
 // Base pass: emission + direct light from every light (shadowed by shadow maps), in cd/m^2.
-// Rect area lights (raster method, stated in engine/render/README.md): diffuse irradiance exact by
-// Lambert's polygon formula (clipped to the receiver's hemisphere), specular from the most
-// representative point on the rectangle, visibility from one shadow map at the rectangle's centre.
+// Rect area lights: diffuse (and the multiple-scattering specular) from Lambert's polygon formula
+// (exact irradiance, clipped to the receiver's hemisphere); single-scattering specular by a
+// lobe-resolving quadrature over the rectangle (rect_specular_single); visibility from one shadow
+// map at the rectangle's centre (hard shadows: the main remaining difference to the reference).
 
 layout(set = 0, binding = 1) uniform sampler2DArrayShadow shadow_map;
 
