@@ -8,6 +8,13 @@
  * two medians does not guarantee on a path whose frame cost varies.  median(A) and median(B) are
  * printed beside it.  Writes ab.csv
  * (pair, frame, a_ms, b_ms) and ab.json in --out; no references are rendered in this mode.
+ *
+ * The known-slowdown check (`--vs extra_gpu_work=F`, A without extra work): before timing, the
+ * replay fraction of B's extra pass (pass_extra_work.c) is calibrated so that the pass takes F x A's
+ * GPU frame time (sum of A's pass times), measured with GPU timestamps on CALIB_FRAMES path frames
+ * in separate timestamped renderers; CALIB_ROUNDS rounds of proportional correction, the last
+ * measured share printed.  The A/B figure, from wall-clock frame times with timestamps off, should
+ * then read 1 + F (less the small CPU share of a frame).
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -19,6 +26,55 @@
 #define AB_MIN_PAIRS 30
 #define AB_RESAMPLES 4000
 #define AB_SEED 1
+#define CALIB_FRAMES 8
+#define CALIB_ROUNDS 3
+
+static double sum_gpu(const prw_frame_stats *st, const char *only)
+{
+    double t = 0;
+    for (uint32_t i = 0; i < st->pass_count; i++)
+        if (!st->passes[i].skipped && st->passes[i].gpu_ms > 0 && (!only || strcmp(st->passes[i].name, only) == 0))
+            t += st->passes[i].gpu_ms;
+    return t;
+}
+
+/* See the top: returns the calibrated replay fraction in *fraction and the last measured share. */
+static bool calibrate_extra(bench_ctx *c, prw_gpu *gpu, const prw_render_desc *da, const prw_render_desc *db,
+                            double *fraction, double *share, prw_error *e)
+{
+    prw_render_desc ta = *da, tb = *db;
+    ta.timestamps = tb.timestamps = true;
+    prw_renderer *ra = NULL, *rb = NULL;
+    double target = db->extra_gpu_work;
+    *fraction = target;
+    *share = 0;
+    bool ok = prw_renderer_create(gpu, c->scene, &ta, &ra, e) && prw_renderer_create(gpu, c->scene, &tb, &rb, e);
+    prw_view v;
+    if (ok) ok = bench_frame_view(c, c->frames[0], &v, e) && prw_renderer_render(ra, &v, 1, NULL, e) &&
+                 prw_renderer_render(rb, &v, 1, NULL, e); /* warm-up */
+    for (int round = 0; ok && round < CALIB_ROUNDS; round++) {
+        ok = prw_renderer_set_extra_work(rb, *fraction, e);
+        double sa = 0, sx = 0;
+        for (uint32_t k = 0; ok && k < CALIB_FRAMES; k++) {
+            prw_frame_stats st;
+            ok = bench_frame_view(c, c->frames[(size_t)k * c->nframes / CALIB_FRAMES], &v, e) &&
+                 prw_renderer_render(ra, &v, 1, &st, e);
+            if (ok) sa += sum_gpu(&st, NULL);
+            if (ok) ok = prw_renderer_render(rb, &v, 1, &st, e);
+            if (ok) sx += sum_gpu(&st, "extra_work");
+        }
+        if (ok && !(sa > 0 && sx > 0)) ok = prw_fail(e, "bench A/B: calibration: no GPU pass times");
+        if (!ok) break;
+        *share = sx / sa;
+        fprintf(stderr, "bench A/B: calibration round %d: replay fraction %.4f -> extra pass %.2f %% of A's GPU time\n",
+                round + 1, *fraction, 100.0 * *share);
+        *fraction *= target / *share;
+        if (*fraction > 16) *fraction = 16;
+    }
+    prw_renderer_destroy(ra);
+    prw_renderer_destroy(rb);
+    return ok;
+}
 
 static bool timed_frame(prw_renderer *r, const prw_view *v, double *ms, prw_error *e)
 {
@@ -67,7 +123,12 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
     uint32_t n = c->nframes > AB_MIN_PAIRS ? c->nframes : AB_MIN_PAIRS;
     double *ta = prw_calloc(n, sizeof *ta), *tb = prw_calloc(n, sizeof *tb);
     uint32_t *fr = prw_calloc(n, sizeof *fr);
-    bool ok = prw_renderer_create(gpu, c->scene, &da, &ra, e) && prw_renderer_create(gpu, c->scene, &db, &rb, e);
+    bool ok = true;
+    double calib_fraction = 0, calib_share = 0;
+    bool calib = db.extra_gpu_work > 0 && !(da.extra_gpu_work > 0);
+    if (calib) ok = calibrate_extra(c, gpu, &da, &db, &calib_fraction, &calib_share, e);
+    ok = ok && prw_renderer_create(gpu, c->scene, &da, &ra, e) && prw_renderer_create(gpu, c->scene, &db, &rb, e);
+    if (ok && calib) ok = prw_renderer_set_extra_work(rb, calib_fraction, e);
     prw_view v;
     if (ok) ok = bench_frame_view(c, c->frames[0], &v, e);
     for (long w = 0; ok && w < c->o.warmup; w++) ok = prw_renderer_render(ra, &v, 1, NULL, e) && prw_renderer_render(rb, &v, 1, NULL, e);
@@ -94,6 +155,10 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
                "frames each at %ux%u; bootstrap over pairs, %d resamples, seed %d; B = %s)\n",
                ratio.ratio, ratio.lo, ratio.hi, prw_stats_median(ta, n), prw_stats_median(tb, n), n, c->o.width,
                c->o.height, AB_RESAMPLES, AB_SEED, b_text);
+    if (ok && calib)
+        printf("A/B: known slowdown: B's extra pass calibrated to %.1f %% of A's GPU frame time (timestamps, %d frames; "
+               "replay fraction %.4f): expected B/A = %.3f\n",
+               100.0 * calib_share, CALIB_FRAMES, calib_fraction, 1.0 + db.extra_gpu_work);
     free(ta);
     free(tb);
     free(fr);

@@ -31,6 +31,7 @@ typedef struct bench_opts {
     const char *preset;     /* NULL: default ("high") */
     const char *sweep;
     const char *vs;
+    const char *views_backend; /* --views 2: loop | multiview | auto */
     long views, reference_every, ref_spp, frames_limit, warmup;
     const char *out_dir;
     long shard_i, shard_n;
@@ -113,6 +114,9 @@ bool bench_run_timestamped(bench_ctx *c, prw_gpu *gpu, prw_error *e);
 /* bench_ab.c */
 bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_quality *b, const char *b_text,
                   prw_error *e);
+
+/* bench_stereo.c: --views 2 -- mono, naive and shared stereo interleaved (issue 5) */
+bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const char *views_backend, prw_error *e);
 
 /* bench_out.c */
 void bench_meta_add(bench_meta *m, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));

@@ -26,13 +26,17 @@ static void bench_usage(void)
     printf("usage: prw bench [SCENE] [PATH.json | --path demo] [options]\n"
            "  SCENE                  manifest (.json) or 'demo' (default)\n"
            "  PATH.json, --path P    camera path file, or 'demo': the built-in 60-frame demo walk (default)\n"
-           "  --preset NAME          low | medium | high | ultra (default high)\n"
+           "  --preset NAME          low | medium | high | ultra (default high), optionally followed by\n"
+           "                         knobs: \"high;tonemap=selective\"\n"
            "  --sweep SPEC           knob ranges over the preset, e.g. \"msaa=1,4;shadow_size=512,1024,2048\"\n"
            "  --vs CONFIG            A/B mode: the preset (A) against CONFIG (B: a preset or knob list such as\n"
            "                         \"msaa=1\"), interleaved frame by frame, >= 30 frames each; prints the median\n"
            "                         ratio B/A of frame times with a bootstrap 95 %% interval\n"
            "  --size WxH             image size (default 1280x720)\n"
-           "  --views N              views per frame (only 1 for now)\n"
+           "  --views N              views per frame: 1, or 2 for the stereo benchmark (mono, naive stereo =\n"
+           "                         two single-view renders, shared stereo = one two-view frame, interleaved;\n"
+           "                         T_stereo/T_mono, T_stereo/T_naive, f_eye and the ideal ratio; no references)\n"
+           "  --views-backend B      with --views 2: loop, multiview or auto (default auto)\n"
            "  --reference-every K    reference at every K-th frame (default: 5 references along the path)\n"
            "  --ref-spp N            reference samples per pixel (default 64); a second reference with another\n"
            "                         seed at the same spp gives the reference noise\n"
@@ -86,6 +90,7 @@ static bool parse_options(prw_args *a, bench_opts *o, prw_error *e)
     o->preset = prw_args_value(a, "preset", e, &bad);
     o->sweep = prw_args_value(a, "sweep", e, &bad);
     o->vs = prw_args_value(a, "vs", e, &bad);
+    o->views_backend = prw_args_value(a, "views-backend", e, &bad);
     if ((v = prw_args_value(a, "out", e, &bad))) o->out_dir = v;
     o->ref_child = prw_args_value(a, "ref-child", e, &bad);
     o->ref_dir = prw_args_value(a, "ref-dir", e, &bad);
@@ -115,7 +120,10 @@ static bool parse_options(prw_args *a, bench_opts *o, prw_error *e)
         o->path_spec = a->positional[1];
     }
     if (!o->path_spec) o->path_spec = "demo";
-    if (o->views > 1) return prw_fail(e, "--views %ld: views > 1 needs the stereo issue (only 1 view for now)", o->views);
+    if (o->views > 2) return prw_fail(e, "--views %ld: 1 (mono) or 2 (the stereo benchmark)", o->views);
+    if (o->views == 2 && (o->vs || o->sweep || o->shard_n > 1))
+        return prw_fail(e, "--views 2 is its own interleaved comparison: no --vs, --sweep or --shard");
+    if (o->views_backend && o->views != 2) return prw_fail(e, "--views-backend needs --views 2");
     if (o->preset && o->vs && strchr(o->vs, '=') == NULL && strcmp(o->preset, o->vs) == 0)
         return prw_fail(e, "--vs %s: the same configuration as --preset", o->vs);
     if (o->sweep && o->vs) return prw_fail(e, "--sweep and --vs exclude each other");
@@ -167,7 +175,8 @@ static bool build_configs(bench_ctx *c, prw_error *e)
 {
     prw_quality base = prw_quality_default();
     const char *base_name = c->o.preset ? c->o.preset : "high";
-    if (c->o.preset && !prw_quality_preset(c->o.preset, &base, e)) return false;
+    /* a preset name, or a config: a preset followed by knobs, e.g. "high;tonemap=selective" */
+    if (c->o.preset && !prw_quality_parse_config(c->o.preset, &base, &base, e)) return false;
     prw_quality *list = NULL;
     uint32_t n = 1;
     if (c->o.sweep) {
@@ -265,10 +274,14 @@ int prw_cmd_bench(int argc, char **argv)
     }
     if (!bench_mkdirs(c->o.out_dir, &e)) goto done;
     double t0 = prw_now();
-    if (!c->o.vs && !bench_references(c, &e)) goto done; /* before the GPU exists: nothing is timed yet */
+    if (!c->o.vs && c->o.views == 1 && !bench_references(c, &e)) goto done; /* before the GPU: nothing timed yet */
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     if (c->o.vs) {
         rc = run_ab(c, gpu, &e);
+        goto done;
+    }
+    if (c->o.views == 2) {
+        rc = bench_run_stereo(c, gpu, &c->res.configs[0].q, c->o.views_backend, &e) ? 0 : 1;
         goto done;
     }
     bench_machine_meta(&c->res.meta, gpu);

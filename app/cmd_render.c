@@ -1,5 +1,6 @@
 /* prw render — a headless still: EXR of linear radiance (cd/m^2) and PNG of the displayed image. */
 #define _XOPEN_SOURCE 700
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,10 @@
 #include "prw_image.h"
 #include "prw_render.h"
 #include "prw_view.h"
+#include "render_stereo.h"
+#ifdef PRW_HAVE_GLARE
+#include "prw_glare.h"
+#endif
 
 #ifndef PRW_GIT_HASH
 #define PRW_GIT_HASH "unknown"
@@ -30,22 +35,139 @@ static void render_usage(void)
            "  --ss N             N x N supersampling for stills, box-filtered in linear HDR (default 1)\n"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
-           "  --tonemap OP       exposure, reinhard, neutral, adaptive or absolute (default exposure);\n"
-           "                     absolute prints the fractions below black / above peak / out of gamut\n"
+           "  --tonemap OP       exposure, reinhard, neutral, adaptive, absolute, local or selective (default\n"
+           "                     exposure); absolute prints the fractions below black / above peak / out of\n"
+           "                     gamut, selective the fraction of tiles given the local operator\n"
+           "  --tm-threshold X   selective: Sobel threshold in log10 units per pixel (default 0.1)\n"
+           "  --tm-tile N        selective: tile size, 16, 32, 48 ... 256 pixels (default 16)\n"
+           "  --display-exr FILE linear display-referred light (cd/m^2 through the display model, display\n"
+           "                     primaries in the chromaticities attribute) as EXR; on a PQ Rec.2020 display\n"
+           "                     (hdr10-1000) the PNG is HDR10: 16-bit PQ with cICP, MaxCLL/MaxFALL in PNG.json\n"
+           "  --glare            temporal glare (eye PSF: pupil, lens, lashes; by FFT) on the HDR image before\n"
+           "                     tone mapping the PNG / display EXR (the scene EXR stays unglared); off by default\n"
            "  --tm-overlay       paint those pixels (below black blue, above peak red, out of gamut magenta)\n"
            "  --pass-times       time each pass with GPU timestamps (a separate measurement: each\n"
-           "                     timestamp flushes on lavapipe, so frame times then include that cost)\n");
+           "                     timestamp flushes on lavapipe, so frame times then include that cost)\n"
+           "stereo (both eyes as one view set; writes FILE-left.exr, FILE-right.exr, FILE-composed.exr/.png):\n"
+           "  --stereo           desktop stereo: off-axis frusta, --size per eye, composed side by side\n"
+           "  --ipd M            eye separation in metres (default 0.063)\n"
+           "  --screen-distance M  distance of the screen (zero parallax) in metres (default 0.7)\n"
+           "  --hmd PROFILE      HMD mode: 'dk2' or a profile .json (assets/hmd/); parallel axes, per-eye\n"
+           "                     FOVs, composed panel with barrel pre-distortion and chromatic pre-correction;\n"
+           "                     --size sets the panel (default: the profile's)\n"
+           "  --sbs              with --hmd: the side-by-side debug view (no distortion)\n"
+           "  --views-backend B  loop, multiview or auto (default auto: loop on lavapipe)\n");
 }
 
-typedef struct render_job {
+typedef struct render_job render_job;
+static bool write_display_files(prw_renderer *r, const render_job *job, const prw_display *d, const uint8_t *ldr,
+                                const prw_image *hdr, double ev100, prw_error *e);
+static void ensure_parent_dir(const char *path);
+
+struct render_job {
     const char *scene_path, *out, *png, *camera;
     const char *display, *tonemap; /* NULL: srgb, exposure */
     bool tm_overlay;
+    bool glare; /* temporal glare before tone mapping (display outputs only) */
+    double tm_threshold; /* 0: default */
+    const char *display_exr; /* display-referred EXR (NULL: none) */
+    long tm_tile;        /* 0: default */
     uint32_t width, height, msaa, shadow_size, supersample;
     long frames;
     bool has_ev, pass_times;
     double ev100;
-} render_job;
+};
+
+/* The display-encoded PNG (HDR10 16-bit PQ + cICP + MaxCLL/MaxFALL sidecar on a PQ Rec.2020 display,
+ * else 8-bit) and the optional display-referred EXR; on failure none of them is left. */
+#ifdef PRW_HAVE_GLARE
+/* The display signal of the HDR image after temporal glare (prw_glare.h): pupil from the frame's
+ * log-average luminance (the adapted one when adaptation runs), PSF at the display's ppd. */
+static bool glare_signal(prw_renderer *r, const prw_display *d, const prw_image *hdr, double ev100, prw_image *sig,
+                         uint8_t *ldr8, prw_error *e)
+{
+    prw_image g = {0};
+    float *psf = NULL;
+    int R = 0;
+    double la;
+    if (!prw_renderer_tonemap_adaptation(r, &la)) {
+        prw_tm_stats st;
+        prw_tm_stats_image(hdr, &st);
+        la = st.log_avg;
+    }
+    prw_glare_settings gs = {.n = 512, .ppd = d->ppd > 0 ? d->ppd : 40.0};
+    double pupil = prw_glare_pupil_mm(la);
+    bool ok = prw_image_alloc(&g, hdr->width, hdr->height, e) && prw_glare_psf(&gs, pupil, &psf, &R, e);
+    if (ok) {
+        memcpy(g.rgba, hdr->rgba, (size_t)hdr->width * (size_t)hdr->height * 16);
+        ok = prw_glare_apply(&g, psf, R, e) && prw_renderer_tonemap_image(r, &g, ev100, sig, NULL, NULL, e);
+    }
+    if (ok) {
+        size_t n = (size_t)hdr->width * (size_t)hdr->height;
+        for (size_t i = 0; i < n * 4; i++) ldr8[i] = (uint8_t)lrintf(255.0f * fminf(fmaxf(sig->rgba[i], 0.0f), 1.0f));
+        printf("glare: pupil %.2f mm (log-average luminance %.4g cd/m^2), PSF radius %d px at %.0f ppd\n", pupil, la,
+               R, gs.ppd);
+    }
+    free(psf);
+    prw_image_free(&g);
+    return ok;
+}
+#endif
+
+static bool write_display_files(prw_renderer *r, const render_job *job, const prw_display *d, const uint8_t *ldr,
+                                const prw_image *hdr, double ev100, prw_error *e)
+{
+    prw_image sig = {0}, light = {0};
+    bool hdr10 = d->eotf == PRW_EOTF_PQ && d->primaries == PRW_PRIMARIES_REC2020;
+    bool ok = true, png_done = false;
+    uint8_t *ldr_glare = NULL;
+    (void)hdr, (void)ev100;
+    if (job->glare) {
+#ifdef PRW_HAVE_GLARE
+        ldr_glare = prw_malloc((size_t)job->width * job->height * 4);
+        ok = glare_signal(r, d, hdr, ev100, &sig, ldr_glare, e);
+        ldr = ldr_glare;
+#else
+        ok = prw_fail(e, "--glare: this build has no kissfft (install libkissfft-dev and rebuild)");
+#endif
+    } else if (hdr10 || job->display_exr) {
+        ok = prw_renderer_read_signal(r, 0, &sig, e);
+    }
+    if (ok) {
+        ok = hdr10 ? prw_tm_write_hdr10_png(job->png, d, &sig, e)
+                   : prw_png_write8(job->png, (int)job->width, (int)job->height, 4, ldr, e);
+        png_done = ok;
+    }
+    if (ok && job->display_exr) {
+        float chroma[8];
+        prw_tm_display_chroma(d, chroma);
+        prw_kv attrs[] = {{"prw:units", "cd/m^2 displayed (display-referred, display primaries)"},
+                          {"prw:display", d->name}};
+        ensure_parent_dir(job->display_exr);
+        ok = prw_tm_display_light(d, &sig, &light, e) &&
+             prw_exr_write_chroma(job->display_exr, &light, chroma, attrs, (int)PRW_ARRAY_LEN(attrs), e);
+    }
+    if (!ok && png_done) {
+        char side[PATH_MAX];
+        remove(job->png);
+        if (hdr10 && snprintf(side, sizeof side, "%s.json", job->png) < (int)sizeof side) remove(side);
+    }
+    if (ok && job->display_exr) {
+        char abs[PATH_MAX];
+        printf("wrote %s (display-referred cd/m^2, %s primaries)\n",
+               realpath(job->display_exr, abs) ? abs : job->display_exr, prw_primaries_name(d->primaries));
+    }
+    if (ok && hdr10) {
+        double cll, fall;
+        prw_tm_light_levels(&sig, &cll, &fall);
+        printf("HDR10 PNG: 16-bit PQ, cICP 9/16/0/1, MaxCLL %.0f cd/m^2, MaxFALL %.0f cd/m^2 (sidecar %s.json)\n", cll,
+               fall, job->png);
+    }
+    prw_image_free(&sig);
+    prw_image_free(&light);
+    free(ldr_glare);
+    return ok;
+}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -91,7 +213,8 @@ static int prw_render_job_run(const render_job *job)
                           .timestamps = job->pass_times};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
-    prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE, .overlay = job->tm_overlay};
+    prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE, .overlay = job->tm_overlay,
+                                .sel_threshold = job->tm_threshold, .sel_tile = (uint32_t)job->tm_tile};
     if (!prw_display_resolve(job->display ? job->display : "srgb", &disp, &e) ||
         (job->tonemap && !prw_tm_op_parse(job->tonemap, &tms.op, &e)) || !prw_renderer_set_tonemap(r, &disp, &tms, &e))
         goto done;
@@ -121,8 +244,8 @@ static int prw_render_job_run(const render_job *job)
     ensure_parent_dir(job->out);
     ensure_parent_dir(job->png);
     if (!prw_exr_write(job->out, &hdr, attrs, (int)PRW_ARRAY_LEN(attrs), &e)) goto done;
-    if (!prw_png_write8(job->png, (int)job->width, (int)job->height, 4, ldr, &e)) {
-        remove(job->out); /* no partial output: both files or none */
+    if (!write_display_files(r, job, &disp, ldr, &hdr, view.ev100, &e)) {
+        remove(job->out); /* no partial output: all files or none */
         goto done;
     }
     char abs_out[PATH_MAX], abs_png[PATH_MAX];
@@ -135,6 +258,10 @@ static int prw_render_job_run(const render_job *job)
         printf("display range %.3g..%.4g cd/m^2: %.2f %% below black, %.2f %% above peak, %.2f %% out of gamut\n",
                prw_display_min(&disp), prw_display_max(&disp), 100.0 * (double)rep.below_black / (double)rep.pixels,
                100.0 * (double)rep.above_peak / (double)rep.pixels, 100.0 * (double)rep.out_of_gamut / (double)rep.pixels);
+    if (tms.op == PRW_TM_SELECTIVE && rep.tiles)
+        printf("selective tone mapping: %llu of %llu tiles marked, local operator on %llu of %llu 16x16 blocks\n",
+               (unsigned long long)rep.tiles_marked, (unsigned long long)rep.tiles,
+               (unsigned long long)rep.blocks_local, (unsigned long long)rep.blocks);
     printf("frame time %.2f ms (median of %ld, %ux%u, %ux MSAA, %ux%u supersampling, %llu triangles, device %s)\n",
            median, job->frames, job->width, job->height, job->msaa, job->supersample, job->supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));
@@ -214,6 +341,15 @@ int prw_cmd_render(int argc, char **argv)
     job.display = prw_args_value(&a, "display", &e, &bad);
     job.tonemap = prw_args_value(&a, "tonemap", &e, &bad);
     job.tm_overlay = prw_args_flag(&a, "tm-overlay");
+    job.display_exr = prw_args_value(&a, "display-exr", &e, &bad);
+    job.glare = prw_args_flag(&a, "glare");
+    if ((v = prw_args_value(&a, "tm-threshold", &e, &bad)) &&
+        !prw_parse_double(v, "--tm-threshold", 1e-6, 100, &job.tm_threshold, &e))
+        bad = true;
+    if ((v = prw_args_value(&a, "tm-tile", &e, &bad)) &&
+        (!prw_parse_int(v, "--tm-tile", 16, 256, &job.tm_tile, &e) ||
+         (job.tm_tile % 16 && !prw_fail(&e, "--tm-tile %ld: must be a multiple of 16", job.tm_tile))))
+        bad = true;
     {
         prw_display d;
         prw_tm_op op;
@@ -221,6 +357,32 @@ int prw_cmd_render(int argc, char **argv)
                      (job.tonemap && !prw_tm_op_parse(job.tonemap, &op, &e))))
             bad = true;
     }
+    /* stereo (issue 5) */
+    prw_stereo_job sj = {.ipd = -1};
+    bool stereo = prw_args_flag(&a, "stereo");
+    bool size_given = false;
+    for (int i = 1; i < argc; i++) size_given = size_given || strncmp(argv[i], "--size", 6) == 0;
+    sj.hmd = prw_args_value(&a, "hmd", &e, &bad);
+    sj.sbs_debug = prw_args_flag(&a, "sbs");
+    sj.views_backend = prw_args_value(&a, "views-backend", &e, &bad);
+    if ((v = prw_args_value(&a, "ipd", &e, &bad)) && !prw_parse_double(v, "--ipd", 0, 0.2, &sj.ipd, &e)) bad = true;
+    if ((v = prw_args_value(&a, "screen-distance", &e, &bad)) &&
+        !prw_parse_double(v, "--screen-distance", 0.06, 1e4, &sj.screen_distance, &e))
+        bad = true;
+    if (!bad && stereo && sj.hmd) bad = true, prw_fail(&e, "--stereo and --hmd exclude each other");
+    if (!bad && !stereo && !sj.hmd && (sj.ipd >= 0 || sj.screen_distance > 0 || sj.sbs_debug || sj.views_backend))
+        bad = true, prw_fail(&e, "--ipd, --screen-distance, --sbs and --views-backend need --stereo or --hmd");
+    if (!bad && sj.hmd && (sj.ipd >= 0 || sj.screen_distance > 0))
+        bad = true, prw_fail(&e, "--ipd and --screen-distance are for --stereo; --hmd takes them from the profile");
+    if (!bad && !sj.hmd && sj.sbs_debug) bad = true, prw_fail(&e, "--sbs is for --hmd (desktop stereo is always side by side)");
+    if (!bad && sj.views_backend && strcmp(sj.views_backend, "loop") && strcmp(sj.views_backend, "multiview") &&
+        strcmp(sj.views_backend, "auto"))
+        bad = true, prw_fail(&e, "--views-backend '%s': expected loop, multiview or auto", sj.views_backend);
+    if (!bad && (stereo || sj.hmd) && (job.supersample > 1 || job.frames > 1 || job.pass_times || job.png ||
+                                        job.tm_overlay))
+        bad = true, prw_fail(&e, "--ss, --frames, --pass-times, --png and --tm-overlay are not available with --stereo/--hmd");
+    if (!bad && sj.hmd && size_given && job.width % 2)
+        bad = true, prw_fail(&e, "--size %ux%u: the HMD panel needs an even width", job.width, job.height);
     if (!bad && !prw_args_finish(&a, &e)) bad = true;
     if (!bad && a.positional_count > 1) bad = true, prw_fail(&e, "render takes one SCENE, got %d", a.positional_count);
     if (bad) {
@@ -229,6 +391,22 @@ int prw_cmd_render(int argc, char **argv)
         return 2;
     }
     job.scene_path = a.positional_count ? a.positional[0] : NULL;
+    if (stereo || sj.hmd) {
+        sj.scene_path = job.scene_path;
+        sj.out = job.out;
+        sj.camera = job.camera;
+        sj.display = job.display;
+        sj.tonemap = job.tonemap;
+        sj.width = sj.hmd && !size_given ? 0 : job.width;
+        sj.height = sj.hmd && !size_given ? 0 : job.height;
+        sj.msaa = job.msaa;
+        sj.shadow_size = job.shadow_size;
+        sj.has_ev = job.has_ev;
+        sj.ev100 = job.ev100;
+        int rc = prw_stereo_job_run(&sj);
+        prw_args_free(&a);
+        return rc;
+    }
     char *png = job.png ? NULL : png_path_for(job.out);
     if (png) job.png = png;
     int rc = prw_render_job_run(&job);

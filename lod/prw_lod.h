@@ -3,7 +3,16 @@
  *
  * Levels: level 0 is the finest tessellation (prw_tess_fixed with the sewing points as the fixed
  * boundary, chord = the seam graph's chord, then edge flips that remove 3-D slivers and move toward
- * the 3-D Delaunay criterion); level k >= 1 targets tau_k = tau0 · 2^k (tau0 = the
+ * the 3-D Delaunay criterion, then refinement: every triangle whose error bound (below) exceeds
+ * tau0 has its longest non-boundary edge — lengths in (u, v) scaled by the patch's mean |S_u|,
+ * |S_v| — split at the (u, v) midpoint together with the triangle across it (2 -> 4, conforming),
+ * until every level-0 bound is <= max(tau0, the part due to the boundary alone: the sewing chords
+ * against the exact trim curve and against the surface along the straight (u, v) edge).  Sewing
+ * points are never added, so watertightness is untouched.  Limits (counted in refused_splits):
+ * no split that would give a vertex valence > 24 or an invalid triangle, none beyond
+ * max_patch_triangles, and NO refinement of triangles touching a pole copy (collapsed edge; needs
+ * more pole copies along the collapsed (u, v) edge — not done), so patches with a pole keep the
+ * ear-clipped fan there and its (measured, larger) bound); level k >= 1 targets tau_k = tau0 · 2^k (tau0 = the
  * sewing chord tolerance).
  *
  * Segment ladders (prw_lod_ladder.c): per segment, nested subsets of its sewing points — level k
@@ -57,7 +66,8 @@ extern "C" {
 typedef struct prw_lod_options {
     int levels;    /* 0: 14 */
     double tau0;   /* 0: the seam graph's chord */
-    int max_cells; /* finest tessellation grid cap per direction; 0: 48 */
+    int max_cells; /* finest tessellation grid cap per direction (start of the refinement); 0: 48 */
+    int max_patch_triangles; /* level-0 refinement cap per patch; 0: 2 x the initial count + 4096 */
 } prw_lod_options;
 
 typedef struct prw_lod_patch {
@@ -88,6 +98,7 @@ typedef struct prw_lod_model {
     int **seg_keep; /* per segment, per sewing point: coarsest level displaying it (INT32_MAX at ends) */
     int **ladder;   /* per segment: the curve-only ladder (subset of seg_keep) */
     int failed_patches;
+    int refused_splits; /* level-0 triangles left above tau0 by the refinement (cap / invalid split) */
     char first_problem[256];
     size_t finest_triangles;
 } prw_lod_model;

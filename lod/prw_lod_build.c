@@ -66,21 +66,22 @@ typedef struct work {
     heap h;
     lod_ivec nb, nb2, tmp;
     int level;
+    unsigned *vmark, *kmark, gen; /* de-duplication marks (per vertex / per weld key) */
 } work;
 
 static int key(const work *w, int v) { return w->p->gid[v] >= 0 ? w->p->gid[v] : w->g->ngids + v; }
 
-static void neighbours(const work *w, int v, lod_ivec *out)
+static void neighbours(work *w, int v, lod_ivec *out)
 {
     out->n = 0;
+    unsigned gen = ++w->gen;
     for (int k = 0; k < w->vt[v].n; k++) {
         const int *t = w->tri + 3 * w->vt[v].v[k];
         for (int q = 0; q < 3; q++) {
             int u = t[q];
-            if (u == v) continue;
-            bool seen = false;
-            for (int i = 0; i < out->n && !seen; i++) seen = out->v[i] == u;
-            if (!seen) lod_ipush(out, u);
+            if (u == v || w->vmark[u] == gen) continue;
+            w->vmark[u] = gen;
+            lod_ipush(out, u);
         }
     }
 }
@@ -149,12 +150,13 @@ static bool check(work *w, int v, int to, double tau)
     for (int i = 0; i < nv->n; i++)
         if (nv->v[i] != to && key(w, nv->v[i]) == kto) return false;
     int common = 0, opposite = 0;
+    unsigned gen = ++w->gen;
+    for (int j = 0; j < nt->n; j++)
+        if (nt->v[j] != v) w->kmark[key(w, nt->v[j])] = gen;
     for (int i = 0; i < nv->n; i++) {
         int u = nv->v[i];
         if (u == to) continue;
-        bool in = false;
-        for (int j = 0; j < nt->n && !in; j++) in = nt->v[j] != v && key(w, nt->v[j]) == key(w, u);
-        common += in;
+        common += w->kmark[key(w, u)] == gen;
     }
     for (int k = 0; k < w->vt[v].n; k++) {
         const int *t = w->tri + 3 * w->vt[v].v[k];
@@ -314,6 +316,180 @@ static void improve_level0(work *w)
     }
 }
 
+/* Level-0 refinement: until every triangle's error bound is <= tau0 (or the boundary chords alone
+ * bound it higher — interior refinement cannot lower that part), split the longest non-boundary
+ * edge of each offending triangle at its (u, v) midpoint together with the triangle across it
+ * (2 -> 4 triangles, conforming; sewing points are never added).  Splits whose new triangles fail
+ * the orientation / 3-D tests are refused and the triangle is left as it is (counted). */
+#ifndef PRW_LOD_MAX_VALENCE
+#define PRW_LOD_MAX_VALENCE 24
+#endif
+typedef struct refine_state {
+    int vcap, tcap;
+    int refused;
+} refine_state;
+
+/* A pole copy: a boundary vertex next to a copy of its own node on the ring (a collapsed edge).
+ * Triangles at a pole are not refined: their (u, v) regions (and those of the dropped triangles
+ * joining two copies) only make sense for the fan the ear clipping made there; refining them
+ * needs more pole copies along the collapsed edge (not done — their bound stays as measured). */
+static bool pole_copy(const prw_lod_patch *p, int a)
+{
+    if (a >= p->nbound || p->gid[a] < 0) return false;
+    int r = p->ring_of[a], s0 = p->ring_start[r], s1 = p->ring_start[r + 1];
+    int nx = a + 1 == s1 ? s0 : a + 1, pv = a == s0 ? s1 - 1 : a - 1;
+    return (nx != a && p->gid[nx] == p->gid[a]) || (pv != a && p->gid[pv] == p->gid[a]);
+}
+
+static bool at_pole(const prw_lod_patch *p, const int *r)
+{
+    return pole_copy(p, r[0]) || pole_copy(p, r[1]) || pole_copy(p, r[2]);
+}
+
+static int find_across(const work *w, int t, int x, int y)
+{
+    for (int i = 0; i < w->vt[x].n; i++) {
+        int u = w->vt[x].v[i];
+        if (u == t || !w->alive[u]) continue;
+        const int *r = w->tri + 3 * u;
+        for (int q = 0; q < 3; q++)
+            if (r[q] == y && r[(q + 1) % 3] == x) return u;
+    }
+    return -1;
+}
+
+static int add_vertex(work *w, refine_state *rs, int levels, const double *uv)
+{
+    prw_lod_patch *p = w->p;
+    if (p->nverts == rs->vcap) {
+        rs->vcap = 2 * rs->vcap + 16;
+        p->uv = prw_realloc(p->uv, sizeof(double) * 2 * (size_t)rs->vcap);
+        p->pos = prw_realloc(p->pos, sizeof(prw_dvec3) * (size_t)rs->vcap);
+        p->gid = prw_realloc(p->gid, sizeof(int) * (size_t)rs->vcap);
+        p->removed_at = prw_realloc(p->removed_at, sizeof(int) * (size_t)rs->vcap);
+        w->vt = prw_realloc(w->vt, sizeof(lod_ivec) * (size_t)rs->vcap);
+        w->active = prw_realloc(w->active, (size_t)rs->vcap);
+        w->stamp = prw_realloc(w->stamp, sizeof(unsigned) * (size_t)rs->vcap);
+    }
+    int v = p->nverts++;
+    p->uv[2 * v] = uv[0], p->uv[2 * v + 1] = uv[1];
+    p->pos[v] = prw_nurbs_surface_eval(w->s, uv[0], uv[1]);
+    p->gid[v] = -1;
+    p->removed_at[v] = levels;
+    memset(&w->vt[v], 0, sizeof w->vt[v]);
+    w->active[v] = 1;
+    w->stamp[v] = 0;
+    return v;
+}
+
+static int add_tri(work *w, refine_state *rs)
+{
+    if (w->ntri == rs->tcap) {
+        rs->tcap = 2 * rs->tcap + 16;
+        w->tri = prw_realloc(w->tri, sizeof(int) * 3 * (size_t)rs->tcap);
+        w->alive = prw_realloc(w->alive, (size_t)rs->tcap);
+        w->terr = prw_realloc(w->terr, sizeof(double) * (size_t)rs->tcap);
+    }
+    w->alive[w->ntri] = 1;
+    return w->ntri++;
+}
+
+static bool needs_refine(work *w, int t, double tau0)
+{
+    const int *r = w->tri + 3 * t;
+    double be;
+    lod_triangle_eval_parts(w->g, w->s, w->p, r[0], r[1], r[2], w->active, &w->terr[t], &be);
+    return w->terr[t] > fmax(tau0, be) && !at_pole(w->p, r);
+}
+
+static void refine_level0(work *w, int levels, double tau0, int max_tris, int *refused)
+{
+    prw_lod_patch *p = w->p;
+    refine_state rs = {.vcap = p->nverts, .tcap = w->ntri};
+    lod_ivec q = {0};
+    for (int t = 0; t < w->ntri; t++)
+        if (needs_refine(w, t, tau0)) lod_ipush(&q, t);
+    /* edge lengths in (u, v) scaled by the mean speeds |S_u|, |S_v| over the patch's vertices: a
+     * (u, v) bisection (unlike a 3-D one) also refines triangles fanning out of a pole */
+    double su = 0, sv = 0;
+    int ns = 0;
+    for (int v = 0; v < p->nverts; v += 1 + p->nverts / 64) {
+        prw_dvec3 d[4];
+        prw_nurbs_surface_derivs(w->s, p->uv[2 * v], p->uv[2 * v + 1], 1, d);
+        double a = prw_v3_len(d[2]), b = prw_v3_len(d[1]); /* d[2] = S_u, d[1] = S_v */
+        if (isfinite(a) && isfinite(b)) su += a, sv += b, ns++;
+    }
+    su = ns && su > 0 ? su / ns : 1;
+    sv = ns && sv > 0 ? sv / ns : 1;
+    for (int head = 0; head < q.n; head++) {
+        int t = q.v[head];
+        if (!w->alive[t] || !(w->terr[t] > tau0)) continue; /* stale entry */
+        if (w->ntri + 2 > max_tris) {
+            (*refused)++;
+            continue;
+        }
+        const int *r = w->tri + 3 * t;
+        /* edges by decreasing 3-D length; the first non-boundary one with a triangle across */
+        int order[3] = {0, 1, 2};
+        double len[3];
+        for (int k = 0; k < 3; k++) {
+            const double *a = p->uv + 2 * r[k], *b = p->uv + 2 * r[(k + 1) % 3];
+            len[k] = hypot(su * (b[0] - a[0]), sv * (b[1] - a[1]));
+        }
+        for (int i = 0; i < 3; i++)
+            for (int j = i + 1; j < 3; j++)
+                if (len[order[j]] > len[order[i]]) {
+                    int x = order[i];
+                    order[i] = order[j], order[j] = x;
+                }
+        bool done = false;
+        for (int oi = 0; oi < 3 && !done; oi++) {
+            int k = order[oi], x = r[k], y = r[(k + 1) % 3], z = r[(k + 2) % 3];
+            if (lod_span(p, x, y, w->active, 0, &w->tmp) && w->tmp.n == 0) continue; /* boundary edge */
+            int t2 = find_across(w, t, x, y);
+            if (t2 < 0) continue;
+            const int *r2 = w->tri + 3 * t2;
+            int o = r2[0] != x && r2[0] != y ? r2[0] : r2[1] != x && r2[1] != y ? r2[1] : r2[2];
+            if (at_pole(p, r2)) continue;
+            if (w->vt[z].n >= PRW_LOD_MAX_VALENCE || w->vt[o].n >= PRW_LOD_MAX_VALENCE) continue; /* no fans: they would stall the collapses */
+            double uv[2] = {0.5 * (p->uv[2 * x] + p->uv[2 * y]), 0.5 * (p->uv[2 * x + 1] + p->uv[2 * y + 1])};
+            int m = add_vertex(w, &rs, levels, uv);
+            int nt[4][3] = {{x, m, z}, {m, y, z}, {y, m, o}, {m, x, o}};
+            bool ok = true;
+            double err[4];
+            for (int h = 0; h < 4 && ok; h++)
+                ok = lod_triangle_eval(w->g, w->s, p, nt[h][0], nt[h][1], nt[h][2], w->active, &err[h]);
+            if (!ok) {
+                p->nverts--;
+                continue;
+            }
+            int t3 = add_tri(w, &rs), t4 = add_tri(w, &rs);
+            int ids[4] = {t, t3, t2, t4};
+            remove_tri_from(w, x, t2);
+            remove_tri_from(w, y, t);
+            lod_ipush(&w->vt[x], t4);
+            lod_ipush(&w->vt[y], t3);
+            lod_ipush(&w->vt[z], t3);
+            lod_ipush(&w->vt[o], t4);
+            for (int h = 0; h < 4; h++) {
+                memcpy(w->tri + 3 * ids[h], nt[h], sizeof nt[h]);
+                w->terr[ids[h]] = err[h];
+                lod_ipush(&w->vt[m], ids[h]);
+            }
+            for (int h = 0; h < 4; h++)
+                if (needs_refine(w, ids[h], tau0)) lod_ipush(&q, ids[h]);
+            done = true;
+        }
+        if (!done) (*refused)++;
+        if (head > (1 << 20) && head > q.n / 2) { /* compact the queue */
+            memmove(q.v, q.v + head + 1, sizeof(int) * (size_t)(q.n - head - 1));
+            q.n -= head + 1;
+            head = -1;
+        }
+    }
+    free(q.v);
+}
+
 static void snapshot(work *w, lod_ivec *tris, int level)
 {
     prw_lod_patch *p = w->p;
@@ -328,7 +504,7 @@ static void snapshot(work *w, lod_ivec *tris, int level)
 }
 
 /* Rings from the seam loops; fails (patch not drawn) on loops that cannot be tessellated. */
-static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int max_cells, prw_error *e)
+static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int max_cells, int max_tris, prw_error *e)
 {
     const prw_seam_graph *g = lm->g;
     const prw_seam_patch *P = &g->patches[pi];
@@ -432,8 +608,13 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
         for (int q = 0; q < 3; q++) lod_ipush(&w.vt[w.tri[3 * t + q]], t);
     }
     improve_level0(&w);
+    /* max_tris > 0: the caller's cap; else at most 2x + 4096 the initial count (the collapse
+     * phase is super-linear in the valence of hub vertices) */
+    refine_level0(&w, lm->levels, lm->tau0, max_tris > 0 ? max_tris : 2 * w.ntri + 4096, &lm->refused_splits);
     for (int t = 0; t < w.ntri; t++)
         lod_triangle_eval(g, s, p, w.tri[3 * t], w.tri[3 * t + 1], w.tri[3 * t + 2], w.active, &w.terr[t]);
+    w.vmark = prw_calloc((size_t)p->nverts + 1, sizeof(unsigned));
+    w.kmark = prw_calloc((size_t)(g->ngids + p->nverts) + 1, sizeof(unsigned));
     p->tri_start = prw_malloc(sizeof(int) * (size_t)(lm->levels + 1));
     p->err = prw_malloc(sizeof(double) * (size_t)lm->levels);
     lod_ivec tris = {0};
@@ -461,6 +642,8 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
     free(w.terr);
     free(w.active);
     free(w.stamp);
+    free(w.vmark);
+    free(w.kmark);
     free(w.h.a);
     free(w.nb.v);
     free(w.nb2.v);
@@ -490,7 +673,7 @@ bool prw_lod_build(const prw_nurbs_model *m, const prw_seam_graph *g, const prw_
     for (int s = 0; s < g->nsegs; s++) memcpy(lm->seg_keep[s], lm->ladder[s], sizeof(int) * (size_t)g->segs[s].npts);
     for (int pi = 0; pi < g->npatches; pi++) {
         prw_error pe;
-        if (!build_patch(lm, m, pi, opt.max_cells > 0 ? opt.max_cells : 48, &pe)) {
+        if (!build_patch(lm, m, pi, opt.max_cells > 0 ? opt.max_cells : 48, opt.max_patch_triangles, &pe)) {
             lm->failed_patches++;
             if (!lm->first_problem[0]) snprintf(lm->first_problem, sizeof lm->first_problem, "%.200s", pe.msg);
             continue;

@@ -102,6 +102,12 @@ static double sliver_error(const prw_seam_graph *g, const prw_lod_patch *p, int 
 bool lod_triangle_eval(const prw_seam_graph *g, const prw_nurbs_surface *s, const prw_lod_patch *p, int a, int b, int c,
                        const unsigned char *active, double *err)
 {
+    return lod_triangle_eval_parts(g, s, p, a, b, c, active, err, NULL);
+}
+
+bool lod_triangle_eval_parts(const prw_seam_graph *g, const prw_nurbs_surface *s, const prw_lod_patch *p, int a, int b,
+                             int c, const unsigned char *active, double *err, double *boundary_err)
+{
     const double *ua = p->uv + 2 * a, *ub = p->uv + 2 * b, *uc = p->uv + 2 * c;
     bool ok = prw_orient2d(ua, ub, uc) > 0;
     double cen[2];
@@ -115,9 +121,21 @@ bool lod_triangle_eval(const prw_seam_graph *g, const prw_nurbs_surface *s, cons
     int v[3] = {a, b, c};
     lod_ivec span[3] = {{0}, {0}, {0}};
     bool any = false, bnd[3];
+    double be = 0;
     for (int k = 0; k < 3; k++) {
         bnd[k] = lod_span(p, v[k], v[(k + 1) % 3], active, 0, &span[k]);
-        if (bnd[k]) e = fmax(e, sliver_error(g, p, v[k], v[(k + 1) % 3], &span[k]));
+        if (bnd[k]) {
+            be = fmax(be, sliver_error(g, p, v[k], v[(k + 1) % 3], &span[k]));
+            /* the chord against the surface along the straight (u, v) edge: also fixed by the
+             * sewing points */
+            int x = v[k], y = v[(k + 1) % 3];
+            for (int i = 1; i < 8; i++) {
+                double t = i / 8.0, uv[2] = {(1 - t) * p->uv[2 * x] + t * p->uv[2 * y], (1 - t) * p->uv[2 * x + 1] + t * p->uv[2 * y + 1]};
+                prw_dvec3 l = prw_v3_add(prw_v3_scale(p->pos[x], 1 - t), prw_v3_scale(p->pos[y], t));
+                double d = prw_v3_len(prw_v3_sub(l, prw_nurbs_surface_eval(s, uv[0], uv[1])));
+                if (isfinite(d)) be = fmax(be, d);
+            }
+        }
         any = any || span[k].n > 0;
     }
     if (any) {
@@ -140,6 +158,8 @@ bool lod_triangle_eval(const prw_seam_graph *g, const prw_nurbs_surface *s, cons
         }
     }
     for (int k = 0; k < 3; k++) free(span[k].v);
+    e = fmax(e, be);
     *err = 1.1 * e + 1e-9 * g->diag;
+    if (boundary_err) *boundary_err = 1.1 * be + 1e-9 * g->diag;
     return ok;
 }

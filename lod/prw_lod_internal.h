@@ -39,5 +39,9 @@ bool lod_tri3_ok(const prw_nurbs_surface *s, const prw_lod_patch *p, double diag
  * Returns false when the triangle or its fan is invalid (orientation / zero area / normal). */
 bool lod_triangle_eval(const prw_seam_graph *g, const prw_nurbs_surface *s, const prw_lod_patch *p, int a, int b, int c,
                        const unsigned char *active, double *err);
+/* The same; *boundary_err (may be NULL) = the part of the bound due to the boundary chords alone
+ * (what no interior refinement can lower). */
+bool lod_triangle_eval_parts(const prw_seam_graph *g, const prw_nurbs_surface *s, const prw_lod_patch *p, int a, int b,
+                             int c, const unsigned char *active, double *err, double *boundary_err);
 
 #endif

@@ -564,8 +564,8 @@ bool prw_exr_read_attr(const char *path, const char *key, char *value, size_t ca
 
 /* ---------------------------------------------------------------- write ------------------------------------------------------- */
 
-static bool write_body(exr_io *io, exr_context_t ctx, const prw_image *img, const prw_kv *attrs, int attr_count,
-                       prw_error *e)
+static bool write_body(exr_io *io, exr_context_t ctx, const prw_image *img, const exr_attr_chromaticities_t *chroma,
+                       const prw_kv *attrs, int attr_count, prw_error *e)
 {
     int part = 0;
     EXR_TRY(exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part), "exr_add_part");
@@ -575,7 +575,7 @@ static bool write_body(exr_io *io, exr_context_t ctx, const prw_image *img, cons
     for (int c = 0; c < 4; c++)
         EXR_TRY(exr_add_channel(ctx, part, chans[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1),
                 "exr_add_channel");
-    EXR_TRY(exr_attr_set_chromaticities(ctx, part, "chromaticities", &rec709), "exr_attr_set_chromaticities");
+    EXR_TRY(exr_attr_set_chromaticities(ctx, part, "chromaticities", chroma), "exr_attr_set_chromaticities");
     for (int i = 0; i < attr_count; i++) {
         char place[160];
         snprintf(place, sizeof place, "attribute \"%s\"", attrs[i].key);
@@ -623,7 +623,53 @@ static bool write_body(exr_io *io, exr_context_t ctx, const prw_image *img, cons
     return ok;
 }
 
+static bool write_chroma(const char *path, const prw_image *img, const exr_attr_chromaticities_t *chroma,
+                         const prw_kv *attrs, int attr_count, prw_error *e);
+
 bool prw_exr_write(const char *path, const prw_image *img, const prw_kv *attrs, int attr_count, prw_error *e)
+{
+    return write_chroma(path, img, &rec709, attrs, attr_count, e);
+}
+
+bool prw_exr_write_chroma(const char *path, const prw_image *img, const float c[8], const prw_kv *attrs,
+                          int attr_count, prw_error *e)
+{
+    exr_attr_chromaticities_t ch = {c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]};
+    for (int i = 0; i < 8; i++)
+        if (!(c[i] > 0.0f && c[i] < 1.0f)) return prw_fail(e, "%s: write: chromaticity %d = %g not in (0, 1)", path, i, c[i]);
+    return write_chroma(path, img, &ch, attrs, attr_count, e);
+}
+
+bool prw_exr_read_chroma(const char *path, float c[8], prw_error *e)
+{
+    exr_io io = {0};
+    if (!open_file(&io, path, e)) return false;
+    exr_context_t ctx = NULL;
+    exr_context_initializer_t ci = io_init(&io);
+    bool ok = false;
+    io_clear(&io);
+    exr_result_t rv = exr_start_read(&ctx, path, &ci);
+    if (rv != EXR_ERR_SUCCESS) {
+        exr_fail(&io, e, "exr_start_read", rv);
+    } else {
+        exr_attr_chromaticities_t ch = rec709;
+        io_clear(&io);
+        rv = exr_attr_get_chromaticities(ctx, 0, "chromaticities", &ch);
+        if (rv != EXR_ERR_SUCCESS && rv != EXR_ERR_NO_ATTR_BY_NAME) {
+            exr_fail(&io, e, "chromaticities attribute", rv);
+        } else {
+            const float v[8] = {ch.red_x, ch.red_y, ch.green_x, ch.green_y, ch.blue_x, ch.blue_y, ch.white_x, ch.white_y};
+            memcpy(c, v, sizeof v);
+            ok = true;
+        }
+    }
+    exr_finish(&ctx);
+    close(io.fd);
+    return ok;
+}
+
+static bool write_chroma(const char *path, const prw_image *img, const exr_attr_chromaticities_t *chroma,
+                         const prw_kv *attrs, int attr_count, prw_error *e)
 {
     if (!img || !img->rgba) return prw_fail(e, "%s: write: image has no pixels", path);
     if (!prw_image_size_ok(img->width, img->height, path, e)) return false;
@@ -639,7 +685,8 @@ bool prw_exr_write(const char *path, const prw_image *img, const prw_kv *attrs, 
     exr_context_initializer_t ci = io_init(&io);
     io_clear(&io);
     exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &ci);
-    bool ok = rv == EXR_ERR_SUCCESS ? write_body(&io, ctx, img, attrs, attr_count, e) : exr_fail(&io, e, "exr_start_write", rv);
+    bool ok = rv == EXR_ERR_SUCCESS ? write_body(&io, ctx, img, chroma, attr_count ? attrs : NULL, attr_count, e)
+                                    : exr_fail(&io, e, "exr_start_write", rv);
     if (ctx) {
         if (ok) io_clear(&io);
         rv = exr_finish(&ctx);

@@ -1,4 +1,4 @@
-/* png.c — 8-bit PNG through libpng, in memory.
+/* png.c — 8- and 16-bit PNG through libpng, in memory.
  *
  * Write encodes into a memory buffer and stores it with prw_write_file_atomic; read loads the whole
  * file and decodes from memory into RGBA8.  libpng reports errors by longjmp: each setjmp lives in
@@ -61,36 +61,73 @@ static void on_write(png_structp png, png_bytep buf, size_t len)
 
 static void on_flush(png_structp png) { (void)png; }
 
-static bool write_inner(png_state *s, png_structp png, png_infop info, int w, int h, int channels,
-                        const uint8_t *pixels, prw_error *e)
+static bool write_inner(png_state *s, png_structp png, png_infop info, int w, int h, int channels, int depth,
+                        const uint8_t *pixels, const prw_png_chunk *chunks, int nchunks, prw_error *e)
 {
     if (setjmp(png_jmpbuf(png))) return prw_fail(e, "%s: png write: %s", s->path, s->msg);
     static const int types[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                  PNG_COLOR_TYPE_RGB_ALPHA};
     png_set_write_fn(png, s, on_write, on_flush);
-    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, types[channels - 1], PNG_INTERLACE_NONE,
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, depth, types[channels - 1], PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (nchunks > 0) {
+        /* written as unknown chunks right after IHDR (so before PLTE and IDAT); "always" so libpng
+         * also writes unsafe-to-copy ones such as cICP */
+        png_unknown_chunk uc[8];
+        for (int i = 0; i < nchunks; i++) {
+            memset(&uc[i], 0, sizeof uc[i]);
+            memcpy(uc[i].name, chunks[i].name, 4);
+            uc[i].data = (png_byte *)chunks[i].data;
+            uc[i].size = chunks[i].size;
+            uc[i].location = PNG_HAVE_IHDR;
+            png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_ALWAYS, (png_const_bytep)chunks[i].name, 1);
+        }
+        png_set_unknown_chunks(png, info, uc, nchunks);
+        for (int i = 0; i < nchunks; i++) png_set_unknown_chunk_location(png, info, i, PNG_HAVE_IHDR);
+    }
     png_write_info(png, info);
-    for (int y = 0; y < h; y++) png_write_row(png, pixels + (size_t)y * (size_t)w * (size_t)channels);
+    if (depth == 16) png_set_swap(png); /* rows are host-order uint16 (little endian here); PNG is big endian */
+    size_t row = (size_t)w * (size_t)channels * (size_t)(depth / 8);
+    for (int y = 0; y < h; y++) png_write_row(png, pixels + (size_t)y * row);
     png_write_end(png, NULL);
     return true;
 }
 
-bool prw_png_write8(const char *path, int width, int height, int channels, const uint8_t *pixels, prw_error *e)
+static bool write_any(const char *path, int width, int height, int channels, int depth, const void *pixels,
+                      const prw_png_chunk *chunks, int nchunks, prw_error *e)
 {
     if (channels < 1 || channels > 4) return prw_fail(e, "%s: png write: %d channels (need 1..4)", path, channels);
     if (!pixels) return prw_fail(e, "%s: png write: no pixels", path);
+    if (nchunks < 0 || nchunks > 8 || (nchunks > 0 && !chunks))
+        return prw_fail(e, "%s: png write: %d extra chunks (at most 8)", path, nchunks);
+    for (int i = 0; i < nchunks; i++)
+        for (int k = 0; k < 4; k++) {
+            char c = chunks[i].name[k];
+            if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z')) || !(chunks[i].name[0] >= 'a'))
+                return prw_fail(e, "%s: png write: chunk %d: name is not an ancillary chunk name", path, i);
+        }
     if (!prw_image_size_ok(width, height, path, e)) return false;
     png_state s = {.path = path};
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s, on_error, on_warning);
     if (!png) return prw_fail(e, "%s: png write: cannot create libpng write struct", path);
     png_infop info = png_create_info_struct(png);
-    bool ok = info ? write_inner(&s, png, info, width, height, channels, pixels, e)
+    bool ok = info ? write_inner(&s, png, info, width, height, channels, depth, pixels, chunks, nchunks, e)
                    : prw_fail(e, "%s: png write: cannot create libpng info struct", path);
     png_destroy_write_struct(&png, info ? &info : NULL);
     if (ok) ok = prw_write_file_atomic(path, s.out, s.out_size, e);
     free(s.out);
     return ok;
+}
+
+bool prw_png_write16(const char *path, int width, int height, int channels, const uint16_t *pixels,
+                     const prw_png_chunk *chunks, int nchunks, prw_error *e)
+{
+    return write_any(path, width, height, channels, 16, pixels, chunks, nchunks, e);
+}
+
+bool prw_png_write8(const char *path, int width, int height, int channels, const uint8_t *pixels, prw_error *e)
+{
+    return write_any(path, width, height, channels, 8, pixels, NULL, 0, e);
 }
 
 static bool read_inner(png_state *s, png_structp png, png_infop info, int *width, int *height, prw_error *e)

@@ -14,7 +14,8 @@
  *    D65 when the white differs -> Rec.709 RGB; files within 1e-4 of Rec.709/D65 are left as
  *    stored (bit-exact).  Y-only files are not converted.  DWAA/DWAB files cannot be read: the
  *    OpenEXR 3.1 C API does not implement them (EXR_ERR_FEATURE_NOT_IMPLEMENTED).
- *  - PNG 8-bit (libpng) write/read, atomic write as above.
+ *  - PNG 8-bit (libpng) write/read, 16-bit write with extra ancillary chunks before IDAT, atomic
+ *    write as above.
  *  - Every failure is one line in prw_error: "<path>: <place>: <reason>".
  */
 #ifndef PRW_IMAGE_H
@@ -48,6 +49,12 @@ typedef struct prw_kv {
 
 /* Extra string attributes (e.g. {"prw:spp","64"}) are stored as EXR string attributes. */
 bool prw_exr_write(const char *path, const prw_image *img, const prw_kv *attrs, int attr_count, prw_error *e);
+/* Same with other primaries: chroma = {red x, y, green x, y, blue x, y, white x, y} is stored as the
+ * chromaticities attribute (the pixels are written as given, in those primaries). */
+bool prw_exr_write_chroma(const char *path, const prw_image *img, const float chroma[8], const prw_kv *attrs,
+                          int attr_count, prw_error *e);
+/* The chromaticities attribute of part 0 (Rec.709/D65 when absent; returns false only on errors). */
+bool prw_exr_read_chroma(const char *path, float chroma[8], prw_error *e);
 
 typedef struct prw_exr_read_opts {
     bool reject_nonfinite; /* fail with the first NaN/Inf pixel's position */
@@ -65,6 +72,16 @@ bool prw_exr_read_attr(const char *path, const char *key, char *value, size_t ca
 
 /* 8-bit PNG; channels 1..4. */
 bool prw_png_write8(const char *path, int width, int height, int channels, const uint8_t *pixels, prw_error *e);
+/* An extra ancillary chunk written before IDAT (e.g. cICP, which Debian's libpng 1.6.39 does not
+ * know: written as an unknown chunk). */
+typedef struct prw_png_chunk {
+    char name[5];        /* 4 letters + NUL; must start lower case (ancillary) */
+    const uint8_t *data;
+    size_t size;
+} prw_png_chunk;
+/* 16-bit PNG; channels 1..4; pixels host-order uint16; up to 8 extra chunks (may be NULL / 0). */
+bool prw_png_write16(const char *path, int width, int height, int channels, const uint16_t *pixels,
+                     const prw_png_chunk *chunks, int nchunks, prw_error *e);
 /* Reads any PNG into 8-bit RGBA (caller frees *pixels). */
 bool prw_png_read8(const char *path, int *width, int *height, uint8_t **pixels, prw_error *e);
 

@@ -9,12 +9,20 @@ typedef struct draw_pc {
     float normal_m[12];
 } draw_pc;
 
-static void fill_globals(const prw_frame_ctx *ctx, uint32_t vi, prw_gpu_globals *g)
+/* The camera-relative origin of view vi's draws: with the per-view loop each view is relative to its
+ * own eye, so every eye of a view set is bit-identical to a mono render from that eye (issue 5). */
+prw_dvec3 prw_render_view_origin(const prw_frame_ctx *ctx, uint32_t vi)
+{
+    /* multiview draws all views with one set of model matrices: the first view's eye */
+    return ctx->r->mv && ctx->view_count > 1 ? ctx->views[0].eye : ctx->views[vi].eye;
+}
+
+void prw_base_fill_globals(const prw_frame_ctx *ctx, uint32_t vi, prw_gpu_globals *g)
 {
     const prw_renderer *r = ctx->r;
     const prw_scene *s = r->scene;
     const prw_view *v = &ctx->views[vi];
-    prw_dvec3 o = ctx->origin;
+    prw_dvec3 o = prw_render_view_origin(ctx, vi);
     prw_dmat4 to_origin = prw_dm4_identity();
     to_origin.m[12] = o.x;
     to_origin.m[13] = o.y;
@@ -84,12 +92,13 @@ void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
     vkCmdBindVertexBuffers(cmd, 0, 1, &r->vertices.buffer, &zero);
     vkCmdBindIndexBuffer(cmd, r->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
     VkPipeline bound = VK_NULL_HANDLE;
+    prw_dvec3 origin = prw_render_view_origin(ctx, vi);
     for (uint32_t ni = 0; ni < s->node_count; ni++) {
         uint32_t first, count;
         prw_render_node_draws(r, ni, &first, &count);
         if (!count) continue;
         draw_pc pc;
-        node_pc(s->nodes[ni].world, ctx->origin, &pc);
+        node_pc(s->nodes[ni].world, origin, &pc);
         for (uint32_t k = first; k < first + count; k++) {
             const prw_draw_mesh *dm = &r->meshes[k];
             int mi = dm->material >= 0 && (uint32_t)dm->material < s->material_count ? dm->material : 0;
@@ -124,7 +133,7 @@ void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
             m.m[12 + k] = w.m[12 + k];
         }
         draw_pc pc;
-        node_pc(m, ctx->origin, &pc);
+        node_pc(m, origin, &pc);
         VkPipeline p = r->base_pipes[0][pc.normal_m[3] < 0.0f];
         if (p != bound) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
@@ -151,10 +160,11 @@ static bool base_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
 {
     (void)e;
     prw_renderer *r = ctx->r;
+    if (r->mv && ctx->view_count > 1) return prw_mv_record_base(ctx, cmd, e); /* pass_multiview.c */
     for (uint32_t vi = 0; vi < ctx->view_count; vi++) {
         prw_view_targets *t = &r->views[vi];
         prw_gpu_globals g;
-        fill_globals(ctx, vi, &g);
+        prw_base_fill_globals(ctx, vi, &g);
         memcpy(t->globals.mapped, &g, sizeof g);
 
         bool msaa = r->samples != VK_SAMPLE_COUNT_1_BIT;

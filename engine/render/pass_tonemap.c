@@ -4,7 +4,16 @@
  *              statistics (reinhard, adaptive) or pixels are classified (absolute, overlay, report);
  *   "tonemap"  (per view: operator -> gamut mapping -> inverse display model; writes the signal V as
  *              RGBA32F before quantisation and as RGBA8 for PNGs and presenting).
- * The C reference is tonemap_ops.c; shaders/tonemap_{stats,reduce,apply}.comp mirror it. */
+ *            local: instead of tonemap_apply.comp, full-image separable passes (tonemap_sep_lum.comp:
+ *            scaled luminance; tonemap_sep_blur.comp: 9 levels x horizontal + vertical into layers of a
+ *            scratch r32f array; tonemap_sep_final.comp: scale selection, Ld, encoding), or with
+ *            settings.local_tiled tonemap_local.comp on every 16 x 16 block;
+ *            selective: tonemap_classify.comp (tile marks) -> tonemap_compact.comp (the 16 x 16 blocks
+ *            within one tile of a marked tile: flags, count) -> tonemap_apply.comp (global curve on
+ *            the other blocks) and the separable passes with a per-block early-out (a blur level's
+ *            horizontal pass runs on the blocks within its radius above or below a needed block, the
+ *            vertical pass and the final step on the needed blocks only).
+ * The C reference is tonemap_ops.c; shaders/tonemap_*.comp mirror it. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +33,7 @@ typedef struct tm_ubo {
     int32_t mode[4];
     float range[4], disp[4], enc[4], op1[4], op2[4];
     float m[3][4];
+    float adapt[4];
 } tm_ubo;
 
 /* std430 header of the stats buffer; partial slots (vec4) follow */
@@ -38,16 +48,41 @@ struct prw_tm_gpu {
     prw_tonemap_settings settings;
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
-    VkPipeline stats_pipe, reduce_pipe, apply_pipe;
+    VkPipeline stats_pipe, reduce_pipe, apply_pipe, classify_pipe, compact_pipe, local_pipe;
+    /* separable local: set 1 = the scratch image (layers: L, horizontal, 9 levels), made on first use */
+    VkDescriptorSetLayout sep_set_layout;
+    VkPipelineLayout sep_layout;
+    VkPipeline sep_lum_pipe, sep_blur_pipe, sep_final_pipe;
+    prw_gpu_image sep_img;
+    VkDescriptorSet sep_set;
+    uint32_t sep_w, sep_h;
     prw_buffer params; /* UPLOAD uniform */
     prw_buffer stats;  /* READBACK storage: header + partials */
+    prw_buffer tiles;  /* READBACK storage + indirect: per view a header + marks, needs, block list */
+    VkDeviceSize tile_stride; /* bytes per view in `tiles` */
+    VkDeviceSize last_tile_off; /* the region of the last view tone-mapped (report) */
     uint32_t tiles_per_view;
     prw_gpu_image signal[PRW_MAX_VIEWS];
     VkDescriptorSet sets[PRW_MAX_VIEWS];
     bool counted; /* the last frame classified pixels */
+    /* temporal adaptation (render path only): La, whether it has a value, the previous frame's
+     * statistics were computed, the frame time for the next step (< 0: measured) and the clock */
+    double la;
+    bool la_valid, prev_stats;
+    double dt_next, last_time;
 };
 
-static bool op_needs_stats(prw_tm_op op) { return op == PRW_TM_REINHARD || op == PRW_TM_ADAPTIVE; }
+static bool op_needs_stats(prw_tm_op op)
+{
+    return op == PRW_TM_REINHARD || op == PRW_TM_ADAPTIVE || op == PRW_TM_LOCAL || op == PRW_TM_SELECTIVE;
+}
+
+/* bytes of the selective tile region for a w x h view (tiles of 16 at most as many as blocks) */
+static VkDeviceSize tile_bytes(uint32_t w, uint32_t h)
+{
+    VkDeviceSize nb = (VkDeviceSize)((w + 15) / 16) * ((h + 15) / 16);
+    return (20 + 7 * nb) * 4; /* header, marks, needs, 5 lists (tonemap_compact.comp) */
+}
 static bool tm_counts(const prw_tonemap_settings *s)
 {
     return s->report || s->overlay || s->op == PRW_TM_ABSOLUTE;
@@ -66,7 +101,7 @@ static void fill_ubo(const prw_tm_params *p, bool count, tm_ubo *u)
     float disp[4] = {(float)p->black, (float)p->peak, (float)p->refl, (float)p->gamma};
     float enc[4] = {(float)p->enc_scale, (float)p->bt_a, (float)p->bt_b, (float)p->white_cd};
     float op1[4] = {(float)p->gain, (float)p->key, (float)p->white, (float)p->knee};
-    float op2[4] = {(float)p->toe_p, (float)PRW_TM_SHOULDER_LAMBDA, 0, 0};
+    float op2[4] = {(float)p->toe_p, (float)PRW_TM_SHOULDER_LAMBDA, (float)p->sel_threshold, (float)p->sel_tile};
     memcpy(u->range, range, sizeof range);
     memcpy(u->disp, disp, sizeof disp);
     memcpy(u->enc, enc, sizeof enc);
@@ -74,9 +109,12 @@ static void fill_ubo(const prw_tm_params *p, bool count, tm_ubo *u)
     memcpy(u->op2, op2, sizeof op2);
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) u->m[r][c] = (float)p->m[3 * r + c];
+    u->adapt[0] = (float)p->adapt_la;
+    u->adapt[1] = p->adapt_la > 0 ? 1.0f : 0.0f;
 }
 
-static void write_set(prw_renderer *r, VkDescriptorSet set, VkImageView src, VkImageView ldr, VkImageView sig)
+static void write_set(prw_renderer *r, VkDescriptorSet set, VkImageView src, VkImageView ldr, VkImageView sig,
+                      VkDeviceSize tile_off, VkDeviceSize tile_range)
 {
     prw_tm_gpu *tm = r->tm;
     prw_desc_write_image(r->gpu, set, 0, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, src,
@@ -87,6 +125,7 @@ static void write_set(prw_renderer *r, VkDescriptorSet set, VkImageView src, VkI
                          VK_IMAGE_LAYOUT_GENERAL);
     prw_desc_write_buffer(r->gpu, set, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tm->stats, 0, 0);
     prw_desc_write_buffer(r->gpu, set, 4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &tm->params, 0, sizeof(tm_ubo));
+    prw_desc_write_buffer(r->gpu, set, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tm->tiles, tile_off, tile_range);
 }
 
 bool prw_tm_gpu_create(prw_renderer *r, prw_error *e)
@@ -94,20 +133,41 @@ bool prw_tm_gpu_create(prw_renderer *r, prw_error *e)
     prw_tm_gpu *tm = prw_calloc(1, sizeof *tm);
     r->tm = tm;
     prw_display_builtin("srgb", &tm->display);
-    tm->settings.op = PRW_TM_EXPOSURE;
-    VkDescriptorSetLayoutBinding b[5] = {
+    tm->dt_next = -1;
+    tm->settings.op = (unsigned)r->desc.tonemap < PRW_TM_OP_COUNT ? r->desc.tonemap : PRW_TM_EXPOSURE;
+    VkDescriptorSetLayoutBinding b[6] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
     };
-    if (!prw_desc_layout_create(r->gpu, b, 5, &tm->set_layout, e) ||
+    if (!prw_desc_layout_create(r->gpu, b, 6, &tm->set_layout, e) ||
         !prw_pipeline_layout_create(r->gpu, &tm->set_layout, 1, sizeof(tm_pc), &tm->layout, e) ||
         !prw_pipeline_compute(r->gpu, prw_shader_tonemap_stats_comp(), tm->layout, &tm->stats_pipe, e) ||
         !prw_pipeline_compute(r->gpu, prw_shader_tonemap_reduce_comp(), tm->layout, &tm->reduce_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_apply_comp(), tm->layout, &tm->apply_pipe, e))
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_apply_comp(), tm->layout, &tm->apply_pipe, e) ||
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_classify_comp(), tm->layout, &tm->classify_pipe, e) ||
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_compact_comp(), tm->layout, &tm->compact_pipe, e) ||
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_local_comp(), tm->layout, &tm->local_pipe, e))
         return false;
+    VkDescriptorSetLayoutBinding sb = {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL};
+    VkDescriptorSetLayout two[2];
+    if (!prw_desc_layout_create(r->gpu, &sb, 1, &tm->sep_set_layout, e)) return false;
+    two[0] = tm->set_layout;
+    two[1] = tm->sep_set_layout;
+    if (!prw_pipeline_layout_create(r->gpu, two, 2, sizeof(tm_pc), &tm->sep_layout, e) ||
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_sep_lum_comp(), tm->sep_layout, &tm->sep_lum_pipe, e) ||
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_sep_blur_comp(), tm->sep_layout, &tm->sep_blur_pipe, e) ||
+        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_sep_final_comp(), tm->sep_layout, &tm->sep_final_pipe, e))
+        return false;
+    tm->tile_stride = (tile_bytes(r->desc.width, r->desc.height) + 255) & ~(VkDeviceSize)255;
+    if (!prw_buffer_create(r->gpu, tm->tile_stride * r->desc.max_views,
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, PRW_MEM_READBACK,
+                           &tm->tiles, e))
+        return false;
+    memset(tm->tiles.mapped, 0, (size_t)(tm->tile_stride * r->desc.max_views));
     tm->tiles_per_view = tiles_for(r->desc.width, r->desc.height);
     VkDeviceSize stats_size = sizeof(tm_stats_hdr) + (VkDeviceSize)tm->tiles_per_view * r->desc.max_views * 16;
     if (!prw_buffer_create(r->gpu, sizeof(tm_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD, &tm->params,
@@ -121,7 +181,8 @@ bool prw_tm_gpu_create(prw_renderer *r, prw_error *e)
         if (!prw_image_create(r->gpu, &d, &tm->signal[v], e) ||
             !prw_desc_alloc(r->gpu, r->pool, tm->set_layout, &tm->sets[v], e))
             return false;
-        write_set(r, tm->sets[v], r->views[v].hdr.view, r->views[v].ldr.view, tm->signal[v].view);
+        write_set(r, tm->sets[v], r->views[v].hdr.view, r->views[v].ldr.view, tm->signal[v].view,
+                  v * tm->tile_stride, tm->tile_stride);
     }
     return true;
 }
@@ -134,9 +195,14 @@ void prw_tm_gpu_destroy(prw_renderer *r)
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_image_destroy(r->gpu, &tm->signal[v]);
     prw_buffer_destroy(r->gpu, &tm->params);
     prw_buffer_destroy(r->gpu, &tm->stats);
-    VkPipeline pipes[3] = {tm->stats_pipe, tm->reduce_pipe, tm->apply_pipe};
-    for (int i = 0; i < 3; i++)
+    prw_buffer_destroy(r->gpu, &tm->tiles);
+    prw_image_destroy(r->gpu, &tm->sep_img);
+    VkPipeline pipes[9] = {tm->stats_pipe,    tm->reduce_pipe,  tm->apply_pipe,   tm->classify_pipe, tm->compact_pipe,
+                           tm->local_pipe,    tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
+    for (int i = 0; i < 9; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
+    if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
+    if (tm->sep_set_layout) vkDestroyDescriptorSetLayout(dev, tm->sep_set_layout, NULL);
     if (tm->layout) vkDestroyPipelineLayout(dev, tm->layout, NULL);
     if (tm->set_layout) vkDestroyDescriptorSetLayout(dev, tm->set_layout, NULL);
     free(tm);
@@ -180,25 +246,128 @@ static void record_stats(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptor
     compute_barrier(cmd, CS, RW, CS, RW);
 }
 
-static void record_apply(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptorSet *sets, const uint32_t *w,
-                         const uint32_t *h, uint32_t count)
+/* The scratch image of the separable local operator, at least w x h (recreated larger when needed). */
+static bool ensure_sep(prw_renderer *r, uint32_t w, uint32_t h, prw_error *e)
 {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
+    prw_tm_gpu *tm = r->tm;
+    bool sep = (tm->settings.op == PRW_TM_LOCAL && !tm->settings.local_tiled) || tm->settings.op == PRW_TM_SELECTIVE;
+    if (!sep) return true;
+    if (tm->sep_img.image && tm->sep_w >= w && tm->sep_h >= h) return true;
+    prw_image_destroy(r->gpu, &tm->sep_img);
+    tm->sep_w = PRW_MAX(w, tm->sep_w);
+    tm->sep_h = PRW_MAX(h, tm->sep_h);
+    prw_image_desc d = {.width = tm->sep_w, .height = tm->sep_h, .layers = 11, .format = VK_FORMAT_R32_SFLOAT,
+                        .usage = VK_IMAGE_USAGE_STORAGE_BIT, .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
+    if (!prw_image_create(r->gpu, &d, &tm->sep_img, e)) return false;
+    if (!tm->sep_set && !prw_desc_alloc(r->gpu, r->pool, tm->sep_set_layout, &tm->sep_set, e)) return false;
+    prw_desc_write_image(r->gpu, tm->sep_set, 0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, tm->sep_img.view, VK_NULL_HANDLE,
+                         VK_IMAGE_LAYOUT_GENERAL);
+    return true;
+}
+
+/* Selective: dispatches list k of the view's tile region (indirect); local: the block grid. */
+static void sep_dispatch(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDeviceSize tile_off, uint32_t gx, uint32_t gy, int list)
+{
+    if (tm->settings.op == PRW_TM_SELECTIVE) vkCmdDispatchIndirect(cmd, tm->tiles.buffer, tile_off + 12 * (VkDeviceSize)list);
+    else vkCmdDispatch(cmd, gx, gy, 1);
+}
+
+static int sep_rows(uint32_t lev) /* list of a level's horizontal pass: ceil(radius / 16) */
+{
+    return (prw_tm_local_radius((int)lev) + 15) / 16;
+}
+
+static void record_local_sep(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDescriptorSet set, uint32_t w, uint32_t h,
+                             VkDeviceSize tile_off)
+{
+    VkDescriptorSet sets[2] = {set, tm->sep_set};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_layout, 0, 2, sets, 0, NULL);
+    prw_cmd_transition(cmd, &tm->sep_img, VK_IMAGE_LAYOUT_GENERAL);
+    compute_barrier(cmd, CS, RW, CS, RW); /* an earlier view's use of the scratch image */
+    uint32_t gx = (w + 15) / 16, gy = (h + 15) / 16;
+    tm_pc pc = {w, h, 0, 0};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_lum_pipe);
+    vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+    sep_dispatch(tm, cmd, tile_off, gx, gy, 4);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_blur_pipe);
+    for (uint32_t lev = 0; lev <= PRW_TM_LOCAL_SCALES; lev++)
+        for (uint32_t dir = 0; dir < 2; dir++) {
+            compute_barrier(cmd, CS, RW, CS, RW);
+            tm_pc bp = {w, h, lev, dir};
+            vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof bp, &bp);
+            sep_dispatch(tm, cmd, tile_off, gx, gy, dir ? 0 : sep_rows(lev));
+        }
+    compute_barrier(cmd, CS, RW, CS, RW);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_final_pipe);
+    vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+    sep_dispatch(tm, cmd, tile_off, gx, gy, 0);
+}
+
+static void record_apply(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptorSet *sets, const uint32_t *w,
+                         const uint32_t *h, const VkDeviceSize *tile_off, uint32_t count)
+{
+    prw_tm_op op = tm->settings.op;
+    uint32_t T = tm->settings.sel_tile ? tm->settings.sel_tile : PRW_TM_SEL_TILE;
     for (uint32_t v = 0; v < count; v++) {
         tm_pc pc = {w[v], h[v], 0, 0};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        if (op == PRW_TM_LOCAL && !tm->settings.local_tiled) {
+            record_local_sep(tm, cmd, sets[v], w[v], h[v], tile_off[v]);
+            continue;
+        }
+        if (op == PRW_TM_LOCAL) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->local_pipe);
+            vkCmdDispatch(cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
+            continue;
+        }
+        if (op == PRW_TM_SELECTIVE) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->classify_pipe);
+            vkCmdDispatch(cmd, (w[v] + T - 1) / T, (h[v] + T - 1) / T, 1);
+            compute_barrier(cmd, CS, RW, CS, RW);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->compact_pipe);
+            vkCmdDispatch(cmd, 1, 1, 1);
+            compute_barrier(cmd, CS, RW, CS | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                            RW | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+        }
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
         vkCmdDispatch(cmd, (w[v] + 7) / 8, (h[v] + 7) / 8, 1);
+        if (op == PRW_TM_SELECTIVE) record_local_sep(tm, cmd, sets[v], w[v], h[v], tile_off[v]); /* pixels disjoint from apply's */
     }
-    /* the stats buffer is read by the host after the frame */
+    if (count) tm->last_tile_off = tile_off[count - 1];
+    /* the stats and tile buffers are read by the host after the frame */
     compute_barrier(cmd, CS, RW, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
-static void upload_params(prw_renderer *r, double ev100)
+/* Render path, before recording a frame: steps La towards the previous frame's log-average. */
+static void adapt_frame(prw_tm_gpu *tm)
+{
+    const prw_tonemap_settings *s = &tm->settings;
+    double now = prw_now();
+    double dt = tm->dt_next >= 0 ? tm->dt_next : (tm->last_time > 0 ? now - tm->last_time : 0.0);
+    tm->last_time = now;
+    tm->dt_next = -1;
+    if (!s->adapt || s->op == PRW_TM_ABSOLUTE) {
+        tm->la_valid = false;
+        return;
+    }
+    if (!tm->prev_stats) return; /* nothing measured yet: this frame keys on its own statistics */
+    double target = ((const tm_stats_hdr *)tm->stats.mapped)->final_stats[0];
+    if (!(target > 0) || !isfinite(target)) return;
+    if (!tm->la_valid) {
+        tm->la = target;
+        tm->la_valid = true;
+    }
+    tm->la = prw_tm_adapt_step(tm->la, target, dt, s->tau_bright > 0 ? s->tau_bright : PRW_TM_TAU_BRIGHT,
+                               s->tau_dark > 0 ? s->tau_dark : PRW_TM_TAU_DARK);
+}
+
+static void upload_params(prw_renderer *r, double ev100, bool adapted)
 {
     prw_tm_gpu *tm = r->tm;
     prw_tm_params p;
     prw_tm_prepare(&tm->settings, &tm->display, prw_exposure_scale(ev100), &p);
+    if (adapted && tm->la_valid) prw_tm_set_adaptation(&p, tm->la);
     tm_ubo u;
     tm->counted = tm_counts(&tm->settings);
     fill_ubo(&p, tm->counted, &u);
@@ -208,7 +377,9 @@ static void upload_params(prw_renderer *r, double ev100)
 static bool stats_needed(const prw_frame_ctx *ctx)
 {
     const prw_tm_gpu *tm = ctx->r->tm;
-    return ctx->view_count > 0 && tm && (op_needs_stats(tm->settings.op) || tm_counts(&tm->settings));
+    return ctx->view_count > 0 && tm &&
+           (op_needs_stats(tm->settings.op) || tm_counts(&tm->settings) ||
+            (tm->settings.adapt && tm->settings.op != PRW_TM_ABSOLUTE));
 }
 
 static bool stats_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
@@ -232,22 +403,27 @@ static bool tonemap_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e
     (void)e;
     prw_renderer *r = ctx->r;
     prw_tm_gpu *tm = r->tm;
-    upload_params(r, ctx->views[0].ev100); /* both eyes share one exposure (DESIGN.md §6) */
+    if (!ensure_sep(r, r->desc.width, r->desc.height, e)) return false;
+    adapt_frame(tm);
+    upload_params(r, ctx->views[0].ev100, true); /* both eyes share one exposure and La (DESIGN.md §6) */
+    tm->prev_stats = stats_needed(ctx);
     if (!stats_needed(ctx)) tm->counted = false;
     if (!tm->counted) { /* keep the UBO consistent with the graph: no counting without the stats pass */
         tm_ubo *u = tm->params.mapped;
         u->mode[3] = 0;
     }
     uint32_t w[PRW_MAX_VIEWS], h[PRW_MAX_VIEWS];
+    VkDeviceSize off[PRW_MAX_VIEWS];
     for (uint32_t vi = 0; vi < ctx->view_count; vi++) {
         prw_view_targets *t = &r->views[vi];
+        off[vi] = vi * tm->tile_stride;
         prw_cmd_transition(cmd, &t->hdr, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         prw_cmd_transition(cmd, &t->ldr, VK_IMAGE_LAYOUT_GENERAL);
         prw_cmd_transition(cmd, &tm->signal[vi], VK_IMAGE_LAYOUT_GENERAL);
         w[vi] = ctx->views[vi].width;
         h[vi] = ctx->views[vi].height;
     }
-    record_apply(tm, cmd, tm->sets, w, h, ctx->view_count);
+    record_apply(tm, cmd, tm->sets, w, h, off, ctx->view_count);
     return true;
 }
 
@@ -273,8 +449,18 @@ bool prw_renderer_set_tonemap(prw_renderer *r, const prw_display *d, const prw_t
 {
     if (d && !prw_display_validate(d, d->name, e)) return false;
     if (s && (unsigned)s->op >= PRW_TM_OP_COUNT) return prw_fail(e, "render: tone-mapping operator %d unknown", s->op);
+    if (s && (s->sel_tile % 16 != 0 || s->sel_tile > 256))
+        return prw_fail(e, "render: selective tile size %u is not 0 or a multiple of 16 up to 256", s->sel_tile);
+    if (s && !(s->sel_threshold >= 0 && s->tau_bright >= 0 && s->tau_dark >= 0 && isfinite(s->sel_threshold) &&
+               isfinite(s->tau_bright) && isfinite(s->tau_dark)))
+        return prw_fail(e, "render: selective threshold and adaptation time constants must be finite and >= 0");
     if (d) r->tm->display = *d;
-    if (s) r->tm->settings = *s;
+    if (s) {
+        const prw_tonemap_settings *o = &r->tm->settings;
+        if (s->op != o->op || s->adapt != o->adapt || s->tau_bright != o->tau_bright || s->tau_dark != o->tau_dark)
+            r->tm->la_valid = r->tm->prev_stats = false; /* a new adaptation state */
+        r->tm->settings = *s;
+    }
     return true;
 }
 
@@ -311,7 +497,22 @@ static void read_report(const prw_tm_gpu *tm, prw_tm_stats *st, prw_tm_report *r
             rep->out_of_gamut = h->counts[2];
             rep->pixels = h->counts[3];
         }
+        if (tm->settings.op == PRW_TM_SELECTIVE) {
+            const uint32_t *t = (const uint32_t *)((const char *)tm->tiles.mapped + tm->last_tile_off);
+            rep->tiles_marked = t[15];
+            rep->tiles = t[16];
+            rep->blocks_local = t[17];
+            rep->blocks = t[18];
+        }
     }
+}
+
+void prw_renderer_tonemap_advance(prw_renderer *r, double dt) { r->tm->dt_next = dt >= 0 && isfinite(dt) ? dt : -1; }
+
+bool prw_renderer_tonemap_adaptation(const prw_renderer *r, double *la)
+{
+    if (la) *la = r->tm->la_valid ? r->tm->la : 0.0;
+    return r->tm->la_valid;
 }
 
 bool prw_renderer_tonemap_report(prw_renderer *r, prw_tm_stats *stats, prw_tm_report *rep)
@@ -320,48 +521,90 @@ bool prw_renderer_tonemap_report(prw_renderer *r, prw_tm_stats *stats, prw_tm_re
     return r->tm->counted;
 }
 
-bool prw_renderer_tonemap_image(prw_renderer *r, const prw_image *hdr, double ev100, prw_image *signal,
-                                prw_tm_stats *stats, prw_tm_report *rep, prw_error *e)
+struct prw_tm_session {
+    prw_renderer *r;
+    uint32_t w, h;
+    prw_gpu_image in, ldr, sig;
+    VkDescriptorSet set;
+};
+
+void prw_tm_session_destroy(prw_tm_session *s)
+{
+    if (!s) return;
+    prw_image_destroy(s->r->gpu, &s->in);
+    prw_image_destroy(s->r->gpu, &s->ldr);
+    prw_image_destroy(s->r->gpu, &s->sig);
+    free(s);
+}
+
+bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e)
 {
     prw_tm_gpu *tm = r->tm;
     uint32_t w = (uint32_t)hdr->width, h = (uint32_t)hdr->height;
-    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views)
+    *out = NULL;
+    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views ||
+        tile_bytes(w, h) > tm->tile_stride * r->desc.max_views)
         return prw_fail(e, "tonemap: %ux%u image larger than the renderer's stats buffer allows", w, h);
-    prw_gpu_image in = {0}, ldr = {0}, sig = {0};
+    prw_tm_session *s = prw_calloc(1, sizeof *s);
+    s->r = r;
+    s->w = w;
+    s->h = h;
     prw_image_desc din = {.width = w, .height = h, .format = SIG_FORMAT,
                           .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
     prw_image_desc dldr = {.width = w, .height = h, .format = VK_FORMAT_R8G8B8A8_UNORM,
                            .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
     prw_image_desc dsig = {.width = w, .height = h, .format = SIG_FORMAT,
                            .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
-    VkDescriptorSet set;
+    bool ok = prw_image_create(r->gpu, &din, &s->in, e) && prw_image_create(r->gpu, &dldr, &s->ldr, e) &&
+              prw_image_create(r->gpu, &dsig, &s->sig, e) &&
+              prw_image_upload(r->gpu, &s->in, 0, hdr->rgba, (size_t)w * h * 16, e) &&
+              prw_desc_alloc(r->gpu, r->pool, tm->set_layout, &s->set, e);
+    if (!ok) {
+        prw_tm_session_destroy(s);
+        return false;
+    }
+    write_set(r, s->set, s->in.view, s->ldr.view, s->sig.view, 0, tm->tile_stride * r->desc.max_views);
+    *out = s;
+    return true;
+}
+
+bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *signal, prw_tm_stats *stats,
+                        prw_tm_report *rep, prw_error *e)
+{
+    prw_renderer *r = s->r;
+    prw_tm_gpu *tm = r->tm;
     VkCommandBuffer cmd;
-    bool ok = prw_image_create(r->gpu, &din, &in, e) && prw_image_create(r->gpu, &dldr, &ldr, e) &&
-              prw_image_create(r->gpu, &dsig, &sig, e) &&
-              prw_image_upload(r->gpu, &in, 0, hdr->rgba, (size_t)w * h * 16, e) &&
-              prw_desc_alloc(r->gpu, r->pool, tm->set_layout, &set, e);
-    if (ok) {
-        write_set(r, set, in.view, ldr.view, sig.view);
-        upload_params(r, ev100);
-        ok = prw_cmd_begin(r->gpu, &cmd, e);
+    if (!ensure_sep(r, s->w, s->h, e)) return false;
+    upload_params(r, ev100, false);
+    tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
+    if (!prw_cmd_begin(r->gpu, &cmd, e)) return false;
+    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
+    prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
+    bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
+    if (!need) {
+        tm->counted = false;
+        ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
     }
-    if (ok) {
-        prw_cmd_transition(cmd, &in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        prw_cmd_transition(cmd, &ldr, VK_IMAGE_LAYOUT_GENERAL);
-        prw_cmd_transition(cmd, &sig, VK_IMAGE_LAYOUT_GENERAL);
-        bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
-        if (!need) {
-            tm->counted = false;
-            ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
-        }
-        if (need) record_stats(tm, cmd, &set, &w, &h, 1);
-        record_apply(tm, cmd, &set, &w, &h, 1);
-        ok = prw_cmd_submit_wait(r->gpu, cmd, e);
-    }
-    if (ok) ok = prw_image_alloc(signal, (int)w, (int)h, e) && prw_image_readback(r->gpu, &sig, signal->rgba, e);
-    if (ok) read_report(tm, stats, rep);
-    prw_image_destroy(r->gpu, &in);
-    prw_image_destroy(r->gpu, &ldr);
-    prw_image_destroy(r->gpu, &sig);
+    VkDeviceSize off = 0;
+    if (need) record_stats(tm, cmd, &s->set, &s->w, &s->h, 1);
+    record_apply(tm, cmd, &s->set, &s->w, &s->h, &off, 1);
+    double t0 = prw_now();
+    if (!prw_cmd_submit_wait(r->gpu, cmd, e)) return false;
+    if (ms) *ms = 1e3 * (prw_now() - t0);
+    if (signal && !(prw_image_alloc(signal, (int)s->w, (int)s->h, e) &&
+                    prw_image_readback(r->gpu, &s->sig, signal->rgba, e)))
+        return false;
+    read_report(tm, stats, rep);
+    return true;
+}
+
+bool prw_renderer_tonemap_image(prw_renderer *r, const prw_image *hdr, double ev100, prw_image *signal,
+                                prw_tm_stats *stats, prw_tm_report *rep, prw_error *e)
+{
+    prw_tm_session *s;
+    if (!prw_tm_session_create(r, hdr, &s, e)) return false;
+    bool ok = prw_tm_session_run(s, ev100, NULL, signal, stats, rep, e);
+    prw_tm_session_destroy(s);
     return ok;
 }

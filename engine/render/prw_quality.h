@@ -29,6 +29,7 @@ typedef struct prw_quality {
     uint32_t msaa;             /* 1 or 4 samples per pixel, resolved in linear HDR */
     uint32_t shadow_size;      /* shadow-map resolution, texels a side */
     uint32_t supersample;      /* N x N supersampling (box filter in linear HDR) */
+    uint32_t tonemap;          /* tone-mapping operator (prw_tm_op; on the command line also by name) */
     /* no effect yet (the features arrive with later issues) */
     double lod_pixel_tolerance; /* LOD: screen-space geometric error, pixels */
     uint32_t btf_clusters;      /* BTF: clusters */

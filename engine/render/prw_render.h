@@ -14,7 +14,9 @@
  *  - Rect lights are drawn as one-sided emissive quads (their visible surface); a scene should not
  *    add a separate emissive mesh for them (the reference counts emissive meshes as emitters too).
  *  - Camera-relative rendering: world transforms stay double on the CPU; the GPU gets matrices
- *    relative to the first view's eye, so a scene 1e5 m from the origin renders like one at it.
+ *    relative to each view's own eye, so a scene 1e5 m from the origin renders like one at it, and
+ *    each eye of a view set is bit-identical to a mono render from that eye (issue 5; shadow maps
+ *    are built from absolute double matrices, so they do not depend on the views at all).
  *  - The renderer uploads the scene at create; call prw_renderer_sync_scene() after editing it.
  */
 #ifndef PRW_RENDER_H
@@ -35,6 +37,12 @@ extern "C" {
 
 typedef struct prw_renderer prw_renderer;
 
+/* Backends of the per-view passes (DESIGN.md §6): one pass per view, or Vulkan multiview. */
+typedef enum prw_views_backend {
+    PRW_VIEWS_LOOP = 0,      /* per-view loop: each eye bit-identical to a mono render from it */
+    PRW_VIEWS_MULTIVIEW = 1, /* view mask 0b11, layered targets, gl_ViewIndex selects the view */
+} prw_views_backend;
+
 typedef struct prw_render_desc {
     uint32_t width, height;  /* per view */
     uint32_t msaa;           /* 1 or 4; 0 -> 4 */
@@ -44,6 +52,8 @@ typedef struct prw_render_desc {
     uint32_t supersample;    /* N x N supersampling for stills (box filter in linear HDR); 0 -> 1 */
     float extra_gpu_work;    /* test knob (pass_extra_work.c): re-draws the base pass over this fraction of
                                 the image into a scratch target; the image is unchanged; 0 = off */
+    prw_views_backend views_backend; /* per-view passes; 0 = loop (issue 5) */
+    prw_tm_op tonemap;       /* initial tone-mapping operator on the srgb display; 0 = exposure */
 } prw_render_desc;
 
 typedef struct prw_frame_stats {
@@ -64,6 +74,9 @@ bool prw_renderer_record(prw_renderer *r, VkCommandBuffer cmd, const prw_view *v
 /* Records, submits and waits; fills stats (pass times when desc.timestamps). */
 bool prw_renderer_render(prw_renderer *r, const prw_view *views, uint32_t count, prw_frame_stats *stats,
                          prw_error *e);
+/* Changes the extra-work test knob (pass_extra_work.c) of a renderer created with extra_gpu_work > 0
+ * (the bench calibrates it); fraction in (0, 16]. */
+bool prw_renderer_set_extra_work(prw_renderer *r, double fraction, prw_error *e);
 /* After a frame: the stats of the passes (needed or skipped) as last recorded. */
 void prw_renderer_last_passes(const prw_renderer *r, prw_frame_stats *stats);
 
@@ -90,6 +103,28 @@ bool prw_renderer_tonemap_report(prw_renderer *r, prw_tm_stats *stats, prw_tm_re
  * files; the image may not have more 16x16 tiles than max_views * the renderer's size. */
 bool prw_renderer_tonemap_image(prw_renderer *r, const prw_image *hdr, double ev100, prw_image *signal,
                                 prw_tm_stats *stats, prw_tm_report *rep, prw_error *e);
+/* Temporal adaptation (prw_tonemap_settings.adapt): the frame time dt (s) of the next frame's
+ * adaptation step (dt < 0 or never called: the measured wall time between frames), and the adapted
+ * luminance La the last frame used (false, *la = 0, when none: adaptation off or the first frame).
+ * prw_renderer_set_tonemap starts a new state when the operator or the adaptation settings change. */
+void prw_renderer_tonemap_advance(prw_renderer *r, double dt);
+bool prw_renderer_tonemap_adaptation(const prw_renderer *r, double *la);
+
+/* A tone-mapping session on one HDR image (uploaded once): each run tone-maps it with the current
+ * settings (prw_renderer_set_tonemap) and returns the wall time of the submitted tone-mapping passes
+ * alone in *ms (host clock around submit + wait: on lavapipe the GPU is the CPU), and optionally
+ * the signal, statistics and report.  For benchmarks that alternate operators frame by frame. */
+typedef struct prw_tm_session prw_tm_session;
+bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e);
+bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *signal, prw_tm_stats *stats,
+                        prw_tm_report *rep, prw_error *e);
+void prw_tm_session_destroy(prw_tm_session *s);
+
+/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto: a stored fact per device -- on lavapipe
+ * (llvmpipe) multiview replays every draw once per view, so the loop wins there (issue 5); on other
+ * devices with the multiview feature, multiview.  (pass_multiview.c) */
+bool prw_views_backend_resolve(prw_gpu *gpu, const char *name, prw_views_backend *out, prw_error *e);
+const char *prw_views_backend_name(prw_views_backend b);
 
 /* Names of the passes this scene needs for `count` views, for `prw info` (writes a comma list). */
 void prw_renderer_describe_passes(const prw_scene *scene, uint32_t count, char *buf, size_t cap);

@@ -15,6 +15,8 @@ static const prw_knob_info g_knobs[] = {
     U32(msaa, 1, 4, true, "samples per pixel, 1 or 4 (resolved in linear HDR)"),
     U32(shadow_size, 16, 8192, true, "shadow-map resolution, texels a side"),
     U32(supersample, 1, 8, true, "N x N supersampling, box-filtered in linear HDR"),
+    U32(tonemap, 0, PRW_TM_OP_COUNT - 1, true,
+        "tone-mapping operator: exposure, reinhard, neutral, adaptive, absolute, local, selective (or 0-6)"),
     F64(lod_pixel_tolerance, 0.01, 100, false, "LOD screen-space error, pixels"),
     U32(btf_clusters, 1, 65536, false, "BTF clusters"),
     U32(btf_components, 1, 1024, false, "BTF components per cluster"),
@@ -101,9 +103,17 @@ bool prw_quality_preset(const char *name, prw_quality *out, prw_error *e)
 static bool parse_value(const prw_knob_info *k, const char *text, double *out, prw_error *e)
 {
     char *end = NULL;
+    prw_tm_op op;
+    if (strcmp(k->name, "tonemap") == 0 && prw_tm_op_parse(text, &op, NULL)) { /* by name */
+        *out = (double)op;
+        return true;
+    }
     double v = strtod(text, &end);
-    if (end == text || *end != '\0' || !isfinite(v))
+    if (end == text || *end != '\0' || !isfinite(v)) {
+        if (strcmp(k->name, "tonemap") == 0)
+            return prw_fail(e, "knob tonemap='%s': expected an operator (%s) or its number", text, prw_tm_op_list());
         return prw_fail(e, "knob %s='%s': expected a number", k->name, text);
+    }
     *out = v;
     return true;
 }
@@ -222,6 +232,8 @@ bool prw_quality_parse_sweep(const char *spec, const prw_quality *base, prw_qual
 static size_t format_knob(const prw_quality *q, const prw_knob_info *k, char *buf, size_t cap, bool sep)
 {
     double v = prw_quality_get(q, k);
+    if (strcmp(k->name, "tonemap") == 0)
+        return (size_t)snprintf(buf, cap, "%s%s=%s", sep ? ";" : "", k->name, prw_tm_op_name((prw_tm_op)v));
     if (k->type == PRW_KNOB_U32) return (size_t)snprintf(buf, cap, "%s%s=%u", sep ? ";" : "", k->name, (uint32_t)v);
     return (size_t)snprintf(buf, cap, "%s%s=%.17g", sep ? ";" : "", k->name, v);
 }
@@ -255,6 +267,7 @@ prw_render_desc prw_quality_render_desc(const prw_quality *q, uint32_t width, ui
         .max_views = 1,
         .supersample = q->supersample,
         .extra_gpu_work = (float)q->extra_gpu_work,
+        .tonemap = (prw_tm_op)q->tonemap,
     };
     return d;
 }

@@ -115,6 +115,7 @@ struct prw_renderer {
     prw_frame_stats last;
 
     struct prw_tm_gpu *tm; /* display-aware tone mapping state (pass_tonemap.c) */
+    struct prw_mv_state *mv; /* multiview backend (pass_multiview.c); NULL with the per-view loop */
 };
 
 /* The pass table (pass_shadow.c, pass_base.c, pass_tonemap.c). */
@@ -132,6 +133,16 @@ extern const prw_pass prw_pass_extra_work; /* in the graph only when desc.extra_
 /* The base pass's draws for view vi inside an open rendering scope (pass_base.c; the caller binds
  * nothing and sets viewport/scissor).  Counts triangles and draws into ctx. */
 void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd);
+/* The camera-relative origin of view vi's draws (pass_base.c): the view's own eye (issue 5). */
+prw_dvec3 prw_render_view_origin(const prw_frame_ctx *ctx, uint32_t vi);
+/* Multiview backend (pass_multiview.c): layered targets, pipelines with view mask 0b11 (after the
+ * view targets exist); destroy is safe on a partly created state.  The base pass calls
+ * prw_mv_record_base for frames of 2 views when r->mv exists. */
+bool prw_mv_create(prw_renderer *r, prw_error *e);
+void prw_mv_destroy(prw_renderer *r);
+bool prw_mv_record_base(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e);
+/* View vi's globals (pass_base.c), relative to prw_render_view_origin(ctx, vi). */
+void prw_base_fill_globals(const prw_frame_ctx *ctx, uint32_t vi, prw_gpu_globals *g);
 
 /* Helpers shared by passes (renderer.c). */
 prw_mat4 prw_render_rel_model(prw_dmat4 world, prw_dvec3 origin);

@@ -142,7 +142,8 @@ static bool create_view_targets(prw_renderer *r, uint32_t vi, prw_error *e)
                             .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT};
     prw_image_desc hdr = {.width = r->desc.width, .height = r->desc.height, .format = HDR_FORMAT,
                           .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT};
+                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                   VK_IMAGE_USAGE_TRANSFER_DST_BIT /* multiview copies its layers here */};
     prw_image_desc hdr_ss = hdr;
     hdr_ss.width = w;
     hdr_ss.height = h;
@@ -213,6 +214,7 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
          prw_render_upload_geometry(r, e) && prw_render_upload_textures(r, e) && prw_render_upload_materials(r, e) &&
          create_shadow_map(r, e) && build_graph(r, e);
     for (uint32_t v = 0; ok && v < r->desc.max_views; v++) ok = create_view_targets(r, v, e);
+    if (ok && r->desc.views_backend == PRW_VIEWS_MULTIVIEW) ok = prw_mv_create(r, e); /* pass_multiview.c */
     ok = ok && prw_tm_gpu_create(r, e);
     if (ok && r->desc.timestamps) ok = prw_timer_create(gpu, 64, &r->timer, e);
     if (!ok) {
@@ -231,6 +233,7 @@ void prw_renderer_destroy(prw_renderer *r)
     prw_gpu_wait_idle(gpu, &ignored);
     VkDevice dev = prw_gpu_device(gpu);
     prw_tm_gpu_destroy(r);
+    prw_mv_destroy(r);
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) {
         prw_view_targets *t = &r->views[v];
         prw_image_destroy(gpu, &t->msaa_color);
@@ -356,4 +359,14 @@ void prw_renderer_describe_passes(const prw_scene *scene, uint32_t count, char *
     snprintf(buf, cap, "shadow: %s (%u layers), base: %s, downsample: skipped (stills with --ss only), tonemap: %s",
              nshadow && scene->mesh_count ? "needed" : "skipped", nshadow, count ? "needed" : "skipped",
              count ? "needed" : "skipped");
+}
+
+bool prw_renderer_set_extra_work(prw_renderer *r, double fraction, prw_error *e)
+{
+    if (!(r->desc.extra_gpu_work > 0))
+        return prw_fail(e, "renderer: extra GPU work can only be changed on a renderer created with it");
+    if (!(fraction > 0) || !(fraction <= 16))
+        return prw_fail(e, "renderer: extra GPU work %g is not in (0, 16]", fraction);
+    r->desc.extra_gpu_work = (float)fraction;
+    return true;
 }

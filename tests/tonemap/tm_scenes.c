@@ -4,34 +4,7 @@
 
 double tm_scene_field(prw_image *img, int w, int h, double dr, unsigned seed)
 {
-    prw_error e;
-    prw_image_alloc(img, w, h, &e);
-    double ph = seed * 1.7;
-    double lo = 1e30, hi = -1e30;
-    int n = w * h;
-    /* raw smooth field, then normalised to [0, 1] so the range is exactly dr decades */
-    for (int j = 0; j < h; j++)
-        for (int i = 0; i < w; i++) {
-            double x = (i + 0.5) / w, y = (j + 0.5) / h;
-            double f = sin(6.1 * x + ph) * cos(4.3 * y - 0.5 * ph) + 0.6 * sin(13.7 * (x + y) + 2 * ph) +
-                       0.3 * cos(29.0 * x * y + ph);
-            img->rgba[4 * (j * w + i)] = (float)f;
-            lo = fmin(lo, f);
-            hi = fmax(hi, f);
-        }
-    double sum = 0;
-    for (int k = 0; k < n; k++) {
-        double t = (img->rgba[4 * k] - lo) / (hi - lo);
-        double Y = 50.0 * pow(10.0, dr * (t - 0.5));
-        /* chroma from position: mix of a hue and white, luminance preserved */
-        double hue = 6.2831853 * (k % w) / (double)w + ph, s = 0.5;
-        double c[3] = {1 + s * cos(hue), 1 + s * cos(hue - 2.094), 1 + s * cos(hue + 2.094)};
-        double cy = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-        for (int q = 0; q < 3; q++) img->rgba[4 * k + q] = (float)(Y * c[q] / cy);
-        img->rgba[4 * k + 3] = 1.0f;
-        sum += log(1e-6 + Y);
-    }
-    return 0.18 / exp(sum / n);
+    return prw_tm_field(img, w, h, dr, seed); /* moved to the library for prw tmbench */
 }
 
 const char *tm_scene_extreme_name(int which)
