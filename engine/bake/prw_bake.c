@@ -1,0 +1,237 @@
+/* Building hierarchies and the content-addressed cache (see prw_bake.h). */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "prw_bake.h"
+#include "prw_iges.h"
+#include "prw_nurbs_json.h"
+
+static int g_builds;
+
+int prw_bake_build_count(void) { return g_builds; }
+
+static void say(prw_bake_progress_fn fn, void *user, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void say(prw_bake_progress_fn fn, void *user, const char *fmt, ...)
+{
+    if (!fn) return;
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    fn(user, line);
+}
+
+bool prw_baked_lod_build(const prw_nurbs_model *m, const prw_bake_options *o, prw_baked_lod **out,
+                         prw_bake_progress_fn progress, void *user, prw_error *e)
+{
+    *out = NULL;
+    if (m->count == 0) return prw_fail(e, "model has no surfaces");
+    prw_bake_options opt = o ? *o : (prw_bake_options){0};
+    prw_baked_lod *b = prw_calloc(1, sizeof *b);
+    double t0 = prw_now();
+    if (!prw_seam_build(m, &opt.seam, &b->graph, e)) {
+        free(b);
+        return false;
+    }
+    const prw_seam_graph *g = &b->graph;
+    say(progress, user, "seam graph: %d patches, %d segments (%d shared, %d open), %d sewing vertices, %.2f s",
+        g->npatches, g->nsegs, g->shared, g->open, g->ngids, prw_now() - t0);
+    t0 = prw_now();
+    if (!prw_lod_build(m, &b->graph, &opt.lod, &b->lod, e)) {
+        prw_seam_free(&b->graph);
+        free(b);
+        return false;
+    }
+    say(progress, user, "hierarchy: %d levels, %zu finest triangles, %d failed patches, %.2f s", b->lod.levels,
+        b->lod.finest_triangles, b->lod.failed_patches, prw_now() - t0);
+    g_builds++;
+    *out = b;
+    return true;
+}
+
+static bool mkdirs(const char *dir, prw_error *e)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s", dir) >= (int)sizeof buf) return prw_fail(e, "%s: path too long", dir);
+    for (char *p = buf + 1;; p++) {
+        if (*p == '/' || *p == '\0') {
+            char saved = *p;
+            *p = '\0';
+            if (mkdir(buf, 0755) != 0 && errno != EEXIST) return prw_fail(e, "%s: cannot create: %s", buf, strerror(errno));
+            *p = saved;
+            if (!saved) break;
+        }
+    }
+    return true;
+}
+
+bool prw_bake_cache_dir(char *buf, size_t cap, bool create, prw_error *e)
+{
+    const char *d = getenv("PRW_CACHE_DIR"), *x = getenv("XDG_CACHE_HOME"), *h = getenv("HOME");
+    int n;
+    if (d && d[0]) n = snprintf(buf, cap, "%s/lod", d);
+    else if (x && x[0]) n = snprintf(buf, cap, "%s/prw/lod", x);
+    else if (h && h[0]) n = snprintf(buf, cap, "%s/.cache/prw/lod", h);
+    else return prw_fail(e, "LOD cache: no PRW_CACHE_DIR, XDG_CACHE_HOME or HOME");
+    if (n < 0 || (size_t)n >= cap) return prw_fail(e, "LOD cache: directory path too long");
+    return !create || mkdirs(buf, e);
+}
+
+bool prw_model_kind_from_path(const char *path, prw_model_kind *kind)
+{
+    const char *dot = strrchr(path, '.');
+    if (!dot || strchr(dot, '/')) return false;
+    if (strcasecmp(dot, ".igs") == 0 || strcasecmp(dot, ".iges") == 0) *kind = PRW_MODEL_IGES;
+    else if (strcasecmp(dot, ".json") == 0) *kind = PRW_MODEL_JSON;
+    else return false;
+    return true;
+}
+
+typedef struct kbuf {
+    uint8_t b[256];
+    size_t n;
+} kbuf;
+
+static void kput(kbuf *k, const void *p, size_t n)
+{
+    if (k->n + n <= sizeof k->b) memcpy(k->b + k->n, p, n);
+    k->n += n;
+}
+
+static void kput_u64(kbuf *k, uint64_t v)
+{
+    uint8_t t[8];
+    for (int i = 0; i < 8; i++) t[i] = (uint8_t)(v >> (8 * i));
+    kput(k, t, 8);
+}
+
+static void kput_f64(kbuf *k, double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, 8);
+    kput_u64(k, u);
+}
+
+void prw_bake_key(const void *input, size_t n, prw_model_kind kind, const prw_bake_options *o, char key[33])
+{
+    prw_bake_options opt = o ? *o : (prw_bake_options){0};
+    kbuf k = {.n = 0};
+    const char *tag = "prw-lod-key", *algo = PRW_BAKE_ALGO_VERSION;
+    kput(&k, tag, strlen(tag) + 1);
+    kput_u64(&k, PRW_LOD_FILE_VERSION);
+    kput(&k, algo, strlen(algo) + 1);
+    kput_u64(&k, (uint64_t)kind);
+    kput_f64(&k, opt.seam.tol);
+    kput_f64(&k, opt.seam.chord);
+    kput_f64(&k, opt.seam.max_edge);
+    kput_u64(&k, (uint64_t)(int64_t)opt.lod.levels);
+    kput_f64(&k, opt.lod.tau0);
+    kput_u64(&k, (uint64_t)(int64_t)opt.lod.max_cells);
+    kput_u64(&k, (uint64_t)(int64_t)opt.lod.max_patch_triangles);
+    kput_u64(&k, (uint64_t)n);
+    uint64_t a = prw_hash64(k.b, k.n, 0), b = prw_hash64(k.b, k.n, 0x9e3779b97f4a7c15ull);
+    a = prw_hash64(input, n, a);
+    b = prw_hash64(input, n, b);
+    snprintf(key, 33, "%016llx%016llx", (unsigned long long)a, (unsigned long long)b);
+}
+
+static bool parse_model(const char *path, prw_model_kind kind, const char *data, size_t n, prw_nurbs_model *m,
+                        prw_bake_progress_fn progress, void *user, prw_error *e)
+{
+    prw_nurbs_model_init(m);
+    if (kind == PRW_MODEL_IGES) {
+        prw_iges_info info;
+        memset(&info, 0, sizeof info);
+        if (!prw_iges_parse(data, n, path, m, &info, e)) return false;
+        if (info.warning[0]) say(progress, user, "%s: %s", path, info.warning);
+        return true;
+    }
+    return prw_nurbs_json_parse(data, n, path, m, e);
+}
+
+bool prw_bake_run(const char *model_path, const prw_bake_options *o, bool no_cache, prw_baked_lod **out,
+                  prw_bake_result *r, prw_bake_progress_fn progress, void *user, prw_error *e)
+{
+    *out = NULL;
+    memset(r, 0, sizeof *r);
+    double t_start = prw_now();
+    prw_model_kind kind;
+    if (!prw_model_kind_from_path(model_path, &kind))
+        return prw_fail(e, "%s: unknown model type (expected .igs, .iges or .json)", model_path);
+    char *data;
+    size_t n;
+    if (!prw_read_file(model_path, &data, &n, e)) return false;
+    prw_bake_key(data, n, kind, o, r->key);
+    char dir[4000];
+    bool use_cache = !no_cache;
+    if (use_cache) {
+        prw_error ce;
+        if (!prw_bake_cache_dir(dir, sizeof dir, true, &ce)) {
+            snprintf(r->warning, sizeof r->warning, "cache disabled: %.900s", ce.msg);
+            use_cache = false;
+        } else {
+            snprintf(r->cache_path, sizeof r->cache_path, "%s/%s.lod", dir, r->key);
+        }
+    }
+    if (use_cache) {
+        struct stat st;
+        if (stat(r->cache_path, &st) == 0) {
+            prw_error le;
+            prw_baked_lod *b;
+            if (prw_lod_file_read(r->cache_path, &b, &le)) {
+                if (strcmp(b->key, r->key) == 0) {
+                    free(data);
+                    r->cache_hit = true;
+                    r->surfaces = b->graph.npatches;
+                    r->seconds_total = prw_now() - t_start;
+                    say(progress, user, "cache hit: %s", r->cache_path);
+                    *out = b;
+                    return true;
+                }
+                snprintf(le.msg, sizeof le.msg, "%.900s: holds key %.32s", r->cache_path, b->key);
+                prw_baked_lod_destroy(b);
+            }
+            snprintf(r->warning, sizeof r->warning, "corrupt cache entry rebuilt: %.900s", le.msg);
+        }
+    }
+    double t0 = prw_now();
+    prw_nurbs_model m;
+    bool ok = parse_model(model_path, kind, data, n, &m, progress, user, e);
+    free(data);
+    if (!ok) return false;
+    r->seconds_read = prw_now() - t0;
+    r->surfaces = (int)m.count;
+    if (m.count == 0) {
+        prw_nurbs_model_free(&m);
+        return prw_fail(e, "%s: the model has no surfaces", model_path);
+    }
+    say(progress, user, "read %s: %zu surfaces, %.2f s", model_path, m.count, r->seconds_read);
+    t0 = prw_now();
+    prw_baked_lod *b;
+    ok = prw_baked_lod_build(&m, o, &b, progress, user, e);
+    prw_nurbs_model_free(&m);
+    if (!ok) return prw_fail_wrap(e, "%s", model_path);
+    r->seconds_build = prw_now() - t0;
+    r->built = true;
+    memcpy(b->key, r->key, sizeof b->key);
+    if (use_cache) {
+        prw_error we;
+        if (prw_lod_file_write(r->cache_path, b, &we)) {
+            r->cache_written = true;
+            say(progress, user, "cached: %s", r->cache_path);
+        } else {
+            snprintf(r->warning + strlen(r->warning), sizeof r->warning - strlen(r->warning), "%scache not written: %.500s",
+                     r->warning[0] ? "; " : "", we.msg);
+        }
+    }
+    r->seconds_total = prw_now() - t_start;
+    *out = b;
+    return true;
+}
