@@ -34,30 +34,11 @@ extern char **environ;
 
 #define BENCH_REF_KEY_VERSION "prw-bench-ref-key 1"
 
-bool bench_mkdirs(const char *dir, prw_error *e)
-{
-    char buf[4096];
-    if (snprintf(buf, sizeof buf, "%s", dir) >= (int)sizeof buf) return prw_fail(e, "%s: path too long", dir);
-    for (char *p = buf + 1;; p++) {
-        if (*p == '/' || *p == '\0') {
-            char saved = *p;
-            *p = '\0';
-            if (mkdir(buf, 0755) != 0 && errno != EEXIST) return prw_fail(e, "%s: cannot create: %s", buf, strerror(errno));
-            *p = saved;
-            if (!saved) break;
-        }
-    }
-    return true;
-}
+bool bench_mkdirs(const char *dir, prw_error *e) { return prw_mkdirs(dir, e); }
 
 bool bench_cache_dir(char *buf, size_t cap, prw_error *e)
 {
-    const char *d = getenv("PRW_CACHE_DIR"), *x = getenv("XDG_CACHE_HOME"), *h = getenv("HOME");
-    if (d && d[0]) snprintf(buf, cap, "%s/refs", d);
-    else if (x && x[0]) snprintf(buf, cap, "%s/prw/refs", x);
-    else if (h && h[0]) snprintf(buf, cap, "%s/.cache/prw/refs", h);
-    else return prw_fail(e, "reference cache: no PRW_CACHE_DIR, XDG_CACHE_HOME or HOME");
-    return bench_mkdirs(buf, e);
+    return prw_cache_dir("refs", "reference cache", true, buf, cap, e);
 }
 
 typedef struct key_buf {

@@ -2,6 +2,7 @@
 #include "prw_core.h"
 
 #include <errno.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -186,4 +187,32 @@ uint64_t prw_hash64(const void *data, size_t n, uint64_t seed)
         h *= 1099511628211ull;
     }
     return h;
+}
+
+bool prw_mkdirs(const char *dir, prw_error *e)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s", dir) >= (int)sizeof buf) return prw_fail(e, "%s: path too long", dir);
+    for (char *p = buf + 1;; p++) {
+        if (*p == '/' || *p == '\0') {
+            char saved = *p;
+            *p = '\0';
+            if (mkdir(buf, 0755) != 0 && errno != EEXIST) return prw_fail(e, "%s: cannot create: %s", buf, strerror(errno));
+            *p = saved;
+            if (!saved) break;
+        }
+    }
+    return true;
+}
+
+bool prw_cache_dir(const char *sub, const char *who, bool create, char *buf, size_t cap, prw_error *e)
+{
+    const char *d = getenv("PRW_CACHE_DIR"), *x = getenv("XDG_CACHE_HOME"), *h = getenv("HOME");
+    int n;
+    if (d && d[0]) n = snprintf(buf, cap, "%s/%s", d, sub);
+    else if (x && x[0]) n = snprintf(buf, cap, "%s/prw/%s", x, sub);
+    else if (h && h[0]) n = snprintf(buf, cap, "%s/.cache/prw/%s", h, sub);
+    else return prw_fail(e, "%s: no PRW_CACHE_DIR, XDG_CACHE_HOME or HOME", who);
+    if (n < 0 || (size_t)n >= cap) return prw_fail(e, "%s: directory path too long", who);
+    return !create || prw_mkdirs(buf, e);
 }

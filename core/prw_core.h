@@ -61,6 +61,12 @@ char *prw_strdup(const char *s);
 bool prw_read_file(const char *path, char **data, size_t *size, prw_error *e);
 /* Writes via "<path>.tmp-<pid>" + rename, so a failure never leaves a partial file at path. */
 bool prw_write_file_atomic(const char *path, const void *data, size_t size, prw_error *e);
+/* Creates dir and its missing parents (mode 0755); existing ones are fine. */
+bool prw_mkdirs(const char *dir, prw_error *e);
+/* The project's cache directory for one kind of entry: $PRW_CACHE_DIR/<sub>, else
+ * $XDG_CACHE_HOME/prw/<sub>, else $HOME/.cache/prw/<sub>; created when create is true.  `who`
+ * prefixes the errors (e.g. "LOD cache"). */
+bool prw_cache_dir(const char *sub, const char *who, bool create, char *buf, size_t cap, prw_error *e);
 
 /* Monotonic clock in seconds. */
 double prw_now(void);

@@ -56,32 +56,9 @@ bool prw_baked_lod_build(const prw_nurbs_model *m, const prw_bake_options *o, pr
     return true;
 }
 
-static bool mkdirs(const char *dir, prw_error *e)
-{
-    char buf[4096];
-    if (snprintf(buf, sizeof buf, "%s", dir) >= (int)sizeof buf) return prw_fail(e, "%s: path too long", dir);
-    for (char *p = buf + 1;; p++) {
-        if (*p == '/' || *p == '\0') {
-            char saved = *p;
-            *p = '\0';
-            if (mkdir(buf, 0755) != 0 && errno != EEXIST) return prw_fail(e, "%s: cannot create: %s", buf, strerror(errno));
-            *p = saved;
-            if (!saved) break;
-        }
-    }
-    return true;
-}
-
 bool prw_bake_cache_dir(char *buf, size_t cap, bool create, prw_error *e)
 {
-    const char *d = getenv("PRW_CACHE_DIR"), *x = getenv("XDG_CACHE_HOME"), *h = getenv("HOME");
-    int n;
-    if (d && d[0]) n = snprintf(buf, cap, "%s/lod", d);
-    else if (x && x[0]) n = snprintf(buf, cap, "%s/prw/lod", x);
-    else if (h && h[0]) n = snprintf(buf, cap, "%s/.cache/prw/lod", h);
-    else return prw_fail(e, "LOD cache: no PRW_CACHE_DIR, XDG_CACHE_HOME or HOME");
-    if (n < 0 || (size_t)n >= cap) return prw_fail(e, "LOD cache: directory path too long");
-    return !create || mkdirs(buf, e);
+    return prw_cache_dir("lod", "LOD cache", create, buf, cap, e);
 }
 
 bool prw_model_kind_from_path(const char *path, prw_model_kind *kind)
