@@ -5,6 +5,7 @@
  * are almost always typos).  Loading is all-or-nothing: on failure the scene is rolled back. */
 #define _POSIX_C_SOURCE 200809L
 #include "scene_internal.h"
+#include "prw_json_doc.h"
 
 #include <cJSON.h>
 #include <ctype.h>
@@ -30,16 +31,6 @@ typedef struct ctx {
 } ctx;
 
 /* Printable, one-line excerpt of untrusted text (keys, strings) for messages. */
-static void sanitize(char *dst, size_t cap, const char *src, size_t n)
-{
-    size_t o = 0;
-    for (size_t i = 0; i < n && src[i] && o + 1 < cap; i++) {
-        unsigned char ch = (unsigned char)src[i];
-        dst[o++] = (ch >= 0x20 && ch < 0x7f) ? (char)ch : '?';
-    }
-    dst[o] = '\0';
-}
-
 static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
 {
@@ -71,7 +62,7 @@ static bool check_keys(ctx *c, const cJSON *obj, const char *place, const char *
         for (int i = 0; i < nkeys && k < 0; i++)
             if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
         char name[80];
-        sanitize(name, sizeof name, it->string ? it->string : "", 64);
+        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
         if (k < 0) return fail_at(c, place, "unknown key '%s'", name);
         if (seen & (1ull << k)) return fail_at(c, place, "duplicate key '%s'", name);
         seen |= 1ull << k;
@@ -264,7 +255,7 @@ static bool parse_materials(ctx *c, const cJSON *arr)
         for (uint32_t k = c->first_material; k < c->s->material_count; k++)
             if (strcmp(c->s->materials[k].name, name) == 0) {
                 char nm[80];
-                sanitize(nm, sizeof nm, name, 64);
+                prw_json_sanitize(nm, sizeof nm, name, 64);
                 return fail_at(c, pl, "duplicate material name '%s'", nm);
             }
         if (!get_vec(c, o, "base_color", pl, bc, 3, 4, false, 0, 1, NULL)) return false;
@@ -304,7 +295,7 @@ static bool find_material(ctx *c, const cJSON *o, const char *pl, int *out)
         }
     char p[PLACE_MAX], nm[80];
     join(p, pl, "material");
-    sanitize(nm, sizeof nm, name, 64);
+    prw_json_sanitize(nm, sizeof nm, name, 64);
     return fail_at(c, p, "unknown material '%s' (not in \"materials\")", nm);
 }
 
@@ -401,7 +392,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
             if (strcmp(type, k_lights[t].name) == 0) k = t;
         if (k < 0) {
             char ty[80];
-            sanitize(ty, sizeof ty, type, 64);
+            prw_json_sanitize(ty, sizeof ty, type, 64);
             join(p, pl, "type");
             return fail_at(c, p, "unknown light type '%s' (point, spot, directional, rect)", ty);
         }
@@ -443,7 +434,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
         bool native = strcmp(unit, lk->units[0]) == 0, lumens = lk->units[1] && strcmp(unit, lk->units[1]) == 0;
         if (!native && !lumens) {
             char un[80];
-            sanitize(un, sizeof un, unit, 64);
+            prw_json_sanitize(un, sizeof un, unit, 64);
             join(p, pl, "unit");
             return fail_at(c, p, "unit '%s' does not apply to %s lights (use %s%s%s)", un, lk->name, lk->units[0],
                            lk->units[1] ? " or " : "", lk->units[1] ? lk->units[1] : "");
@@ -624,20 +615,6 @@ static bool parse_environment(ctx *c, const cJSON *o, prw_environment *env)
 
 /* ---- entry points ---- */
 
-static void line_col(const char *text, size_t size, size_t off, int *line, int *col)
-{
-    if (off > size) off = size;
-    int l = 1;
-    size_t start = 0;
-    for (size_t i = 0; i < off; i++)
-        if (text[i] == '\n') {
-            l++;
-            start = i + 1;
-        }
-    *line = l;
-    *col = (int)(off - start) + 1;
-}
-
 bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const char *path, prw_error *e)
 {
     ctx c;
@@ -654,29 +631,8 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
     }
     if (!text) return fail_at(&c, "", "no manifest text");
 
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, false);
-    if (!root) {
-        size_t off = end && end >= text ? (size_t)(end - text) : 0;
-        int line, col;
-        line_col(text, size, off, &line, &col);
-        char place[32], near[40];
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        if (off >= size) return fail_at(&c, place, "JSON syntax error: unexpected end of input");
-        sanitize(near, sizeof near, text + off, PRW_MIN(size - off, (size_t)24));
-        return fail_at(&c, place, "JSON syntax error near '%s'", near);
-    }
-    /* trailing non-whitespace after the document */
-    size_t off = (size_t)(end - text);
-    while (off < size && (text[off] == ' ' || text[off] == '\t' || text[off] == '\n' || text[off] == '\r')) off++;
-    if (off < size) {
-        int line, col;
-        char place[32];
-        line_col(text, size, off, &line, &col);
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        cJSON_Delete(root);
-        return fail_at(&c, place, "unexpected text after the JSON document");
-    }
+    cJSON *root = prw_json_doc_parse(text, size, c.file, e);
+    if (!root) return false;
 
     static const char *const keys[] = {"prw_manifest", "gltf", "materials", "meshes", "lights", "cameras",
                                        "environment"};

@@ -2,6 +2,7 @@
  * The interpolation scheme is stated in prw_camera_path.h; this file follows it. */
 #define _POSIX_C_SOURCE 200809L
 #include "prw_camera_path.h"
+#include "prw_json_doc.h"
 
 #include <cJSON.h>
 #include <math.h>
@@ -196,16 +197,6 @@ typedef struct ctx {
     prw_error *e;
 } ctx;
 
-static void sanitize(char *dst, size_t cap, const char *src, size_t n)
-{
-    size_t o = 0;
-    for (size_t i = 0; i < n && src[i] && o + 1 < cap; i++) {
-        unsigned char ch = (unsigned char)src[i];
-        dst[o++] = (ch >= 0x20 && ch < 0x7f) ? (char)ch : '?';
-    }
-    dst[o] = '\0';
-}
-
 static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
 {
@@ -236,7 +227,7 @@ static bool check_keys(ctx *c, const cJSON *obj, const char *place, const char *
         for (int i = 0; i < nkeys && k < 0; i++)
             if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
         char name[80];
-        sanitize(name, sizeof name, it->string ? it->string : "", 64);
+        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
         if (k < 0) return fail_at(c, place, "unknown key '%s'", name);
         if (seen & (1u << k)) return fail_at(c, place, "duplicate key '%s'", name);
         seen |= 1u << k;
@@ -335,20 +326,6 @@ static bool parse_key(ctx *c, const cJSON *o, const char *pl, const prw_camera_k
     return true;
 }
 
-static void line_col(const char *text, size_t size, size_t off, int *line, int *col)
-{
-    if (off > size) off = size;
-    int l = 1;
-    size_t start = 0;
-    for (size_t i = 0; i < off; i++)
-        if (text[i] == '\n') {
-            l++;
-            start = i + 1;
-        }
-    *line = l;
-    *col = (int)(off - start) + 1;
-}
-
 static bool parse_root(ctx *c, const cJSON *root, prw_camera_path *out)
 {
     static const char *const keys[] = {"prw_camera_path", "fps", "keyframes"};
@@ -392,28 +369,8 @@ bool prw_camera_path_parse(const char *text, size_t size, const char *name, prw_
     ctx c = {name ? name : "(camera path)", e};
     prw_camera_path_init(out, 0);
     if (!text) return fail_at(&c, "", "no camera-path text");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, false);
-    if (!root) {
-        size_t off = end && end >= text ? (size_t)(end - text) : 0;
-        int line, col;
-        line_col(text, size, off, &line, &col);
-        char place[32], near[40];
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        if (off >= size) return fail_at(&c, place, "JSON syntax error: unexpected end of input");
-        sanitize(near, sizeof near, text + off, PRW_MIN(size - off, (size_t)24));
-        return fail_at(&c, place, "JSON syntax error near '%s'", near);
-    }
-    size_t off = (size_t)(end - text);
-    while (off < size && (text[off] == ' ' || text[off] == '\t' || text[off] == '\n' || text[off] == '\r')) off++;
-    if (off < size) {
-        int line, col;
-        char place[32];
-        line_col(text, size, off, &line, &col);
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        cJSON_Delete(root);
-        return fail_at(&c, place, "unexpected text after the JSON document");
-    }
+    cJSON *root = prw_json_doc_parse(text, size, c.file, e);
+    if (!root) return false;
     bool ok = parse_root(&c, root, out);
     cJSON_Delete(root);
     if (!ok) prw_camera_path_free(out);

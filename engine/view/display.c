@@ -1,6 +1,7 @@
 /* display.c — display profiles (prw_display.h): the display model, EOTFs, primaries, JSON profiles. */
 #define _POSIX_C_SOURCE 200809L
 #include "prw_display.h"
+#include "prw_json_doc.h"
 
 #include <cJSON.h>
 #include <math.h>
@@ -241,16 +242,6 @@ typedef struct ctx {
     prw_error *e;
 } ctx;
 
-static void sanitize(char *dst, size_t cap, const char *src, size_t n)
-{
-    size_t o = 0;
-    for (size_t i = 0; i < n && src[i] && o + 1 < cap; i++) {
-        unsigned char ch = (unsigned char)src[i];
-        dst[o++] = (ch >= 0x20 && ch < 0x7f) ? (char)ch : '?';
-    }
-    dst[o] = '\0';
-}
-
 static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
 {
@@ -294,20 +285,6 @@ static bool get_enum(ctx *c, const cJSON *o, const char *key, const char *const 
     return fail_at(c, key, "must be one of %s", list);
 }
 
-static void line_col(const char *text, size_t size, size_t off, int *line, int *col)
-{
-    if (off > size) off = size;
-    int l = 1;
-    size_t start = 0;
-    for (size_t i = 0; i < off; i++)
-        if (text[i] == '\n') {
-            l++;
-            start = i + 1;
-        }
-    *line = l;
-    *col = (int)(off - start) + 1;
-}
-
 static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
 {
     static const char *const keys[] = {"prw_display", "name",      "description", "eotf",
@@ -321,7 +298,7 @@ static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
         for (int i = 0; i < (int)PRW_ARRAY_LEN(keys) && k < 0; i++)
             if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
         char name[80];
-        sanitize(name, sizeof name, it->string ? it->string : "", 64);
+        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
         if (k < 0) return fail_at(c, "", "unknown key '%s'", name);
         if (seen & (1u << k)) return fail_at(c, "", "duplicate key '%s'", name);
         seen |= 1u << k;
@@ -374,32 +351,11 @@ bool prw_display_parse(const char *text, size_t size, const char *file, prw_disp
 {
     ctx c = {file ? file : "(display)", e};
     if (!text) return fail_at(&c, "", "no text");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, false);
-    if (!root) {
-        size_t off = end && end >= text ? (size_t)(end - text) : 0;
-        int line, col;
-        line_col(text, size, off, &line, &col);
-        char place[32], near[40];
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        if (off >= size) return fail_at(&c, place, "JSON syntax error: unexpected end of input");
-        sanitize(near, sizeof near, text + off, PRW_MIN(size - off, (size_t)24));
-        return fail_at(&c, place, "JSON syntax error near '%s'", near);
-    }
-    size_t off = (size_t)(end - text);
-    while (off < size && (text[off] == ' ' || text[off] == '\t' || text[off] == '\n' || text[off] == '\r')) off++;
-    bool ok;
-    if (off < size) {
-        int line, col;
-        char place[32];
-        line_col(text, size, off, &line, &col);
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        ok = fail_at(&c, place, "unexpected text after the JSON document");
-    } else {
-        prw_display d;
-        ok = parse_root(&c, root, &d);
-        if (ok) *out = d;
-    }
+    cJSON *root = prw_json_doc_parse(text, size, c.file, e);
+    if (!root) return false;
+    prw_display d;
+    bool ok = parse_root(&c, root, &d);
+    if (ok) *out = d;
     cJSON_Delete(root);
     return ok;
 }

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "prw_hmd.h"
+#include "prw_json_doc.h"
 
 /* ---- built-in preset (the same tuple as assets/hmd/dk2.json; a test checks they agree) ----
  * Panel and optics of the Oculus Rift DK2 as the Oculus SDK 0.4 sources give them
@@ -217,30 +218,6 @@ static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
     return prw_fail(c->e, "%s: %s", c->file, reason);
 }
 
-static void sanitize(char *dst, size_t cap, const char *src, size_t n)
-{
-    size_t o = 0;
-    for (size_t i = 0; i < n && src[i] && o + 1 < cap; i++) {
-        unsigned char ch = (unsigned char)src[i];
-        dst[o++] = (ch >= 0x20 && ch < 0x7f) ? (char)ch : '?';
-    }
-    dst[o] = '\0';
-}
-
-static void line_col(const char *text, size_t size, size_t off, int *line, int *col)
-{
-    if (off > size) off = size;
-    int l = 1;
-    size_t start = 0;
-    for (size_t i = 0; i < off; i++)
-        if (text[i] == '\n') {
-            l++;
-            start = i + 1;
-        }
-    *line = l;
-    *col = (int)(off - start) + 1;
-}
-
 static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObjectItemCaseSensitive(o, k); }
 
 static bool get_num(ctx *c, const cJSON *o, const char *key, double *out)
@@ -281,7 +258,7 @@ static bool parse_root(ctx *c, const cJSON *root, prw_hmd *h)
         for (int i = 0; i < (int)PRW_ARRAY_LEN(keys) && k < 0; i++)
             if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
         char name[80];
-        sanitize(name, sizeof name, it->string ? it->string : "", 64);
+        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
         if (k < 0) return fail_at(c, "", "unknown key '%s'", name);
         if (seen & (1u << k)) return fail_at(c, "", "duplicate key '%s'", name);
         seen |= 1u << k;
@@ -319,32 +296,11 @@ bool prw_hmd_parse(const char *text, size_t size, const char *file, prw_hmd *out
 {
     ctx c = {file ? file : "(hmd)", e};
     if (!text) return fail_at(&c, "", "no text");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, false);
-    if (!root) {
-        size_t off = end && end >= text ? (size_t)(end - text) : 0;
-        int line, col;
-        line_col(text, size, off, &line, &col);
-        char place[32], near[40];
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        if (off >= size) return fail_at(&c, place, "JSON syntax error: unexpected end of input");
-        sanitize(near, sizeof near, text + off, PRW_MIN(size - off, (size_t)24));
-        return fail_at(&c, place, "JSON syntax error near '%s'", near);
-    }
-    size_t off = (size_t)(end - text);
-    while (off < size && (text[off] == ' ' || text[off] == '\t' || text[off] == '\n' || text[off] == '\r')) off++;
-    bool ok;
-    if (off < size) {
-        int line, col;
-        char place[32];
-        line_col(text, size, off, &line, &col);
-        snprintf(place, sizeof place, "%d:%d", line, col);
-        ok = fail_at(&c, place, "unexpected text after the JSON document");
-    } else {
-        prw_hmd h;
-        ok = parse_root(&c, root, &h);
-        if (ok) *out = h;
-    }
+    cJSON *root = prw_json_doc_parse(text, size, c.file, e);
+    if (!root) return false;
+    prw_hmd h;
+    bool ok = parse_root(&c, root, &h);
+    if (ok) *out = h;
     cJSON_Delete(root);
     return ok;
 }
