@@ -32,6 +32,7 @@ typedef struct bench_opts {
     const char *sweep;
     const char *vs;
     const char *views_backend; /* --views 2: loop | multiview | auto */
+    const char *stereo_reuse;  /* --views 2: off | reproject (the stereo_reuse knob; NULL = the preset's) */
     long views, reference_every, ref_spp, frames_limit, warmup;
     const char *out_dir;
     long shard_i, shard_n;
@@ -117,6 +118,9 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
 
 /* bench_stereo.c: --views 2 -- mono, naive and shared stereo interleaved (issue 5) */
 bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const char *views_backend, prw_error *e);
+
+/* bench_lod.c: --lod [MODEL] -- NURBS LOD triangles, update time, 1 vs 100 instances (issue 7) */
+int bench_lod_main(prw_args *a);
 
 /* bench_out.c */
 void bench_meta_add(bench_meta *m, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));

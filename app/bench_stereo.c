@@ -13,6 +13,13 @@
  * the per-view passes (base, downsample, tonemap, extra_work), T_fixed = median frame time - both
  * (recording, submit, wait: once per frame); f_eye = T_eye / T_mono and the ideal stereo ratio
  * (T_fixed + T_shared + 2 T_eye) / T_mono.  Goals: T_stereo <= 0.9 T_naive and <= 1.05 x ideal.
+ * With the knob stereo_reuse=reproject (`--stereo-reuse reproject` or in --preset) the shared renderer
+ * reuses the left eye's colour in the right eye (engine/render/pass_reproject.c), which changes pixels:
+ * every interleaved frame then also reads back the shared frame's right eye and the naive run's right
+ * eye (a mono render from the right eye = the fully shaded right eye of a per-view-loop stereo frame,
+ * must-show 2) outside the timed regions and reports their LDR-FLIP (the project's metric: metric tone
+ * map at the view's EV100, prw_flip_ldr_encoded at 67 ppd, mean per frame) and the share of the right
+ * eye's pixels that were shaded rather than reused (resolved alpha of the marked right eye).
  * Writes stereo.csv (frame times) and stereo.json in --out.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -44,32 +51,66 @@ static bool timed(prw_renderer *r, const prw_view *v, uint32_t n, double *ms, pr
     return true;
 }
 
+/* LDR-FLIP (mean) of the reprojected right eye (test) against the fully shaded one (ref), and the
+ * shaded share (mean alpha of the marked test image).  Frees both images. */
+static bool reuse_error(prw_image *test, prw_image *ref, double ev100, double *flip, double *shaded, prw_error *e)
+{
+    prw_image tt = {0}, rt = {0};
+    size_t n = (size_t)ref->width * ref->height;
+    float *map = prw_malloc(n * sizeof *map);
+    bool ok = prw_metric_tonemap(test, ev100, &tt, e) && prw_metric_tonemap(ref, ev100, &rt, e) &&
+              prw_flip_ldr_encoded(&tt, &rt, PRW_FLIP_DEFAULT_PPD, map, e);
+    if (ok) {
+        prw_flip_stats st;
+        prw_flip_pool(map, n, &st);
+        *flip = st.mean;
+        double a = 0;
+        for (size_t i = 0; i < n; i++) a += test->rgba[i * 4 + 3];
+        *shaded = a / (double)n;
+    }
+    free(map);
+    prw_image_free(test);
+    prw_image_free(ref);
+    prw_image_free(&tt);
+    prw_image_free(&rt);
+    return ok;
+}
+
 static bool pass_is_shared(const char *name) { return strcmp(name, "shadow") == 0 || strcmp(name, "tm_stats") == 0; }
 
 bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const char *views_backend, prw_error *e)
 {
     bench_machine_meta(&c->res.meta, gpu);
+    double sr = q->stereo_reuse;
+    if (c->o.stereo_reuse && !prw_stereo_reuse_parse(c->o.stereo_reuse, &sr))
+        return prw_fail(e, "--stereo-reuse '%s': expected off or reproject", c->o.stereo_reuse);
+    bool reuse = sr == PRW_STEREO_REUSE_REPROJECT;
     prw_views_backend backend;
-    if (!prw_views_backend_resolve(gpu, views_backend, &backend, e)) return false;
+    /* the reprojection exists for the per-view loop only: auto means loop then */
+    if (!prw_views_backend_resolve(gpu, reuse && !views_backend ? "loop" : views_backend, &backend, e)) return false;
     prw_render_desc d1 = prw_quality_render_desc(q, c->o.width, c->o.height);
     d1.max_views = 1;
     prw_render_desc d2 = d1;
     d2.max_views = 2;
     d2.views_backend = backend;
+    d2.stereo_reuse = (prw_stereo_reuse)sr;
+    d2.reproject_mark = reuse; /* alpha only: counts the shaded share, colour unchanged */
     prw_render_desc dts = d1;
     dts.timestamps = true;
     prw_renderer *mono = NULL, *shared = NULL, *ts = NULL;
     uint32_t n = c->nframes > ST_MIN_FRAMES ? c->nframes : ST_MIN_FRAMES;
     double *tm = prw_calloc(n, sizeof *tm), *tn = prw_calloc(n, sizeof *tn), *tsh = prw_calloc(n, sizeof *tsh);
     uint32_t *fr = prw_calloc(n, sizeof *fr);
+    double *flip = prw_calloc(n, sizeof *flip), *shaded = prw_calloc(n, sizeof *shaded);
+    prw_image full_right = {0}, reused_right = {0};
     bool ok = prw_renderer_create(gpu, c->scene, &d1, &mono, e) && prw_renderer_create(gpu, c->scene, &d2, &shared, e);
     prw_view centre, eyes[2];
     if (ok) ok = frame_views(c, c->frames[0], &centre, eyes, e);
     double dummy;
     for (long w = 0; ok && w < (c->o.warmup > 0 ? c->o.warmup : 1); w++)
         ok = timed(mono, &centre, 1, &dummy, e) && timed(shared, eyes, 2, &dummy, e);
-    fprintf(stderr, "bench --views 2: mono / naive stereo / shared stereo (%s backend), %ux%u per eye\n",
-            prw_views_backend_name(backend), c->o.width, c->o.height);
+    fprintf(stderr, "bench --views 2: mono / naive stereo / shared stereo (%s backend, stereo_reuse=%s), %ux%u per eye\n",
+            prw_views_backend_name(backend), reuse ? "reproject" : "off", c->o.width, c->o.height);
     static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
     for (uint32_t i = 0; ok && i < n; i++) {
         fr[i] = c->frames[i % c->nframes];
@@ -82,14 +123,20 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
                 double a = 0, b = 0;
                 ok = timed(mono, &eyes[0], 1, &a, e) && timed(mono, &eyes[1], 1, &b, e);
                 tn[i] = a + b;
+                /* untimed: the naive run's right eye = the fully shaded right eye (must-show 2) */
+                if (ok && reuse) ok = prw_renderer_read_hdr(mono, 0, &full_right, e);
             } else {
                 ok = timed(shared, eyes, 2, &tsh[i], e);
+                if (ok && reuse) ok = prw_renderer_read_hdr(shared, 1, &reused_right, e); /* untimed */
             }
         }
+        if (ok && reuse) ok = reuse_error(&reused_right, &full_right, eyes[1].ev100, &flip[i], &shaded[i], e);
         fprintf(stderr, "\rframes: %u/%u   ", i + 1, n);
         fflush(stderr);
     }
     fprintf(stderr, "\n");
+    prw_image_free(&full_right);
+    prw_image_free(&reused_right);
     prw_renderer_destroy(shared);
     shared = NULL;
     /* the separate timestamped mono run */
@@ -137,6 +184,16 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
         printf("T_stereo/T_mono  = %.3f, 95 %% interval [%.3f, %.3f]\n", r_mono.ratio, r_mono.lo, r_mono.hi);
         printf("T_stereo/T_naive = %.3f, 95 %% interval [%.3f, %.3f] (goal <= 0.9: %s)\n", r_naive.ratio, r_naive.lo,
                r_naive.hi, r_naive.ratio <= 0.9 ? "met" : "NOT met");
+        double flip_mean = 0, flip_max = 0, shaded_mean = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            flip_mean += flip[i] / n;
+            flip_max = fmax(flip_max, flip[i]);
+            shaded_mean += shaded[i] / n;
+        }
+        if (reuse)
+            printf("stereo_reuse=reproject: right eye vs fully shaded right eye: mean LDR-FLIP %.4f (worst frame %.4f) "
+                   "over %u frames; %.1f %% of right-eye pixels shaded, %.1f %% reused\n",
+                   flip_mean, flip_max, n, 100.0 * shaded_mean, 100.0 * (1.0 - shaded_mean));
         printf("timestamped mono run (%u frames): T_mono %.2f ms = T_shared %.2f ms (%s) + T_eye %.2f ms (%s) + "
                "T_fixed %.2f ms\n",
                nts, t_mono_ts, t_shared, shared_names[0] ? shared_names : "none", t_eye, eye_names, t_fixed);
@@ -151,8 +208,12 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
         } else {
             for (int i = 0; i < c->res.meta.count; i++)
                 fprintf(f, "# %s: %s\n", c->res.meta.key[i], c->res.meta.value[i]);
-            fprintf(f, "i,frame,mono_ms,naive_ms,shared_ms\n");
-            for (uint32_t i = 0; i < n; i++) fprintf(f, "%u,%u,%.17g,%.17g,%.17g\n", i, fr[i], tm[i], tn[i], tsh[i]);
+            fprintf(f, "i,frame,mono_ms,naive_ms,shared_ms%s\n", reuse ? ",right_ldr_flip,right_shaded" : "");
+            for (uint32_t i = 0; i < n; i++) {
+                fprintf(f, "%u,%u,%.17g,%.17g,%.17g", i, fr[i], tm[i], tn[i], tsh[i]);
+                if (reuse) fprintf(f, ",%.17g,%.17g", flip[i], shaded[i]);
+                fprintf(f, "\n");
+            }
             ok = fclose(f) == 0 ? true : prw_fail(e, "%s: write failed", path);
         }
         bench_join(path, sizeof path, c->o.out_dir, "stereo.json");
@@ -164,10 +225,13 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
                     "\"median_ms\": {\"mono\": %.17g, \"naive\": %.17g, \"shared\": %.17g}, "
                     "\"stereo_over_mono\": [%.17g, %.17g, %.17g], \"stereo_over_naive\": [%.17g, %.17g, %.17g], "
                     "\"timestamped\": {\"frames\": %u, \"t_mono_ms\": %.17g, \"t_shared_ms\": %.17g, \"t_eye_ms\": %.17g, "
-                    "\"t_fixed_ms\": %.17g}, \"f_eye\": %.17g, \"ideal\": %.17g, \"resamples\": %d, \"seed\": %d}\n",
+                    "\"t_fixed_ms\": %.17g}, \"f_eye\": %.17g, \"ideal\": %.17g, \"resamples\": %d, \"seed\": %d, "
+                    "\"stereo_reuse\": \"%s\", \"right_ldr_flip_mean\": %.17g, \"right_ldr_flip_max\": %.17g, "
+                    "\"right_shaded_share\": %.17g}\n",
                     n, c->o.width, c->o.height, prw_views_backend_name(backend), mm, mn, ms, r_mono.ratio, r_mono.lo,
                     r_mono.hi, r_naive.ratio, r_naive.lo, r_naive.hi, nts, t_mono_ts, t_shared, t_eye, t_fixed, f_eye,
-                    ideal, ST_RESAMPLES, ST_SEED);
+                    ideal, ST_RESAMPLES, ST_SEED, reuse ? "reproject" : "off", flip_mean, flip_max,
+                    reuse ? shaded_mean : 1.0);
             ok = fclose(f) == 0 ? true : prw_fail(e, "%s: write failed", path);
         }
         if (ok) printf("wrote %s/stereo.csv, %s/stereo.json\n", c->o.out_dir, c->o.out_dir);
@@ -176,6 +240,8 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
     free(tn);
     free(tsh);
     free(fr);
+    free(flip);
+    free(shaded);
     free(ts_frame);
     free(ts_shared);
     free(ts_eye);

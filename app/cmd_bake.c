@@ -30,6 +30,8 @@ static void help(void)
            "  --max-edge X               longest sewing edge (default diagonal / 40)\n"
            "  --levels N                 hierarchy levels, 1..%d (default 14)\n"
            "  --tau0 X                   finest-level error target (default: the sewing tolerance)\n"
+           "  --finest-rel R             finest-level error target R x model diagonal (e.g. 1e-5; lifts the\n"
+           "                             per-patch triangle cap; sewing tolerance default: half of it)\n"
            "  --max-cells N              finest tessellation grid cap per direction (default 48)\n"
            "  --max-patch-triangles N    level-0 refinement cap per patch (default 2 x initial + 4096)\n",
            PRW_LOD_MAX_LEVELS);
@@ -57,6 +59,9 @@ int prw_cmd_bake(int argc, char **argv)
     if (!bad && (v = prw_args_value(&a, "adjacency", &e, &bad)) && !prw_parse_double(v, "--adjacency", 0, 1e9, &o.seam.tol, &e)) bad = true;
     if (!bad && (v = prw_args_value(&a, "max-edge", &e, &bad)) && !prw_parse_double(v, "--max-edge", 0, 1e9, &o.seam.max_edge, &e)) bad = true;
     if (!bad && (v = prw_args_value(&a, "tau0", &e, &bad)) && !prw_parse_double(v, "--tau0", 0, 1e9, &o.lod.tau0, &e)) bad = true;
+    if (!bad && (v = prw_args_value(&a, "finest-rel", &e, &bad)) &&
+        !prw_parse_double(v, "--finest-rel", 1e-9, 0.1, &o.lod.finest_rel, &e))
+        bad = true;
     if (!bad && (v = prw_args_value(&a, "levels", &e, &bad))) {
         if (prw_parse_int(v, "--levels", 1, PRW_LOD_MAX_LEVELS, &n, &e)) o.lod.levels = (int)n;
         else bad = true;

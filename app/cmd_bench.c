@@ -37,6 +37,10 @@ static void bench_usage(void)
            "                         two single-view renders, shared stereo = one two-view frame, interleaved;\n"
            "                         T_stereo/T_mono, T_stereo/T_naive, f_eye and the ideal ratio; no references)\n"
            "  --views-backend B      with --views 2: loop, multiview or auto (default auto)\n"
+           "  --lod [MODEL]          NURBS LOD benchmark (its own options: prw bench --lod --help)\n"
+           "  --stereo-reuse R       with --views 2: off or reproject (knob stereo_reuse): shared stereo reuses\n"
+           "                         the left eye's colour in the right eye; also prints the mean LDR-FLIP of\n"
+           "                         the reprojected right eye against the fully shaded one over the path\n"
            "  --reference-every K    reference at every K-th frame (default: 5 references along the path)\n"
            "  --ref-spp N            reference samples per pixel (default 64); a second reference with another\n"
            "                         seed at the same spp gives the reference noise\n"
@@ -91,6 +95,7 @@ static bool parse_options(prw_args *a, bench_opts *o, prw_error *e)
     o->sweep = prw_args_value(a, "sweep", e, &bad);
     o->vs = prw_args_value(a, "vs", e, &bad);
     o->views_backend = prw_args_value(a, "views-backend", e, &bad);
+    o->stereo_reuse = prw_args_value(a, "stereo-reuse", e, &bad);
     if ((v = prw_args_value(a, "out", e, &bad))) o->out_dir = v;
     o->ref_child = prw_args_value(a, "ref-child", e, &bad);
     o->ref_dir = prw_args_value(a, "ref-dir", e, &bad);
@@ -124,6 +129,10 @@ static bool parse_options(prw_args *a, bench_opts *o, prw_error *e)
     if (o->views == 2 && (o->vs || o->sweep || o->shard_n > 1))
         return prw_fail(e, "--views 2 is its own interleaved comparison: no --vs, --sweep or --shard");
     if (o->views_backend && o->views != 2) return prw_fail(e, "--views-backend needs --views 2");
+    if (o->stereo_reuse && o->views != 2) return prw_fail(e, "--stereo-reuse needs --views 2");
+    double sr;
+    if (o->stereo_reuse && !prw_stereo_reuse_parse(o->stereo_reuse, &sr))
+        return prw_fail(e, "--stereo-reuse '%s': expected off or reproject", o->stereo_reuse);
     if (o->preset && o->vs && strchr(o->vs, '=') == NULL && strcmp(o->preset, o->vs) == 0)
         return prw_fail(e, "--vs %s: the same configuration as --preset", o->vs);
     if (o->sweep && o->vs) return prw_fail(e, "--sweep and --vs exclude each other");
@@ -245,6 +254,11 @@ int prw_cmd_bench(int argc, char **argv)
     prw_args a;
     prw_error e = {{0}};
     prw_args_init(&a, argc, argv, &e);
+    if (prw_args_flag(&a, "lod")) { /* NURBS LOD benchmark (bench_lod.c, issue 7): its own options */
+        int lrc = bench_lod_main(&a);
+        prw_args_free(&a);
+        return lrc;
+    }
     if (prw_args_flag(&a, "help")) {
         bench_usage();
         prw_args_free(&a);

@@ -192,6 +192,9 @@ int prw_cmd_reference(int argc, char **argv)
            (unsigned long long)seed, st.seconds, t_build, (double)st.rays / fmax(st.seconds, 1e-9) * 1e-6,
            prw_threads_get());
     if (acc.nonfinite) printf("reference: warning: %llu non-finite samples dropped\n", (unsigned long long)acc.nonfinite);
+    if (scene->nurbs_count)
+        printf("reference: NURBS tessellation error %.3g px at this view (finest level, exact normals)%s\n", st.tess_px,
+               st.tess_px > 0.01 ? "; above 0.01 px: lower the entries' chord_rel for a predictive reference" : "");
     rc = 0;
 done:
     if (rc != 0) fprintf(stderr, "prw reference: error: %s\n", e.msg[0] ? e.msg : "failed");

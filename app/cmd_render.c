@@ -56,7 +56,9 @@ static void render_usage(void)
            "                     FOVs, composed panel with barrel pre-distortion and chromatic pre-correction;\n"
            "                     --size sets the panel (default: the profile's)\n"
            "  --sbs              with --hmd: the side-by-side debug view (no distortion)\n"
-           "  --views-backend B  loop, multiview or auto (default auto: loop on lavapipe)\n");
+           "  --views-backend B  loop, multiview or auto (default auto: loop on lavapipe)\n"
+           "  --stereo-reuse R   off (default) or reproject: the right eye reuses the left eye's colour where\n"
+           "                     both see the same surface (changes pixels; per-view loop backend)\n");
 }
 
 typedef struct render_job render_job;
@@ -365,6 +367,11 @@ int prw_cmd_render(int argc, char **argv)
     sj.hmd = prw_args_value(&a, "hmd", &e, &bad);
     sj.sbs_debug = prw_args_flag(&a, "sbs");
     sj.views_backend = prw_args_value(&a, "views-backend", &e, &bad);
+    const char *reuse = prw_args_value(&a, "stereo-reuse", &e, &bad);
+    double reuse_v = 0;
+    if (!bad && reuse && !prw_stereo_reuse_parse(reuse, &reuse_v))
+        bad = true, prw_fail(&e, "--stereo-reuse '%s': expected off or reproject", reuse);
+    sj.stereo_reuse = (uint32_t)reuse_v;
     if ((v = prw_args_value(&a, "ipd", &e, &bad)) && !prw_parse_double(v, "--ipd", 0, 0.2, &sj.ipd, &e)) bad = true;
     if ((v = prw_args_value(&a, "screen-distance", &e, &bad)) &&
         !prw_parse_double(v, "--screen-distance", 0.06, 1e4, &sj.screen_distance, &e))
@@ -372,6 +379,7 @@ int prw_cmd_render(int argc, char **argv)
     if (!bad && stereo && sj.hmd) bad = true, prw_fail(&e, "--stereo and --hmd exclude each other");
     if (!bad && !stereo && !sj.hmd && (sj.ipd >= 0 || sj.screen_distance > 0 || sj.sbs_debug || sj.views_backend))
         bad = true, prw_fail(&e, "--ipd, --screen-distance, --sbs and --views-backend need --stereo or --hmd");
+    if (!bad && !stereo && !sj.hmd && reuse) bad = true, prw_fail(&e, "--stereo-reuse needs --stereo or --hmd");
     if (!bad && sj.hmd && (sj.ipd >= 0 || sj.screen_distance > 0))
         bad = true, prw_fail(&e, "--ipd and --screen-distance are for --stereo; --hmd takes them from the profile");
     if (!bad && !sj.hmd && sj.sbs_debug) bad = true, prw_fail(&e, "--sbs is for --hmd (desktop stereo is always side by side)");

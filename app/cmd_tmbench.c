@@ -3,7 +3,9 @@
  * 4 and 6 decades are each uploaded once; then local and selective run alternately (interleaved,
  * rep by rep) on the same input.  Prints per image SSIM / mean LDR-FLIP of selective against local,
  * the marked-tile fraction, the seam measures and the median times; and the ratio of the whole set's
- * time (local / selective) as a median with a paired bootstrap 95 % interval. */
+ * time (local / selective) as a median with a paired bootstrap 95 % interval, and the bound the
+ * fraction of blocks the local operator must cover puts on that ratio (selective timed with nothing
+ * marked gives its global part).  --profile: per-pass times (prefix differences, prw_tm_profile). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -26,9 +28,13 @@ static void tmbench_usage(void)
            "  --threshold X      selective Sobel threshold, log10 units per pixel (default 0.1)\n"
            "  --tile N           selective tile size, a multiple of 16 (default 16)\n"
            "  --display PROFILE  display profile (default srgb; SSIM/FLIP read the signal as sRGB)\n"
+           "  --tiled            also time local as the tiled shared-memory kernel (tonemap_local.comp) on every block\n"
+           "  --profile          also print per-pass GPU times (timestamps) of one run per operator and image\n"
            "Times are host wall clock around submit + wait of the tone-mapping passes only (stats,\n"
-           "classification, global, local); on lavapipe the GPU is the CPU.  Local is timed twice: the\n"
-           "separable full-image passes (the reference speed) and the tiled kernel selective uses, on every block.\n");
+           "classification, global, local); on lavapipe the GPU is the CPU.  Local: the separable full-image\n"
+           "passes.  Selective is also timed with no tile marked (its global part c_global), which gives the\n"
+           "bound c_full / (c_global + f c_full) on the speed-up for the fraction f of blocks the local\n"
+           "operator must cover (marked tiles and their blend band).\n");
 }
 
 typedef struct tmb_opts {
@@ -36,7 +42,25 @@ typedef struct tmb_opts {
     long frames, reps, tile;
     double threshold;
     const char *display;
+    bool profile, tiled;
 } tmb_opts;
+
+/* One profiled run of the current settings: prints "label: scope ms, ..." and the total. */
+static bool profile_run(prw_tm_session *s, const char *label, prw_error *e)
+{
+    prw_tm_profile pr;
+    if (!prw_tm_session_profile(s, 7.0, 4, &pr, e)) return false;
+    double tot = pr.base_ms, bh = 0, bv = 0;
+    printf("    %-9s (none %.1f)", label, pr.base_ms);
+    for (int i = 0; i < pr.count; i++) {
+        size_t n = strlen(pr.names[i]);
+        if (strncmp(pr.names[i], "blur", 4) == 0) *(pr.names[i][n - 1] == 'h' ? &bh : &bv) += pr.ms[i];
+        else printf(" %s %.1f", pr.names[i], pr.ms[i]);
+        tot += pr.ms[i];
+    }
+    printf(" blur-h %.1f blur-v %.1f = %.1f ms (wall, prefix differences, best of 4)\n", bh, bv, tot);
+    return true;
+}
 
 static double median_of(const double *x, size_t n)
 {
@@ -47,14 +71,36 @@ static double median_of(const double *x, size_t n)
     return m;
 }
 
+/* Per image: medians (ms) of local, selective and selective with no tile marked (its global part:
+ * stats + classification + compaction + global curve on every block), and the fractions of marked
+ * tiles and of blocks the local operator runs on. */
+typedef struct tmb_img {
+    double ml, ms, mg, f_marked, f_needed;
+} tmb_img;
+
+/* The speed-up selective could reach if its local part cost exactly the full local operator's time
+ * per pixel on the fraction f of the image (no halo, no overhead): c_full / (c_global + f c_full). */
+static double bound_of(const tmb_img *im, int n, bool needed)
+{
+    double a = 0, b = 0;
+    for (int i = 0; i < n; i++) {
+        a += im[i].ml;
+        b += im[i].mg + (needed ? im[i].f_needed : im[i].f_marked) * im[i].ml;
+    }
+    return b > 0 ? a / b : 0;
+}
+
 /* One image: quality of selective vs local, and reps interleaved timings into tl (local, separable
- * full-image passes), tt (local, tiled kernel on every block) and ts (selective). */
+ * full-image passes), ts (selective), tg (selective, no tile marked) and, with --tiled, tt (local,
+ * tiled kernel on every block). */
 static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o, const prw_image *hdr,
-                        const char *name, double *tl, double *tt, double *ts, prw_error *e)
+                        const char *name, double *tl, double *tt, double *ts, double *tg, tmb_img *im, prw_error *e)
 {
     prw_tm_session *s = NULL;
     prw_tonemap_settings loc = {.op = PRW_TM_LOCAL}, til = {.op = PRW_TM_LOCAL, .local_tiled = true},
                          sel = {.op = PRW_TM_SELECTIVE, .sel_threshold = o->threshold, .sel_tile = (uint32_t)o->tile};
+    prw_tonemap_settings glo = sel;
+    glo.sel_threshold = 1e30; /* nothing marked: the selective framework's fixed cost */
     prw_image il = {0}, is = {0};
     prw_tm_report rep = {0};
     float *map = NULL;
@@ -63,8 +109,10 @@ static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o
               prw_tm_session_run(s, 7.0, NULL, &is, NULL, &rep, e);
     for (long k = 0; ok && k < o->reps; k++)
         ok = prw_renderer_set_tonemap(r, d, &loc, e) && prw_tm_session_run(s, 7.0, &tl[k], NULL, NULL, NULL, e) &&
-             prw_renderer_set_tonemap(r, d, &til, e) && prw_tm_session_run(s, 7.0, &tt[k], NULL, NULL, NULL, e) &&
-             prw_renderer_set_tonemap(r, d, &sel, e) && prw_tm_session_run(s, 7.0, &ts[k], NULL, NULL, NULL, e);
+             (!o->tiled ||
+              (prw_renderer_set_tonemap(r, d, &til, e) && prw_tm_session_run(s, 7.0, &tt[k], NULL, NULL, NULL, e))) &&
+             prw_renderer_set_tonemap(r, d, &sel, e) && prw_tm_session_run(s, 7.0, &ts[k], NULL, NULL, NULL, e) &&
+             prw_renderer_set_tonemap(r, d, &glo, e) && prw_tm_session_run(s, 7.0, &tg[k], NULL, NULL, NULL, e);
     double ssim = 0, flip = 0;
     if (ok) {
         map = prw_malloc(sizeof(float) * (size_t)hdr->width * (size_t)hdr->height);
@@ -77,16 +125,22 @@ static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o
         int T = (int)o->tile;
         double gs = prw_tm_border_gradient(&is, T), gl = prw_tm_border_gradient(&il, T);
         double js = prw_tm_border_jump(&is, T), jl = prw_tm_border_jump(&il, T);
-        double ml = median_of(tl, (size_t)o->reps), mt = median_of(tt, (size_t)o->reps),
-               ms = median_of(ts, (size_t)o->reps);
+        double ml = median_of(tl, (size_t)o->reps), ms = median_of(ts, (size_t)o->reps),
+               mg = median_of(tg, (size_t)o->reps);
+        *im = (tmb_img){ml, ms, mg, (double)rep.tiles_marked / (double)(rep.tiles ? rep.tiles : 1),
+                        (double)rep.blocks_local / (double)(rep.blocks ? rep.blocks : 1)};
         printf("%-14s SSIM %.4f  FLIP %.4f  marked %5.1f %% (local on %5.1f %% of blocks)  seams: border "
-               "gradient %+.4f, jump %+.4f vs local  local %8.2f ms (tiled %8.2f)  selective %8.2f ms  x%.2f "
-               "(x%.2f vs tiled)\n",
-               name, ssim, flip, 100.0 * (double)rep.tiles_marked / (double)(rep.tiles ? rep.tiles : 1),
-               100.0 * (double)rep.blocks_local / (double)(rep.blocks ? rep.blocks : 1), gs - gl, js - jl, ml, mt, ms,
-               ml / ms, mt / ms);
+               "gradient %+.4f, jump %+.4f vs local  local %8.2f ms  selective %8.2f ms (global part %.2f)  x%.2f "
+               "(bound x%.2f)",
+               name, ssim, flip, 100.0 * im->f_marked, 100.0 * im->f_needed, gs - gl, js - jl, ml, ms, mg, ml / ms,
+               bound_of(im, 1, true));
+        if (o->tiled) printf("  tiled local %8.2f ms x%.2f", median_of(tt, (size_t)o->reps), median_of(tt, (size_t)o->reps) / ms);
+        printf("\n");
         fflush(stdout);
     }
+    if (ok && o->profile)
+        ok = prw_renderer_set_tonemap(r, d, &loc, e) && profile_run(s, "local", e) &&
+             prw_renderer_set_tonemap(r, d, &sel, e) && profile_run(s, "selective", e);
     free(map);
     prw_image_free(&il);
     prw_image_free(&is);
@@ -106,6 +160,8 @@ static int run(const tmb_opts *o)
     long nimg = o->frames + 3;
     double *tl = prw_calloc((size_t)(nimg * o->reps), sizeof *tl), *ts = prw_calloc((size_t)(nimg * o->reps), sizeof *ts);
     double *tt = prw_calloc((size_t)(nimg * o->reps), sizeof *tt);
+    double *tg = prw_calloc((size_t)(nimg * o->reps), sizeof *tg);
+    tmb_img *im = prw_calloc((size_t)nimg, sizeof *im);
     prw_display disp;
     if (!prw_display_resolve(o->display ? o->display : "srgb", &disp, &e)) goto done;
     if (!prw_app_load_scene(NULL, &scene, &e) || !prw_app_create_gpu(false, &gpu, &e)) goto done;
@@ -129,7 +185,8 @@ static int run(const tmb_opts *o)
             goto done;
         char name[32];
         snprintf(name, sizeof name, "demo frame %llu", (unsigned long long)k);
-        bool ok = bench_image(r, &disp, o, &hdr, name, tl + img * o->reps, tt + img * o->reps, ts + img * o->reps, &e);
+        bool ok = bench_image(r, &disp, o, &hdr, name, tl + img * o->reps, tt + img * o->reps, ts + img * o->reps,
+                              tg + img * o->reps, &im[img], &e);
         prw_image_free(&hdr);
         if (!ok) goto done;
     }
@@ -142,7 +199,8 @@ static int run(const tmb_opts *o)
         }
         char name[32];
         snprintf(name, sizeof name, "still dr %.0f", dr);
-        bool ok = bench_image(r, &disp, o, &hdr, name, tl + img * o->reps, tt + img * o->reps, ts + img * o->reps, &e);
+        bool ok = bench_image(r, &disp, o, &hdr, name, tl + img * o->reps, tt + img * o->reps, ts + img * o->reps,
+                              tg + img * o->reps, &im[img], &e);
         prw_image_free(&hdr);
         if (!ok) goto done;
     }
@@ -156,13 +214,24 @@ static int run(const tmb_opts *o)
             ss[k] += ts[i * o->reps + k];
         }
     prw_stats_ratio ratio, rt;
-    if (prw_stats_bootstrap_median_ratio(ss, (size_t)o->reps, sl, (size_t)o->reps, true, 2000, 12345, &ratio) &&
-        prw_stats_bootstrap_median_ratio(ss, (size_t)o->reps, st, (size_t)o->reps, true, 2000, 12346, &rt))
-        printf("set of %ld images: local %.1f ms (tiled %.1f ms), selective %.1f ms per pass (medians); speed-up "
-               "local/selective x%.2f (95 %% bootstrap interval %.2f .. %.2f); tiled local/selective x%.2f (%.2f .. "
-               "%.2f)\n",
-               nimg, median_of(sl, (size_t)o->reps), median_of(st, (size_t)o->reps), median_of(ss, (size_t)o->reps),
-               ratio.ratio, ratio.lo, ratio.hi, rt.ratio, rt.lo, rt.hi);
+    double fm = 0, fn = 0, sg = 0;
+    for (long i = 0; i < nimg; i++) {
+        fm += im[i].f_marked / (double)nimg;
+        fn += im[i].f_needed / (double)nimg;
+        sg += im[i].mg;
+    }
+    if (prw_stats_bootstrap_median_ratio(ss, (size_t)o->reps, sl, (size_t)o->reps, true, 2000, 12345, &ratio)) {
+        printf("set of %ld images: local %.1f ms, selective %.1f ms per pass (medians); speed-up local/selective "
+               "x%.2f (95 %% bootstrap interval %.2f .. %.2f)\n",
+               nimg, median_of(sl, (size_t)o->reps), median_of(ss, (size_t)o->reps), ratio.ratio, ratio.lo, ratio.hi);
+        printf("bound: mean marked fraction %.3f, local on %.3f of blocks (marked tiles + blend band), global part "
+               "%.1f ms of local %.1f ms; speed-up <= c_full / (c_global + f c_full) = x%.2f with f = blocks the "
+               "local operator must cover (x%.2f if it covered only the marked tiles)\n",
+               fm, fn, sg, median_of(sl, (size_t)o->reps), bound_of(im, (int)nimg, true), bound_of(im, (int)nimg, false));
+    }
+    if (o->tiled && prw_stats_bootstrap_median_ratio(ss, (size_t)o->reps, st, (size_t)o->reps, true, 2000, 12346, &rt))
+        printf("tiled local %.1f ms: tiled local/selective x%.2f (%.2f .. %.2f)\n", median_of(st, (size_t)o->reps),
+               rt.ratio, rt.lo, rt.hi);
     free(sl);
     free(ss);
     free(st);
@@ -176,6 +245,8 @@ done:
     free(tl);
     free(ts);
     free(tt);
+    free(tg);
+    free(im);
     return rc;
 }
 
@@ -204,6 +275,8 @@ int prw_cmd_tmbench(int argc, char **argv)
          (o.tile % 16 && !prw_fail(&e, "--tile %ld: must be a multiple of 16", o.tile))))
         bad = true;
     o.display = prw_args_value(&a, "display", &e, &bad);
+    o.profile = prw_args_flag(&a, "profile");
+    o.tiled = prw_args_flag(&a, "tiled");
     if (!bad && a.positional_count > 0) bad = !prw_fail(&e, "unexpected argument '%s'", a.positional[0]);
     if (!bad && !prw_args_finish(&a, &e)) bad = true;
     prw_args_free(&a);

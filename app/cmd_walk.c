@@ -25,12 +25,14 @@
 #include "app.h"
 #include "prw_camera_path.h"
 #include "prw_image.h"
+#include "prw_lod_render.h"
 #include "prw_render.h"
 #include "prw_swapchain.h"
 #include "prw_view.h"
 #include "prw_walk.h"
 #include "walk_hud.h"
 #include "walk_input.h"
+#include "walk_measure.h"
 #include "walk_script.h"
 
 #ifndef PRW_GIT_HASH
@@ -39,6 +41,7 @@
 
 #define PI 3.14159265358979323846
 #define LEVELS 5
+#define HUD_ROWS 8
 static const double level_scale[LEVELS] = {0.5, 0.625, 0.75, 0.875, 1.0};
 
 static void walk_usage(void)
@@ -61,16 +64,22 @@ static void walk_usage(void)
            "  --shot-dir DIR      screenshot folder (default prw-out)\n"
            "  --no-hud            start with the HUD hidden (H toggles it)\n"
            "  --no-pass-times     no GPU timestamps (the HUD then shows no per-pass times)\n"
+           "  --adapt             temporal adaptation of the tone mapper (one state; auto-exposure operators)\n"
+           "  --adapt-up-s S      its time constant towards brighter scenes (default 0.4; implies --adapt)\n"
+           "  --adapt-down-s S    its time constant towards darker scenes (default 4; implies --adapt)\n"
+           "  --measure-width W   [R] measures at W pixels wide (default 160)\n"
+           "  --measure-spp N     reference samples per pixel for [R] (default 32)\n"
            "  controls: WASD move, Q/E down/up, right mouse drag to look, +/- or wheel speed, F fly/walk,\n"
-           "            H HUD, F12 screenshot (EXR + PNG), Esc quits\n");
+           "            H HUD, F12 screenshot (EXR + PNG), R measure the error of the current view against\n"
+           "            the reference path tracer (blocking; shown on the HUD and printed), Esc quits\n");
 }
 
 typedef struct walk_opts {
     const char *scene, *camera, *display, *tonemap, *script, *record, *replay, *shot_dir;
-    uint32_t w, h, msaa, shadow_size;
+    uint32_t w, h, msaa, shadow_size, measure_width, measure_spp;
     long frames;
-    double fps, target_ms, speed;
-    bool walk_mode, hud, pass_times;
+    double fps, target_ms, speed, adapt_up_s, adapt_down_s;
+    bool walk_mode, hud, pass_times, adapt;
 } walk_opts;
 
 typedef struct walk_ctx {
@@ -84,6 +93,7 @@ typedef struct walk_ctx {
     bool have_script;
     walk_input in;
     int shots;
+    walk_measure measure; /* the last [R] measurement */
 } walk_ctx;
 
 /* The renderer of scale level lv, created on first use (*created: this call made it). */
@@ -209,9 +219,9 @@ static bool screenshot(walk_ctx *c, const prw_view *v_in, double sim_t, prw_erro
 }
 
 /* ---------------------------------------------------------------- HUD text */
-static void hud_lines(char lines[6][96], int *n, const walk_ctx *c, const prw_walk_sim *sim, bool replay,
+static void hud_lines(char lines[HUD_ROWS][96], int *n, const walk_ctx *c, const prw_walk_sim *sim, bool replay,
                       double t, double dur, const prw_frame_stats *st, double frame_ms, uint32_t rw, uint32_t rh,
-                      const prw_camera_path *rec, prw_dvec3 eye, double yaw, double pitch)
+                      const prw_camera_path *rec, prw_dvec3 eye, double yaw, double pitch, const prw_lod_scene *lod)
 {
     int k = 0;
     if (replay) snprintf(lines[k++], 96, "REPLAY %.2f / %.2f s   [H] HUD [F12] shot [Esc] quit", t, dur);
@@ -234,8 +244,19 @@ static void hud_lines(char lines[6][96], int *n, const walk_ctx *c, const prw_wa
         k++;
     }
     snprintf(lines[k++], 96, "triangles %llu  draws %u", (unsigned long long)st->triangles, st->draws);
+    if (lod) {
+        const prw_lod_frame_report *lr = prw_lod_scene_last_report(lod);
+        snprintf(lines[k++], 96, "LOD: %llu patches drawn %llu culled, %llu tris, %llu uploads, worst %.2f px",
+                 (unsigned long long)lr->drawn_patches, (unsigned long long)lr->culled_patches,
+                 (unsigned long long)lr->triangles, (unsigned long long)lr->reuploaded, lr->max_px);
+    }
     snprintf(lines[k++], 96, "eye %.2f %.2f %.2f m  yaw %.1f pitch %.1f deg", eye.x, eye.y, eye.z, yaw * 180 / PI,
              pitch * 180 / PI);
+    if (c->measure.have)
+        snprintf(lines[k++], 96, "vs reference: LDR-FLIP %.3f (ref noise %.3f) %ux%u %llu spp, %.0f s ago [R]",
+                 c->measure.ldr_flip, c->measure.noise_flip, c->measure.width, c->measure.height,
+                 (unsigned long long)c->measure.spp, prw_now() - c->measure.when);
+    else snprintf(lines[k++], 96, "[R] measure the error against the reference path tracer");
     if (c->o->record) snprintf(lines[k++], 96, "REC %u keys -> %.60s", rec->count, c->o->record);
     *n = k;
 }
@@ -267,6 +288,9 @@ static int walk_run(const walk_opts *o)
         goto done;
     }
     c.tms.op = PRW_TM_EXPOSURE;
+    c.tms.adapt = o->adapt;
+    c.tms.tau_bright = o->adapt_up_s;
+    c.tms.tau_dark = o->adapt_down_s;
     if (!prw_display_resolve(o->display ? o->display : "srgb", &c.disp, &e) ||
         (o->tonemap && !prw_tm_op_parse(o->tonemap, &c.tms.op, &e)))
         goto done;
@@ -308,7 +332,7 @@ static int walk_run(const walk_opts *o)
     glfwSetScrollCallback(win, on_scroll);
     if (!prw_app_create_gpu(true, &c.gpu, &e)) goto done;
     if (!prw_swapchain_create(c.gpu, win, true, &sc, &e)) goto done;
-    if (!walk_hud_create(c.gpu, 80, 6, o->w >= 1600 ? 2 : 1, &hud, &e)) goto done;
+    if (!walk_hud_create(c.gpu, 80, HUD_ROWS, o->w >= 1600 ? 2 : 1, &hud, &e)) goto done;
 
     prw_dynres dyn;
     prw_dynres_init(&dyn, o->target_ms, 0.5, 1.0);
@@ -378,6 +402,7 @@ static int walk_run(const walk_opts *o)
             prw_dvec3 f = prw_walk_forward(&sim.state);
             v = prw_view_look_at(eye, prw_v3_add(eye, f), prw_v3(0, 1, 0), fov, znear, rw, rh, ev100);
         }
+        if (o->adapt) prw_renderer_tonemap_advance(r, o->fps > 0 ? 1.0 / o->fps : -1.0);
         if (!prw_renderer_render(r, &v, 1, &st, &e)) goto done;
         if (frame < (long)(sizeof render_ms / sizeof render_ms[0])) render_ms[frame] = st.cpu_ms;
         if (o->target_ms > 0 && !fresh && frame > 0) {
@@ -393,13 +418,29 @@ static int walk_run(const walk_opts *o)
                                          znear, o->w, o->h, ev100);
             if (!screenshot(&c, &full, sim_t, &e)) goto done;
         }
+        if (c.in.measure) {
+            c.in.measure = false;
+            prw_view full = v;
+            if (o->replay) full = prw_camera_sample_view(&sample, o->w, o->h, znear, ev100, 0);
+            prw_render_desc md = {.msaa = o->msaa, .shadow_size = o->shadow_size};
+            fprintf(stderr, "walk: measuring the error against the reference (%u px wide, %u spp)...\n", o->measure_width,
+                    o->measure_spp);
+            if (!walk_measure_run(c.gpu, c.scene, &full, &md, o->measure_width, o->measure_spp, 0, &c.measure, &e))
+                goto done;
+            printf("walk: t %.3f s: raster vs reference LDR-FLIP %.4f (reference noise %.4f: half vs half), %ux%u, "
+                   "%llu spp, %.1f s\n",
+                   sim_t, c.measure.ldr_flip, c.measure.noise_flip, c.measure.width, c.measure.height,
+                   (unsigned long long)c.measure.spp, c.measure.seconds);
+            hud_t = -1;
+            t_start += c.measure.seconds; /* the measurement is not walking time */
+        }
         if (hud_on && (hud_t < 0 || now - hud_t >= 0.25 || (o->fps > 0 && frame % 8 == 0))) { /* text at ~4 Hz */
             hud_t = now;
-            char lines[6][96];
-            const char *lp[6];
+            char lines[HUD_ROWS][96];
+            const char *lp[HUD_ROWS];
             int n;
             hud_lines(lines, &n, &c, &sim, o->replay != NULL, sim_t, duration, &st, frame_ms, rw, rh, &rec, eye, yaw,
-                      pitch);
+                      pitch, prw_renderer_lod(r));
             for (int i = 0; i < n; i++) lp[i] = lines[i];
             if (!walk_hud_upload(c.gpu, hud, lp, n, &e)) goto done;
         }
@@ -420,6 +461,10 @@ static int walk_run(const walk_opts *o)
     }
     if (!prw_gpu_wait_idle(c.gpu, &e)) goto done;
     printf("walk: presented %ld frames, %.3f s of %s\n", frame, sim_t, o->replay ? "replay" : "simulation");
+    double la;
+    if (o->adapt && frame > 0 && c.level[LEVELS - 1] && prw_renderer_tonemap_adaptation(c.level[LEVELS - 1], &la))
+        printf("walk: adapted luminance %.4g cd/m^2 (time constants %.3g s up, %.3g s down)\n", la,
+               o->adapt_up_s > 0 ? o->adapt_up_s : PRW_TM_TAU_BRIGHT, o->adapt_down_s > 0 ? o->adapt_down_s : PRW_TM_TAU_DARK);
     if (frame > 1) { /* frame 0 compiles pipelines: not counted */
         long m = frame < 4096 ? frame : 4096;
         qsort(render_ms + 1, (size_t)(m - 1), sizeof(double), cmp_double);
@@ -474,7 +519,8 @@ int prw_cmd_walk(int argc, char **argv)
         prw_args_free(&a);
         return 0;
     }
-    walk_opts o = {.w = 1280, .h = 720, .msaa = 4, .speed = 1.5, .shot_dir = "prw-out", .hud = true, .pass_times = true};
+    walk_opts o = {.w = 1280, .h = 720, .msaa = 4, .speed = 1.5, .shot_dir = "prw-out", .hud = true, .pass_times = true,
+                  .measure_width = 160, .measure_spp = 32};
     long n;
     const char *v;
     o.camera = prw_args_value(&a, "camera", &e, &bad);
@@ -503,6 +549,23 @@ int prw_cmd_walk(int argc, char **argv)
     if ((v = prw_args_value(&a, "mode", &e, &bad))) {
         if (strcmp(v, "walk") == 0) o.walk_mode = true;
         else if (strcmp(v, "fly") != 0) bad = true, prw_fail(&e, "--mode '%s': expected fly or walk", v);
+    }
+    if ((v = prw_args_value(&a, "measure-width", &e, &bad))) {
+        if (!prw_parse_int(v, "--measure-width", 16, 1920, &n, &e)) bad = true;
+        else o.measure_width = (uint32_t)n;
+    }
+    if ((v = prw_args_value(&a, "measure-spp", &e, &bad))) {
+        if (!prw_parse_int(v, "--measure-spp", 2, 65536, &n, &e)) bad = true;
+        else o.measure_spp = (uint32_t)n;
+    }
+    if (prw_args_flag(&a, "adapt")) o.adapt = true;
+    if ((v = prw_args_value(&a, "adapt-up-s", &e, &bad))) {
+        if (!prw_parse_double(v, "--adapt-up-s", 1e-3, 1e4, &o.adapt_up_s, &e)) bad = true;
+        o.adapt = true;
+    }
+    if ((v = prw_args_value(&a, "adapt-down-s", &e, &bad))) {
+        if (!prw_parse_double(v, "--adapt-down-s", 1e-3, 1e4, &o.adapt_down_s, &e)) bad = true;
+        o.adapt = true;
     }
     if (prw_args_flag(&a, "no-hud")) o.hud = false;
     if (prw_args_flag(&a, "no-pass-times")) o.pass_times = false;

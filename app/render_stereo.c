@@ -74,9 +74,12 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     }
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_views_backend backend;
-    if (!prw_views_backend_resolve(gpu, job->views_backend, &backend, &e)) goto done;
+    /* stereo_reuse=reproject exists for the per-view loop only: auto means loop then */
+    const char *vb = job->stereo_reuse && !job->views_backend ? "loop" : job->views_backend;
+    if (!prw_views_backend_resolve(gpu, vb, &backend, &e)) goto done;
     prw_render_desc rd = {.width = st.eye_w, .height = st.eye_h, .msaa = job->msaa, .shadow_size = job->shadow_size,
-                          .max_views = 2, .views_backend = backend};
+                          .max_views = 2, .views_backend = backend,
+                          .stereo_reuse = (prw_stereo_reuse)job->stereo_reuse};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
     prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE};

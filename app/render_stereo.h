@@ -12,6 +12,7 @@ typedef struct prw_stereo_job {
     const char *hmd;                       /* NULL: desktop stereo */
     const char *display, *tonemap;         /* NULL: srgb (desktop) / hmd-lcd with the profile's peak, exposure */
     const char *views_backend;             /* loop | multiview | auto (NULL = auto) */
+    uint32_t stereo_reuse;                 /* prw_stereo_reuse: 0 off, 1 reproject (the right eye reuses the left's colour) */
     bool sbs_debug;                        /* --hmd: compose side by side without distortion */
     uint32_t width, height;                /* desktop: per eye; --hmd: panel (0 = the profile's) */
     uint32_t msaa, shadow_size;

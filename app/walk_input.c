@@ -50,6 +50,7 @@ void walk_input_key(walk_input *in, int key, int action)
     case GLFW_KEY_F: in->sim->input.mode_toggles++; break;
     case GLFW_KEY_H: in->hud_toggle = !in->hud_toggle; break;
     case GLFW_KEY_F12: in->screenshot = true; break;
+    case GLFW_KEY_R: in->measure = true; break;
     case GLFW_KEY_ESCAPE: in->quit = true; break;
     default: break;
     }

@@ -4,7 +4,8 @@
  *
  * Bindings: W/S forward/back, A/D left/right, E/Q up/down (fly mode), right mouse button held +
  * cursor motion = look, +/- (also keypad, key repeat counts) and the mouse wheel = speed x1.25 per
- * click, F = toggle fly / walk (ground following), H = toggle the HUD, F12 = screenshot, Esc = quit.
+ * click, F = toggle fly / walk (ground following), H = toggle the HUD, F12 = screenshot, R = measure
+ * the error against the reference, Esc = quit.
  * Movement and look go to the simulation's pending input (prw_walk_input); the rest sets flags
  * the window loop reads and clears.
  */
@@ -15,7 +16,7 @@
 
 typedef struct walk_input {
     prw_walk_sim *sim;          /* receives movement and look */
-    bool quit, screenshot, hud_toggle;
+    bool quit, screenshot, hud_toggle, measure;
     char screenshot_name[64];   /* "" = automatic name */
     bool look_held;             /* right mouse button down */
     bool have_cursor;

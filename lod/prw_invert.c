@@ -8,46 +8,62 @@
 
 #define MAX_PROJ_POINTS 200000
 
-static void grid_start(const prw_nurbs_surface *s, prw_dvec3 p, double *u, double *v)
+/* Nearest point of a coarse parameter grid.  skip_degenerate: ignore grid points that coincide
+ * with a grid neighbour (rows on a collapsed edge — a pole), where Newton cannot start. */
+static void grid_start(const prw_nurbs_surface *s, prw_dvec3 p, bool skip_degenerate, double scale, double *u, double *v)
 {
     double u0, u1, v0, v1;
     prw_nurbs_surface_domain(s, &u0, &u1, &v0, &v1);
     int nu = 2 * s->nu + 4, nv = 2 * s->nv + 4;
     if (nu > 64) nu = 64;
     if (nv > 64) nv = 64;
+    prw_dvec3 *q = prw_malloc(sizeof(prw_dvec3) * (size_t)(nu + 1) * (size_t)(nv + 1));
+    for (int j = 0; j <= nv; j++)
+        for (int i = 0; i <= nu; i++) q[j * (nu + 1) + i] = prw_nurbs_surface_eval(s, u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
     double best = INFINITY;
     *u = u0;
     *v = v0;
     for (int j = 0; j <= nv; j++)
         for (int i = 0; i <= nu; i++) {
-            double uu = u0 + (u1 - u0) * i / nu, vv = v0 + (v1 - v0) * j / nv;
-            prw_dvec3 q = prw_nurbs_surface_eval(s, uu, vv);
-            double d = prw_v3_len(prw_v3_sub(q, p));
+            prw_dvec3 x = q[j * (nu + 1) + i];
+            if (skip_degenerate) {
+                bool deg = false;
+                if (i > 0) deg = deg || prw_v3_len(prw_v3_sub(x, q[j * (nu + 1) + i - 1])) <= 1e-12 * scale;
+                if (i < nu) deg = deg || prw_v3_len(prw_v3_sub(x, q[j * (nu + 1) + i + 1])) <= 1e-12 * scale;
+                if (j > 0) deg = deg || prw_v3_len(prw_v3_sub(x, q[(j - 1) * (nu + 1) + i])) <= 1e-12 * scale;
+                if (j < nv) deg = deg || prw_v3_len(prw_v3_sub(x, q[(j + 1) * (nu + 1) + i])) <= 1e-12 * scale;
+                if (deg) continue;
+            }
+            double d = prw_v3_len(prw_v3_sub(x, p));
             if (d < best) {
                 best = d;
-                *u = uu;
-                *v = vv;
+                *u = u0 + (u1 - u0) * i / nu;
+                *v = v0 + (v1 - v0) * j / nv;
             }
         }
+    free(q);
 }
 
-double prw_nurbs_surface_invert(const prw_nurbs_surface *s, prw_dvec3 p, bool use_start, double *u, double *v)
+/* Damped Newton from (*u, *v); returns the distance; *degenerate: it stopped where S_u or S_v
+ * vanishes (a pole) without reaching the point. */
+static double newton(const prw_nurbs_surface *s, prw_dvec3 p, double scale, double *u, double *v, bool *degenerate)
 {
     double u0, u1, v0, v1;
     prw_nurbs_surface_domain(s, &u0, &u1, &v0, &v1);
-    if (!use_start || !isfinite(*u) || !isfinite(*v)) grid_start(s, p, u, v);
-    prw_dvec3 lo, hi;
-    prw_nurbs_surface_bounds(s, &lo, &hi);
-    double scale = prw_v3_len(prw_v3_sub(hi, lo)) + prw_v3_len(p);
     double uu = fmin(fmax(*u, u0), u1), vv = fmin(fmax(*v, v0), v1);
+    *degenerate = false;
     for (int it = 0; it < 50; it++) {
         prw_dvec3 d[9];
         prw_nurbs_surface_derivs(s, uu, vv, 2, d);
         prw_dvec3 r = prw_v3_sub(d[0], p), su = d[3], sv = d[1];
         prw_dvec3 suu = d[6], suv = d[4], svv = d[2];
         double rl = prw_v3_len(r), sul = prw_v3_len(su), svl = prw_v3_len(sv);
-        if (rl <= 1e-12 * scale) break;
+        if (rl <= 1e-12 * scale) {
+            *degenerate = false;
+            break;
+        }
         double f = prw_v3_dot(su, r), g = prw_v3_dot(sv, r);
+        *degenerate = sul <= 1e-8 * scale / (u1 - u0) || svl <= 1e-8 * scale / (v1 - v0);
         if ((sul == 0 || fabs(f) <= 1e-10 * sul * rl) && (svl == 0 || fabs(g) <= 1e-10 * svl * rl)) break;
         double a = sul * sul + prw_v3_dot(r, suu), b = prw_v3_dot(su, sv) + prw_v3_dot(r, suv);
         double c = svl * svl + prw_v3_dot(r, svv);
@@ -78,6 +94,25 @@ double prw_nurbs_surface_invert(const prw_nurbs_surface *s, prw_dvec3 p, bool us
     *u = uu;
     *v = vv;
     return prw_v3_len(prw_v3_sub(prw_nurbs_surface_eval(s, uu, vv), p));
+}
+
+double prw_nurbs_surface_invert(const prw_nurbs_surface *s, prw_dvec3 p, bool use_start, double *u, double *v)
+{
+    prw_dvec3 lo, hi;
+    prw_nurbs_surface_bounds(s, &lo, &hi);
+    double scale = prw_v3_len(prw_v3_sub(hi, lo)) + prw_v3_len(p);
+    if (!use_start || !isfinite(*u) || !isfinite(*v)) grid_start(s, p, false, scale, u, v);
+    bool degenerate;
+    double d = newton(s, p, scale, u, v, &degenerate);
+    if (degenerate && d > 1e-12 * scale) {
+        /* stuck on a pole (no derivative there to leave it by): once more from the nearest grid
+         * point off the collapsed rows, keeping the nearer answer */
+        double u2, v2;
+        grid_start(s, p, true, scale, &u2, &v2);
+        double d2 = newton(s, p, scale, &u2, &v2, &degenerate);
+        if (d2 < d) d = d2, *u = u2, *v = v2;
+    }
+    return d;
 }
 
 typedef struct plist {

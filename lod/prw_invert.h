@@ -5,7 +5,9 @@
  *    a coarse parameter grid (or at *u, *v when `use_start`), then Newton iterations on
  *    f = Su·r, g = Sv·r (eq. 6.6, r = S − P, second derivatives in the Jacobian), clamped to the
  *    domain; stops when |r| <= 1e-12·scale, both cosines |f|/(|Su||r|), |g|/(|Sv||r|) <= 1e-10,
- *    or the step is below 1e-15 of the domain; at most 50 iterations.  Returns the distance.
+ *    or the step is below 1e-15 of the domain; at most 50 iterations.  When it stops on a pole
+ *    (S_u or S_v zero, point not reached) it runs once more from the nearest grid point off the
+ *    collapsed rows and keeps the nearer answer.  Returns the distance.
  *  - prw_nurbs_surface_project_curve flattens a model-space curve (3-D chordal tolerance tol)
  *    and inverts each point (continuation from the previous point; a coarse-grid restart when that
  *    is worse than the grid start), giving a degree-1 (u, v) curve and the largest distance.

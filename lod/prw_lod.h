@@ -6,14 +6,34 @@
  * the 3-D Delaunay criterion, then refinement: every triangle whose error bound (below) exceeds
  * tau0 has its longest non-boundary edge — lengths in (u, v) scaled by the patch's mean |S_u|,
  * |S_v| — split at the (u, v) midpoint together with the triangle across it (2 -> 4, conforming),
+ * followed by Lawson flips around the new vertex toward the 3-D Delaunay criterion; when the
+ * triangle across is a sliver (its apex within 1/8 of the edge's length from it) the edge is
+ * flipped instead of split (the ear clipping leaves long fans of slivers along the boundary whose
+ * bisected halves fail the 3-D tests: this was what stalled the refinement at fine tolerances),
  * until every level-0 bound is <= max(tau0, the part due to the boundary alone: the sewing chords
  * against the exact trim curve and against the surface along the straight (u, v) edge).  Sewing
- * points are never added, so watertightness is untouched.  Limits (counted in refused_splits):
- * no split that would give a vertex valence > 24 or an invalid triangle, none beyond
- * max_patch_triangles, and NO refinement of triangles touching a pole copy (collapsed edge; needs
- * more pole copies along the collapsed (u, v) edge — not done), so patches with a pole keep the
- * ear-clipped fan there and its (measured, larger) bound); level k >= 1 targets tau_k = tau0 · 2^k (tau0 = the
- * sewing chord tolerance).
+ * points are never added, so watertightness is untouched.  Poles: a collapsed ring edge (two
+ * consecutive ring copies of one node whose straight (u, v) edge maps to that point — sphere
+ * poles, box corners) is first given a "comb": the ear-clipped fan around it is re-triangulated
+ * with one more copy of the node (same global id, bit-identical position, an interior vertex) on
+ * the edge per neighbouring chain edge, so every drawn triangle there has its copy beside the part
+ * of the surface it covers; the refinement then also splits collapsed edges (the new vertex being
+ * another copy), and when it stalls at a pole (an interior vertex fanned to copies far from it
+ * along the edge: every split of its edges would invert a triangle) the pole is combed again from
+ * its refined chain and the refinement goes on (at most 3 rounds).  Triangles joining two copies are not drawn but carry their (u, v) error like any
+ * other (their region's surface is at most that far from the shared node-to-vertex edge).  In the
+ * hierarchy an interior copy only merges into another copy of its node.  Limits: no split that
+ * would give a vertex valence > 24 or an invalid triangle, none beyond max_patch_triangles;
+ * refused_splits counts the level-0 triangles left above max(tau0, boundary part) at the end.
+ * Level k >= 1 targets tau_k = tau0 · 2^k (tau0 = the sewing chord tolerance, or finest_rel x the
+ * model diagonal).  Measured (tests/lod/lod_finest_bench, finest_rel 1e-5, sewing chord ½ of it):
+ * every level-0 bound <= 1e-5 x diagonal with no triangle left above on the box, the plate and the
+ * car shell — level-0 triangles / hierarchy build on a shared 2-core EPYC, RelWithDebInfo: box
+ * 543,944 / 34-63 s (load), plate 20,914 / 2-3 s, shell 128,602 / 12-16 s.  NOT robust at every
+ * tolerance: the thin boundary strips the ear clipping leaves between the sewing points and the
+ * first full grid row hold fans of slivers whose splits fail the 3-D tests; at 2e-5 x diagonal the
+ * shell keeps 1,412 triangles above (bound 3.9e-4 x diagonal) — refused_splits reports it.  The
+ * cure is a better strip triangulation (constrained Delaunay of the strip), not done.
  *
  * Segment ladders (prw_lod_ladder.c): per segment, nested subsets of its sewing points — level k
  * drops points greedily (smallest error first) while the polyline stays within ½·tau_k of the
@@ -27,11 +47,14 @@
  *  - nodes (segment ends) never move; an interior sewing point only collapses into its active
  *    neighbour along its own boundary ring (so along its own segment), and only at a level where
  *    the segment's ladder has dropped it;
- *  - link condition on the welded mesh (sewing points with equal global id — the two ends of a
- *    collapsed edge — count as one vertex);
+ *  - link condition on the welded mesh (sewing points with equal global id — the copies of a
+ *    node on a collapsed edge — count as one vertex); an interior node copy only merges into
+ *    another copy of its node (the welded mesh then loses only undrawn triangles);
  *  - every new triangle keeps positive (u, v) orientation (exact predicate), a 3-D normal within
  *    90° of the exact surface normal at its (u, v) centroid and non-zero 3-D area (triangles joining
  *    two copies of one node are degenerate by construction and dropped at output);
+ *  - a triangle joining two copies of one node (not drawn) may not have a boundary edge that skips
+ *    sewing points (it could not draw their fan);
  *  - a triangle with boundary edges must admit the centroid fan used at display time (below) with
  *    ALL finest sewing points between its boundary vertices: the fan is star-shaped from the (u, v)
  *    centroid, which implies (exactly) that every subset is too.
@@ -40,8 +63,8 @@
  * vertex positions; this bounds both one-sided distances over the triangle's (u, v) region), (b)
  * the same for the finest centroid fan, (c) the distance of the exact boundary-curve samples
  * between its boundary vertices to the chord; times 1.1, plus 1e-9 x the model diagonal (sampling
- * and inversion noise).  Triangles joining two copies of one node carry no error (not drawn).  A
- * level's bound is the max over its triangles.
+ * and inversion noise).  A level's bound is the max over its triangles (those joining two copies
+ * of one node included, though not drawn).
  *
  * Display rule (prw_lod_emit): a segment is drawn at the FINER of its two patches' levels
  * (thesis §6.3: the trim error stays below the acceptable error of every adjacent patch), using
@@ -68,6 +91,10 @@ typedef struct prw_lod_options {
     double tau0;   /* 0: the seam graph's chord */
     int max_cells; /* finest tessellation grid cap per direction (start of the refinement); 0: 48 */
     int max_patch_triangles; /* level-0 refinement cap per patch; 0: 2 x the initial count + 4096 */
+    double finest_rel; /* > 0: tau0 = finest_rel x the model diagonal (when tau0 is 0), the refinement cap
+                          lifted (unless max_patch_triangles is set) and, when levels is 0, enough levels
+                          for the coarsest to reach the diagonal (at most PRW_LOD_MAX_LEVELS); the
+                          seam graph's chord should be as fine, or the sewing chords bind level 0 */
 } prw_lod_options;
 
 typedef struct prw_lod_patch {

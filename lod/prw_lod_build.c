@@ -94,10 +94,17 @@ static double seg_dist(prw_dvec3 x, prw_dvec3 a, prw_dvec3 b)
     return prw_v3_len(prw_v3_sub(x, prw_v3_add(a, prw_v3_scale(ab, t))));
 }
 
+/* An interior pole copy: a vertex added by the level-0 refinement on a collapsed edge (same
+ * global id and bit-identical position as the ring copies of its node). */
+static bool interior_copy(const prw_lod_patch *p, int v) { return v >= p->nbound && p->gid[v] >= 0; }
+
 /* May v move at all at the current level, and may it move onto w (topologically)? */
 static bool allowed(work *w, int v, int to)
 {
     const prw_lod_patch *p = w->p;
+    /* an interior pole copy only merges into another copy of its node (along the collapsed edge):
+     * moving it anywhere else would open the (u, v) domain at the collapsed edge */
+    if (interior_copy(p, v)) return p->gid[to] == p->gid[v];
     if (v < p->nbound) {
         if (p->gid[v] < w->g->nnodes) return false; /* a node */
         if (w->ladder[p->ring_seg[v]][p->ring_sidx[v]] >= w->level) return false;
@@ -137,12 +144,11 @@ static void push_candidates(work *w, int v)
     }
 }
 
-/* Full check of v -> to; on success *maxerr is the largest new triangle error. */
-static bool check(work *w, int v, int to, double tau)
+/* Link condition on the welded mesh: the common neighbours of v and to (counted once per weld
+ * key: several copies of one node are one welded vertex) are exactly the opposite vertices of the
+ * edge, and v has no other neighbour welded to `to`. */
+static bool welded_link_ok(work *w, int v, int to)
 {
-    const prw_lod_patch *p = w->p;
-    if (!allowed(w, v, to)) return false;
-    /* welded link condition */
     lod_ivec *nv = &w->nb, *nt = &w->nb2;
     neighbours(w, v, nv);
     neighbours(w, to, nt);
@@ -155,14 +161,25 @@ static bool check(work *w, int v, int to, double tau)
         if (nt->v[j] != v) w->kmark[key(w, nt->v[j])] = gen;
     for (int i = 0; i < nv->n; i++) {
         int u = nv->v[i];
-        if (u == to) continue;
-        common += w->kmark[key(w, u)] == gen;
+        if (u == to || w->kmark[key(w, u)] != gen) continue;
+        common++;
+        w->kmark[key(w, u)] = 0; /* once per key */
     }
     for (int k = 0; k < w->vt[v].n; k++) {
         const int *t = w->tri + 3 * w->vt[v].v[k];
         opposite += t[0] == to || t[1] == to || t[2] == to;
     }
-    if (common != opposite) return false;
+    return common == opposite;
+}
+
+/* Full check of v -> to (topology, (u, v) validity, every new triangle's bound <= tau). */
+static bool check(work *w, int v, int to, double tau)
+{
+    const prw_lod_patch *p = w->p;
+    if (!allowed(w, v, to)) return false;
+    /* two copies of one node merging: the welded mesh only loses triangles joining two copies (not
+     * drawn), so only the (u, v) validity and the error bounds below decide */
+    if (!interior_copy(p, v) && !welded_link_ok(w, v, to)) return false;
     /* geometry of the new triangles */
     w->active[v] = 0;
     bool ok = true;
@@ -319,8 +336,10 @@ static void improve_level0(work *w)
 /* Level-0 refinement: until every triangle's error bound is <= tau0 (or the boundary chords alone
  * bound it higher — interior refinement cannot lower that part), split the longest non-boundary
  * edge of each offending triangle at its (u, v) midpoint together with the triangle across it
- * (2 -> 4 triangles, conforming; sewing points are never added).  Splits whose new triangles fail
- * the orientation / 3-D tests are refused and the triangle is left as it is (counted). */
+ * (2 -> 4 triangles, conforming; sewing points are never added), then Lawson-flip around the new
+ * vertex; a sliver across is flipped instead; collapsed edges split into more node copies.  Splits
+ * whose new triangles fail the orientation / 3-D tests are refused (the triangle may still be cut
+ * later as a neighbour's partner); what is left above at the end is counted. */
 #ifndef PRW_LOD_MAX_VALENCE
 #define PRW_LOD_MAX_VALENCE 24
 #endif
@@ -328,23 +347,6 @@ typedef struct refine_state {
     int vcap, tcap;
     int refused;
 } refine_state;
-
-/* A pole copy: a boundary vertex next to a copy of its own node on the ring (a collapsed edge).
- * Triangles at a pole are not refined: their (u, v) regions (and those of the dropped triangles
- * joining two copies) only make sense for the fan the ear clipping made there; refining them
- * needs more pole copies along the collapsed edge (not done — their bound stays as measured). */
-static bool pole_copy(const prw_lod_patch *p, int a)
-{
-    if (a >= p->nbound || p->gid[a] < 0) return false;
-    int r = p->ring_of[a], s0 = p->ring_start[r], s1 = p->ring_start[r + 1];
-    int nx = a + 1 == s1 ? s0 : a + 1, pv = a == s0 ? s1 - 1 : a - 1;
-    return (nx != a && p->gid[nx] == p->gid[a]) || (pv != a && p->gid[pv] == p->gid[a]);
-}
-
-static bool at_pole(const prw_lod_patch *p, const int *r)
-{
-    return pole_copy(p, r[0]) || pole_copy(p, r[1]) || pole_copy(p, r[2]);
-}
 
 static int find_across(const work *w, int t, int x, int y)
 {
@@ -358,7 +360,8 @@ static int find_across(const work *w, int t, int x, int y)
     return -1;
 }
 
-static int add_vertex(work *w, refine_state *rs, int levels, const double *uv)
+/* copy_of >= 0: the new vertex is a copy of that vertex's node (a split of a collapsed edge) */
+static int add_vertex(work *w, refine_state *rs, int levels, const double *uv, int copy_of)
 {
     prw_lod_patch *p = w->p;
     if (p->nverts == rs->vcap) {
@@ -373,8 +376,8 @@ static int add_vertex(work *w, refine_state *rs, int levels, const double *uv)
     }
     int v = p->nverts++;
     p->uv[2 * v] = uv[0], p->uv[2 * v + 1] = uv[1];
-    p->pos[v] = prw_nurbs_surface_eval(w->s, uv[0], uv[1]);
-    p->gid[v] = -1;
+    p->pos[v] = copy_of >= 0 ? p->pos[copy_of] : prw_nurbs_surface_eval(w->s, uv[0], uv[1]);
+    p->gid[v] = copy_of >= 0 ? p->gid[copy_of] : -1;
     p->removed_at[v] = levels;
     memset(&w->vt[v], 0, sizeof w->vt[v]);
     w->active[v] = 1;
@@ -399,16 +402,203 @@ static bool needs_refine(work *w, int t, double tau0)
     const int *r = w->tri + 3 * t;
     double be;
     lod_triangle_eval_parts(w->g, w->s, w->p, r[0], r[1], r[2], w->active, &w->terr[t], &be);
-    return w->terr[t] > fmax(tau0, be) && !at_pole(w->p, r);
+    return w->terr[t] > fmax(tau0, be);
 }
 
-static void refine_level0(work *w, int levels, double tau0, int max_tris, int *refused)
+/* Does the straight (u, v) segment a -> b map to the single point of a (a collapsed edge)? */
+static bool collapsed_edge(const work *w, int a, int b)
+{
+    const prw_lod_patch *p = w->p;
+    if (p->gid[a] < 0 || p->gid[a] != p->gid[b]) return false;
+    for (int k = 1; k < 4; k++) {
+        double t = k / 4.0, u = (1 - t) * p->uv[2 * a] + t * p->uv[2 * b], v = (1 - t) * p->uv[2 * a + 1] + t * p->uv[2 * b + 1];
+        if (!(prw_v3_len(prw_v3_sub(prw_nurbs_surface_eval(w->s, u, v), p->pos[a])) <= w->g->tol)) return false;
+    }
+    return true;
+}
+
+static void kill_tri(work *w, int t)
+{
+    w->alive[t] = 0;
+    for (int q = 0; q < 3; q++) remove_tri_from(w, w->tri[3 * t + q], t);
+}
+
+static int ring_next(const prw_lod_patch *p, int v)
+{
+    int r = p->ring_of[v];
+    return v + 1 == p->ring_start[r + 1] ? p->ring_start[r] : v + 1;
+}
+
+static int ring_prev(const prw_lod_patch *p, int v)
+{
+    int r = p->ring_of[v];
+    return v == p->ring_start[r] ? p->ring_start[r + 1] - 1 : v - 1;
+}
+
+/* Level-0 pole comb: the ear clipping fans the triangles at a collapsed ring edge (a, b) out of a
+ * and b, so a triangle's node copy sits far (along the edge) from the part of the surface the
+ * triangle covers, its (u, v) error is large and no bisection fixes it (a split of its edges to a
+ * or b inverts the 3-D triangle).  The star of the node's copies on the edge (a, b and interior
+ * copies) — bounded by the edge and the chain x_0 .. x_N of their other neighbours — is
+ * re-triangulated as a comb (old interior copies are left unused): copy d_i of the node on the edge
+ * at the projection of the middle of (x_i, x_{i+1}), a drawn triangle (d_i, x_{i+1}, x_i) and
+ * triangles joining consecutive copies (not drawn).  Skipped (the star kept) when the chain does
+ * not project monotonically or a new triangle is invalid.  Returns the triangles made. */
+static int pole_comb(work *w, refine_state *rs, int levels, int a, int b)
+{
+    prw_lod_patch *p = w->p;
+    lod_ivec x = {0}, old = {0}, he = {0};
+    double *tt = NULL;
+    int made = 0, xn = ring_next(p, b), x0 = ring_prev(p, a), node = p->gid[a];
+    /* the star: every triangle at a, b or an interior copy of the node (earlier combs and splits) */
+    for (int v = 0; v < p->nverts; v++) {
+        if (!(v == a || v == b || (interior_copy(p, v) && p->gid[v] == node))) continue;
+        for (int i = 0; i < w->vt[v].n; i++) {
+            int t = w->vt[v].v[i];
+            bool seen = false;
+            for (int j = 0; j < old.n && !seen; j++) seen = old.v[j] == t;
+            if (!seen) lod_ipush(&old, t);
+        }
+    }
+    /* its inner boundary: half-edges u -> v of star triangles between two non-copies whose twin
+     * is not in the star, followed from xn to x0 */
+    for (int i = 0; i < old.n; i++) {
+        const int *r = w->tri + 3 * old.v[i];
+        for (int k = 0; k < 3; k++) {
+            int u = r[k], v = r[(k + 1) % 3];
+            if (p->gid[u] == node || p->gid[v] == node) continue;
+            int t2 = find_across(w, old.v[i], u, v);
+            bool in = false;
+            for (int j = 0; j < old.n && !in && t2 >= 0; j++) in = old.v[j] == t2;
+            if (!in) lod_ipush(&he, u), lod_ipush(&he, v);
+        }
+    }
+    lod_ipush(&x, xn);
+    while (x.v[x.n - 1] != x0 && x.n <= he.n / 2 + 1) {
+        int cur = x.v[x.n - 1], next = -1;
+        for (int i = 0; i < he.n && next < 0; i += 2)
+            if (he.v[i] == cur) next = he.v[i + 1];
+        if (next < 0) goto done;
+        lod_ipush(&x, next);
+    }
+    if (x.v[x.n - 1] != x0 || x.n != he.n / 2 + 1) goto done;
+    for (int i = 0, j = x.n - 1; i < j; i++, j--) { /* from the a side */
+        int t = x.v[i];
+        x.v[i] = x.v[j], x.v[j] = t;
+    }
+    int n = x.n - 1; /* copies to make */
+    if (n < 1) goto done;
+    for (int i = 0; i < x.n; i++) {
+        if (p->gid[x.v[i]] == p->gid[a]) goto done;
+        for (int j = 0; j < i; j++)
+            if (x.v[j] == x.v[i]) goto done;
+    }
+    const double ua[2] = {p->uv[2 * a], p->uv[2 * a + 1]}, ub[2] = {p->uv[2 * b], p->uv[2 * b + 1]}; /* add_vertex reallocates */
+    double e[2] = {ub[0] - ua[0], ub[1] - ua[1]}, e2 = e[0] * e[0] + e[1] * e[1];
+    if (!(e2 > 0)) goto done;
+    tt = prw_malloc(sizeof(double) * (size_t)x.n);
+    for (int i = 0; i < x.n; i++) tt[i] = ((p->uv[2 * x.v[i]] - ua[0]) * e[0] + (p->uv[2 * x.v[i] + 1] - ua[1]) * e[1]) / e2;
+    for (int i = 0; i < n; i++) {
+        double si = 0.5 * (tt[i] + tt[i + 1]), prev = i ? 0.5 * (tt[i - 1] + tt[i]) : 0;
+        if (!(si > prev) || !(si < 1)) goto done;
+    }
+    int v0 = p->nverts;
+    for (int i = 0; i < n; i++) {
+        double si = 0.5 * (tt[i] + tt[i + 1]), uv[2] = {ua[0] + si * e[0], ua[1] + si * e[1]};
+        add_vertex(w, rs, levels, uv, a);
+    }
+    /* the comb: (a, d0, x0), then per i (d_i, x_{i+1}, x_i) and (d_i, d_{i+1} | b, x_{i+1}) */
+    int nt = 2 * n + 1;
+    int(*tri)[3] = prw_malloc(sizeof(int[3]) * (size_t)nt);
+    double *err = prw_malloc(sizeof(double) * (size_t)nt);
+    tri[0][0] = a, tri[0][1] = v0, tri[0][2] = x.v[0];
+    for (int i = 0; i < n; i++) {
+        int d = v0 + i, dn = i + 1 < n ? d + 1 : b;
+        tri[1 + 2 * i][0] = d, tri[1 + 2 * i][1] = x.v[i + 1], tri[1 + 2 * i][2] = x.v[i];
+        tri[2 + 2 * i][0] = d, tri[2 + 2 * i][1] = dn, tri[2 + 2 * i][2] = x.v[i + 1];
+    }
+    bool ok = true;
+    for (int k = 0; k < nt && ok; k++) ok = lod_triangle_eval(w->g, w->s, p, tri[k][0], tri[k][1], tri[k][2], w->active, &err[k]);
+    if (ok) {
+        for (int i = 0; i < old.n; i++) kill_tri(w, old.v[i]);
+        for (int k = 0; k < nt; k++) {
+            int t = add_tri(w, rs);
+            memcpy(w->tri + 3 * t, tri[k], sizeof tri[k]);
+            w->terr[t] = err[k];
+            for (int q = 0; q < 3; q++) lod_ipush(&w->vt[tri[k][q]], t);
+        }
+        made = nt;
+    } else {
+        for (int v = v0; v < p->nverts; v++) free(w->vt[v].v);
+        p->nverts = v0;
+    }
+    free(tri);
+    free(err);
+done:
+    free(he.v);
+    free(x.v);
+    free(old.v);
+    free(tt);
+    return made;
+}
+
+/* Is o within 1/8 of |xy| of the line through x and y (lengths in (u, v) scaled by su, sv)? */
+static bool sliver_apex(const prw_lod_patch *p, double su, double sv, int x, int y, int o)
+{
+    double ex = su * (p->uv[2 * y] - p->uv[2 * x]), ey = sv * (p->uv[2 * y + 1] - p->uv[2 * x + 1]);
+    double ox = su * (p->uv[2 * o] - p->uv[2 * x]), oy = sv * (p->uv[2 * o + 1] - p->uv[2 * x + 1]);
+    double l2 = ex * ex + ey * ey;
+    return l2 > 0 && fabs(ex * oy - ey * ox) < 0.125 * l2;
+}
+
+/* Lawson flips around a vertex m new from a split, toward the 3-D Delaunay criterion (opposite
+ * angles summing to more than π), as in improve_level0: bisection alone leaves the ear clipping's
+ * long fans of slivers along the boundary, whose halves fail the 3-D tests.  Quads with two copies
+ * of one node are left alone.  Changed triangles get new bounds and are queued if needed. */
+static void legalize(work *w, int m, double tau0, lod_ivec *q)
+{
+    const prw_lod_patch *p = w->p;
+    int budget = 64; /* flips per call: the 3-D criterion on a curved surface need not settle */
+    lod_ivec st = {0};
+    for (int i = 0; i < w->vt[m].n; i++) lod_ipush(&st, w->vt[m].v[i]);
+    while (st.n > 0 && budget > 0) {
+        int t = st.v[--st.n];
+        if (!w->alive[t]) continue;
+        const int *tr = w->tri + 3 * t;
+        int km = tr[0] == m ? 0 : tr[1] == m ? 1 : tr[2] == m ? 2 : -1;
+        if (km < 0) continue;
+        int k = (km + 1) % 3, x = tr[k], y = tr[(k + 1) % 3];
+        int t2 = find_across(w, t, x, y);
+        if (t2 < 0) continue;
+        const int *r2 = w->tri + 3 * t2;
+        int o = r2[0] != x && r2[0] != y ? r2[0] : r2[1] != x && r2[1] != y ? r2[1] : r2[2];
+        int qv[4] = {m, x, y, o};
+        bool shared = false;
+        for (int a = 0; a < 4; a++)
+            for (int b = a + 1; b < 4; b++) shared = shared || (p->gid[qv[a]] >= 0 && p->gid[qv[a]] == p->gid[qv[b]]);
+        if (shared) continue;
+        double sum = angle_at(p->pos[m], p->pos[x], p->pos[y]) + angle_at(p->pos[o], p->pos[y], p->pos[x]);
+        if (!(sum > PRW_PI + 1e-9) || !try_flip(w, t, k)) continue;
+        budget--;
+        for (int h = 0; h < 2; h++) {
+            int tf = h ? t2 : t;
+            if (needs_refine(w, tf, tau0)) lod_ipush(q, tf);
+            lod_ipush(&st, tf);
+        }
+    }
+    free(st.v);
+}
+
+static void refine_level0(work *w, int levels, double tau0, int max_tris, int max_valence, int *refused)
 {
     prw_lod_patch *p = w->p;
     refine_state rs = {.vcap = p->nverts, .tcap = w->ntri};
+    for (int r = 0; r < p->nrings; r++)
+        for (int a = p->ring_start[r]; a < p->ring_start[r + 1]; a++)
+            if (collapsed_edge(w, a, ring_next(p, a))) pole_comb(w, &rs, levels, a, ring_next(p, a));
     lod_ivec q = {0};
     for (int t = 0; t < w->ntri; t++)
-        if (needs_refine(w, t, tau0)) lod_ipush(&q, t);
+        if (w->alive[t] && needs_refine(w, t, tau0)) lod_ipush(&q, t);
     /* edge lengths in (u, v) scaled by the mean speeds |S_u|, |S_v| over the patch's vertices: a
      * (u, v) bisection (unlike a 3-D one) also refines triangles fanning out of a pole */
     double su = 0, sv = 0;
@@ -421,11 +611,13 @@ static void refine_level0(work *w, int levels, double tau0, int max_tris, int *r
     }
     su = ns && su > 0 ? su / ns : 1;
     sv = ns && sv > 0 ? sv / ns : 1;
+    int flip_budget = 16 * w->ntri + 4096, attempts_refused = 0;
+    for (int round = 0;; round++) {
     for (int head = 0; head < q.n; head++) {
         int t = q.v[head];
         if (!w->alive[t] || !(w->terr[t] > tau0)) continue; /* stale entry */
         if (w->ntri + 2 > max_tris) {
-            (*refused)++;
+            attempts_refused++;
             continue;
         }
         const int *r = w->tri + 3 * t;
@@ -445,48 +637,97 @@ static void refine_level0(work *w, int levels, double tau0, int max_tris, int *r
         bool done = false;
         for (int oi = 0; oi < 3 && !done; oi++) {
             int k = order[oi], x = r[k], y = r[(k + 1) % 3], z = r[(k + 2) % 3];
-            if (lod_span(p, x, y, w->active, 0, &w->tmp) && w->tmp.n == 0) continue; /* boundary edge */
-            int t2 = find_across(w, t, x, y);
-            if (t2 < 0) continue;
-            const int *r2 = w->tri + 3 * t2;
-            int o = r2[0] != x && r2[0] != y ? r2[0] : r2[1] != x && r2[1] != y ? r2[1] : r2[2];
-            if (at_pole(p, r2)) continue;
-            if (w->vt[z].n >= PRW_LOD_MAX_VALENCE || w->vt[o].n >= PRW_LOD_MAX_VALENCE) continue; /* no fans: they would stall the collapses */
+            /* a collapsed edge (two copies of one node, the (u, v) segment between them mapping to
+             * that point): split too, the new vertex being one more copy of the node */
+            bool collapsed = collapsed_edge(w, x, y);
+            if (!collapsed && p->gid[x] >= 0 && p->gid[x] == p->gid[y]) continue; /* e.g. a periodic seam */
             double uv[2] = {0.5 * (p->uv[2 * x] + p->uv[2 * y]), 0.5 * (p->uv[2 * x + 1] + p->uv[2 * y + 1])};
-            int m = add_vertex(w, &rs, levels, uv);
+            if (!collapsed && lod_span(p, x, y, w->active, 0, &w->tmp) && w->tmp.n == 0) continue; /* boundary edge */
+            int t2 = find_across(w, t, x, y), o = -1;
+            if (t2 < 0 && !collapsed) continue;
+            if (t2 >= 0) {
+                const int *r2 = w->tri + 3 * t2;
+                o = r2[0] != x && r2[0] != y ? r2[0] : r2[1] != x && r2[1] != y ? r2[1] : r2[2];
+                /* a sliver across (its apex o within 1/8 of the edge's length from it, in scaled
+                 * (u, v)): halving the edge would leave slivers no split can cure — flip the edge to
+                 * (z, o) instead */
+                if (!collapsed && flip_budget > 0 && sliver_apex(p, su, sv, x, y, o) && try_flip(w, t, k)) {
+                    flip_budget--;
+                    for (int h = 0; h < 2; h++) {
+                        int tf = h ? t2 : t;
+                        if (needs_refine(w, tf, tau0)) lod_ipush(&q, tf);
+                    }
+                    done = true;
+                    break;
+                }
+                if (w->vt[o].n >= max_valence) continue;
+            }
+            if (w->vt[z].n >= max_valence) continue; /* no fans: they would stall the collapses */
+            int m = add_vertex(w, &rs, levels, uv, collapsed ? x : -1);
             int nt[4][3] = {{x, m, z}, {m, y, z}, {y, m, o}, {m, x, o}};
+            int nn = t2 >= 0 ? 4 : 2;
             bool ok = true;
             double err[4];
-            for (int h = 0; h < 4 && ok; h++)
+            for (int h = 0; h < nn && ok; h++)
                 ok = lod_triangle_eval(w->g, w->s, p, nt[h][0], nt[h][1], nt[h][2], w->active, &err[h]);
             if (!ok) {
                 p->nverts--;
                 continue;
             }
-            int t3 = add_tri(w, &rs), t4 = add_tri(w, &rs);
+            int t3 = add_tri(w, &rs), t4 = nn == 4 ? add_tri(w, &rs) : -1;
             int ids[4] = {t, t3, t2, t4};
-            remove_tri_from(w, x, t2);
             remove_tri_from(w, y, t);
-            lod_ipush(&w->vt[x], t4);
             lod_ipush(&w->vt[y], t3);
             lod_ipush(&w->vt[z], t3);
-            lod_ipush(&w->vt[o], t4);
-            for (int h = 0; h < 4; h++) {
+            if (nn == 4) {
+                remove_tri_from(w, x, t2);
+                lod_ipush(&w->vt[x], t4);
+                lod_ipush(&w->vt[o], t4);
+            }
+            for (int h = 0; h < nn; h++) {
                 memcpy(w->tri + 3 * ids[h], nt[h], sizeof nt[h]);
                 w->terr[ids[h]] = err[h];
                 lod_ipush(&w->vt[m], ids[h]);
             }
-            for (int h = 0; h < 4; h++)
+            for (int h = 0; h < nn; h++)
                 if (needs_refine(w, ids[h], tau0)) lod_ipush(&q, ids[h]);
+            if (!collapsed) legalize(w, m, tau0, &q);
+            flip_budget += 2;
             done = true;
         }
-        if (!done) (*refused)++;
+        if (!done) attempts_refused++;
         if (head > (1 << 20) && head > q.n / 2) { /* compact the queue */
             memmove(q.v, q.v + head + 1, sizeof(int) * (size_t)(q.n - head - 1));
             q.n -= head + 1;
             head = -1;
         }
     }
+    /* a stall at a pole (an interior vertex fanned to node copies far from it along the edge: no
+     * split of its edges is valid there) — comb the pole again from its now refined chain and go
+     * on; at most 3 times */
+    q.n = 0;
+    bool stalled = false;
+    for (int t = 0; t < w->ntri && attempts_refused; t++) {
+        if (!w->alive[t] || !needs_refine(w, t, tau0)) continue;
+        lod_ipush(&q, t);
+        const int *r = w->tri + 3 * t;
+        stalled = stalled || p->gid[r[0]] >= 0 || p->gid[r[1]] >= 0 || p->gid[r[2]] >= 0;
+    }
+    if (!stalled || round == 3 || w->ntri + 2 > max_tris) break;
+    int combed = 0;
+    for (int r = 0; r < p->nrings; r++)
+        for (int a = p->ring_start[r]; a < p->ring_start[r + 1]; a++)
+            if (p->gid[a] >= 0 && p->gid[ring_next(p, a)] == p->gid[a] && collapsed_edge(w, a, ring_next(p, a)))
+                combed += pole_comb(w, &rs, levels, a, ring_next(p, a)) > 0;
+    if (!combed) break;
+    q.n = 0;
+    for (int t = 0; t < w->ntri; t++)
+        if (w->alive[t] && needs_refine(w, t, tau0)) lod_ipush(&q, t);
+    attempts_refused = 0;
+    }
+    /* what is left above (a refused split may be made good by a later split of a neighbour) */
+    if (attempts_refused)
+        for (int t = 0; t < w->ntri; t++) *refused += w->alive[t] && needs_refine(w, t, tau0);
     free(q.v);
 }
 
@@ -610,7 +851,8 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
     improve_level0(&w);
     /* max_tris > 0: the caller's cap; else at most 2x + 4096 the initial count (the collapse
      * phase is super-linear in the valence of hub vertices) */
-    refine_level0(&w, lm->levels, lm->tau0, max_tris > 0 ? max_tris : 2 * w.ntri + 4096, &lm->refused_splits);
+    refine_level0(&w, lm->levels, lm->tau0, max_tris > 0 ? max_tris : 2 * w.ntri + 4096, PRW_LOD_MAX_VALENCE,
+                  &lm->refused_splits);
     for (int t = 0; t < w.ntri; t++)
         lod_triangle_eval(g, s, p, w.tri[3 * t], w.tri[3 * t + 1], w.tri[3 * t + 2], w.active, &w.terr[t]);
     w.vmark = prw_calloc((size_t)p->nverts + 1, sizeof(unsigned));
@@ -659,7 +901,11 @@ bool prw_lod_build(const prw_nurbs_model *m, const prw_seam_graph *g, const prw_
     prw_lod_options opt = o ? *o : (prw_lod_options){0};
     lm->g = g;
     lm->levels = opt.levels > 0 ? (opt.levels > PRW_LOD_MAX_LEVELS ? PRW_LOD_MAX_LEVELS : opt.levels) : 14;
-    lm->tau0 = opt.tau0 > 0 ? opt.tau0 : g->chord;
+    lm->tau0 = opt.tau0 > 0 ? opt.tau0 : opt.finest_rel > 0 ? opt.finest_rel * g->diag : g->chord;
+    if (opt.finest_rel > 0 && opt.levels <= 0) {
+        int need = (int)ceil(log2(g->diag / lm->tau0)) + 1;
+        lm->levels = need < 14 ? 14 : need > PRW_LOD_MAX_LEVELS ? PRW_LOD_MAX_LEVELS : need;
+    }
     if ((int)m->count != g->npatches) return prw_fail(e, "lod: model has %zu patches, seam graph %d", m->count, g->npatches);
     lm->npatches = g->npatches;
     lm->patches = prw_calloc((size_t)g->npatches + 1, sizeof(prw_lod_patch));
@@ -673,7 +919,8 @@ bool prw_lod_build(const prw_nurbs_model *m, const prw_seam_graph *g, const prw_
     for (int s = 0; s < g->nsegs; s++) memcpy(lm->seg_keep[s], lm->ladder[s], sizeof(int) * (size_t)g->segs[s].npts);
     for (int pi = 0; pi < g->npatches; pi++) {
         prw_error pe;
-        if (!build_patch(lm, m, pi, opt.max_cells > 0 ? opt.max_cells : 48, opt.max_patch_triangles, &pe)) {
+        int cap = opt.max_patch_triangles > 0 ? opt.max_patch_triangles : opt.finest_rel > 0 ? INT32_MAX / 8 : 0;
+        if (!build_patch(lm, m, pi, opt.max_cells > 0 ? opt.max_cells : 48, cap, &pe)) {
             lm->failed_patches++;
             if (!lm->first_problem[0]) snprintf(lm->first_problem, sizeof lm->first_problem, "%.200s", pe.msg);
             continue;

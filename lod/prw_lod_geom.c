@@ -114,10 +114,12 @@ bool lod_triangle_eval_parts(const prw_seam_graph *g, const prw_nurbs_surface *s
     prw_dvec3 xc;
     lod_centroid(p, a, b, c, cen, &xc);
     ok = ok && lod_tri3_ok(s, p, g->diag, a, b, c, cen, p->pos[a], p->pos[b], p->pos[c]);
-    /* a triangle joining two copies of one node (a collapsed edge) is not drawn: its (u, v) region
-     * maps onto the neighbouring triangles' fan around the node, so it carries no error itself */
-    bool dropped = (p->gid[a] >= 0 && (p->gid[a] == p->gid[b] || p->gid[a] == p->gid[c])) || (p->gid[b] >= 0 && p->gid[b] == p->gid[c]);
-    double e = dropped ? 0 : param_error(s, ua, ub, uc, p->pos[a], p->pos[b], p->pos[c], 6);
+    /* a triangle joining two copies of one node (a collapsed edge) is not drawn, but its (u, v)
+     * region is part of the surface: L_T maps it onto the edge it shares with a drawn neighbour
+     * (node to third vertex), so |L_T - S| over it bounds that part's distance to the mesh — it
+     * carries its error like any other triangle (and the refinement lowers it by adding node copies
+     * along the collapsed edge) */
+    double e = param_error(s, ua, ub, uc, p->pos[a], p->pos[b], p->pos[c], 6);
     int v[3] = {a, b, c};
     lod_ivec span[3] = {{0}, {0}, {0}};
     bool any = false, bnd[3];
@@ -138,6 +140,11 @@ bool lod_triangle_eval_parts(const prw_seam_graph *g, const prw_nurbs_surface *s
         }
         any = any || span[k].n > 0;
     }
+    /* a triangle joining two copies of one node is not drawn, so it cannot draw the fan that
+     * displays sewing points its boundary edge skips: such a triangle is invalid (the collapse that
+     * would make it is refused) */
+    bool dropped = (p->gid[a] >= 0 && (p->gid[a] == p->gid[b] || p->gid[a] == p->gid[c])) || (p->gid[b] >= 0 && p->gid[b] == p->gid[c]);
+    if (dropped && any) ok = false;
     if (any) {
         /* the finest centroid fan: star-shaped from the centroid, every fan triangle valid */
         for (int k = 0; k < 3 && ok; k++) {

@@ -21,7 +21,8 @@ layout(set = 0, binding = 4, std140) uniform prw_tm_params {
 } P;
 layout(set = 0, binding = 5, std430) buffer prw_tm_tiles_buf {
     uint hdr[20]; // 5 indirect dispatches (x, y, z) of lists 0-4; tiles marked; tiles; blocks needed; blocks; -
-    uint data[];  // marks[tiles], need[blocks], list 0-4 [blocks each] (selective, tonemap_compact.comp)
+    uint data[];  // marks[tiles], need[blocks], list 0-4 [blocks each], block gradients [blocks]
+                  // (selective: tonemap_classify.comp, tonemap_compact.comp)
 } tl;
 layout(push_constant) uniform prw_tm_pc {
     uint width, height, base, total;
@@ -144,6 +145,8 @@ uint tm_tiles_x() { return (pc.width + uint(P.op2.w) - 1u) / uint(P.op2.w); }
 uint tm_tiles_y() { return (pc.height + uint(P.op2.w) - 1u) / uint(P.op2.w); }
 uint tm_blocks_x() { return (pc.width + 15u) / 16u; }
 uint tm_blocks_y() { return (pc.height + 15u) / 16u; }
+// where tonemap_classify.comp leaves each block's largest gradient (float bits)
+uint tm_bgrad_base() { return tm_tiles_x() * tm_tiles_y() + 6u * tm_blocks_x() * tm_blocks_y(); }
 
 // Selective blend weight of pixel p: smoothstep(1 - d / T), d = distance to the nearest marked tile.
 float tm_sel_weight(ivec2 p)

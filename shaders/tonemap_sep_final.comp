@@ -13,8 +13,11 @@ void main()
 {
     ivec2 p = sep_pixel(0);
     uint t = gl_LocalInvocationIndex;
-    if (t < 3u) s_cnt[t] = 0u;
-    barrier();
+    bool count = P.mode.w != 0; // uniform: shared counters and barriers only when counting
+    if (count) {
+        if (t < 3u) s_cnt[t] = 0u;
+        barrier();
+    }
     bool inside = p.x < int(pc.width) && p.y < int(pc.height);
     uint flags = 0u;
     if (inside) {
@@ -37,14 +40,15 @@ void main()
         vec3 o = tm_ratio(c, ld, flags);
         imageStore(sig, p, vec4(o, 1.0));
         imageStore(ldr, p, vec4(o, 1.0));
-        if (P.mode.w != 0) {
+        if (count) {
             if ((flags & F_BELOW) != 0u) atomicAdd(s_cnt[0], 1u);
             if ((flags & F_ABOVE) != 0u) atomicAdd(s_cnt[1], 1u);
             if ((flags & F_GAMUT) != 0u) atomicAdd(s_cnt[2], 1u);
         }
     }
+    if (!count) return;
     barrier();
-    if (t == 0u && P.mode.w != 0) {
+    if (t == 0u) {
         atomicAdd(st.counts.x, s_cnt[0]);
         atomicAdd(st.counts.y, s_cnt[1]);
         atomicAdd(st.counts.z, s_cnt[2]);

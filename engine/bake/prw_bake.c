@@ -34,6 +34,12 @@ bool prw_baked_lod_build(const prw_nurbs_model *m, const prw_bake_options *o, pr
     *out = NULL;
     if (m->count == 0) return prw_fail(e, "model has no surfaces");
     prw_bake_options opt = o ? *o : (prw_bake_options){0};
+    if (opt.lod.finest_rel > 0 && opt.seam.chord == 0) {
+        /* the boundary part of a bound cannot be refined away: sew at half the finest target */
+        prw_dvec3 lo, hi;
+        prw_nurbs_model_bounds(m, &lo, &hi);
+        opt.seam.chord = 0.5 * opt.lod.finest_rel * prw_v3_len(prw_v3_sub(hi, lo));
+    }
     prw_baked_lod *b = prw_calloc(1, sizeof *b);
     double t0 = prw_now();
     if (!prw_seam_build(m, &opt.seam, &b->graph, e)) {
@@ -51,6 +57,15 @@ bool prw_baked_lod_build(const prw_nurbs_model *m, const prw_bake_options *o, pr
     }
     say(progress, user, "hierarchy: %d levels, %zu finest triangles, %d failed patches, %.2f s", b->lod.levels,
         b->lod.finest_triangles, b->lod.failed_patches, prw_now() - t0);
+    t0 = prw_now();
+    if (!prw_lod_cull_build(m, NULL, &b->cull, e)) {
+        prw_lod_free(&b->lod);
+        prw_seam_free(&b->graph);
+        free(b);
+        return false;
+    }
+    say(progress, user, "culling data: %d patches, %d full normal cones, %.2f s", b->cull.npatches, b->cull.full_cones,
+        prw_now() - t0);
     g_builds++;
     *out = b;
     return true;
@@ -112,6 +127,7 @@ void prw_bake_key(const void *input, size_t n, prw_model_kind kind, const prw_ba
     kput_f64(&k, opt.lod.tau0);
     kput_u64(&k, (uint64_t)(int64_t)opt.lod.max_cells);
     kput_u64(&k, (uint64_t)(int64_t)opt.lod.max_patch_triangles);
+    kput_f64(&k, opt.lod.finest_rel);
     kput_u64(&k, (uint64_t)n);
     uint64_t a = prw_hash64(k.b, k.n, 0), b = prw_hash64(k.b, k.n, 0x9e3779b97f4a7c15ull);
     a = prw_hash64(input, n, a);

@@ -1,28 +1,36 @@
 /* prw_bake — LOD hierarchies on disk: the ".lod" file format and the content-addressed cache
  * behind `prw bake`.
  *
- * A baked model (prw_baked_lod) owns a seam graph and the prw_lod_model built on it
- * (lod.g == &graph), i.e. everything prw_lod_select / prw_lod_segment_levels / prw_lod_emit need.
+ * A baked model (prw_baked_lod) owns a seam graph, the prw_lod_model built on it
+ * (lod.g == &graph) and the per-patch culling data (prw_lod_cull, built with the default options:
+ * every patch two-sided — set cull.single_sided[] per view — 16 sampling cells), i.e. everything
+ * prw_lod_select / prw_lod_segment_levels / prw_lod_emit need, culling included, without the
+ * NURBS model.
  *
- * File format (PRW_LOD_FILE_VERSION 1; every number little-endian, doubles as IEEE-754 bits):
+ * File format (PRW_LOD_FILE_VERSION 2; every number little-endian, doubles as IEEE-754 bits):
  *   header (32 bytes): "PRWLOD01" | u32 format version | u32 flags (0) | u64 payload size |
  *                      u64 prw_hash64(payload, seed 0)
  *   payload: the 32-character cache key; the seam graph (scalars, report, nodes, per segment its
  *            ends, patches, loops, flags, sewing points and both (u, v) arrays — NOT the dense
  *            exact-curve samples, which only the build uses: segs[s].dense is NULL after reading;
  *            per patch its loops and box); the LOD model (levels, tau0, report, per patch every
- *            array of prw_lod_patch, per segment seg_keep and ladder).
+ *            array of prw_lod_patch, per segment seg_keep and ladder); since version 2 the culling
+ *            data (patch count, full_cones, refined, then per patch box, sphere, cone axis and
+ *            half-angle, single_sided).  Version 1 files are refused (the cache rebuilds them).
  * Promises of the reader (prw_lod_file_parse / _read):
  *  - never trusts a size: every count is checked against the bytes that remain (and against
  *    absolute limits) before anything is allocated; truncated, corrupt (checksum) or absurd input
  *    (wrong magic / version, trailing bytes, indices out of range, non-monotonic offsets, NaN or
- *    infinite coordinates) fails with "<name>: <reason>" and allocates nothing that survives;
+ *    infinite coordinates, a cone half-angle outside [0, π] or an axis that is neither unit nor
+ *    zero-with-the-full-cone, an inverted box, a negative radius) fails with "<name>: <reason>"
+ *    and allocates nothing that survives;
  *  - a file that parses is safe for prw_lod_select / prw_lod_emit (every index they follow is
  *    range-checked) and equals, bit for bit, the hierarchy that was written.
  * Writing is deterministic: the same hierarchy and key always give the same bytes.
  *
  * Cache (prw_bake_run): key = two 64-bit FNV-1a hashes (32 hex digits) of (key tag, file format
- * version, PRW_BAKE_ALGO_VERSION, input kind (IGES / JSON), every seam and LOD knob as given,
+ * version, PRW_BAKE_ALGO_VERSION, input kind (IGES / JSON), every seam and LOD knob as given
+ * (finest_rel included),
  * input file bytes).  Entry: <cache>/lod/<key>.lod, <cache> = $PRW_CACHE_DIR, else
  * $XDG_CACHE_HOME/prw, else $HOME/.cache/prw; written atomically (prw_write_file_atomic).  An
  * entry that fails to read (checksum, truncation, other key) is reported in result.warning and
@@ -36,19 +44,21 @@
 #include <stdint.h>
 
 #include "prw_lod.h"
+#include "prw_lod_select.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 #define PRW_LOD_FILE_MAGIC "PRWLOD01"
-#define PRW_LOD_FILE_VERSION 1u
+#define PRW_LOD_FILE_VERSION 2u
 #define PRW_LOD_HEADER_SIZE 32u
-#define PRW_BAKE_ALGO_VERSION "lod-2026-12-01"
+#define PRW_BAKE_ALGO_VERSION "lod-2026-12-01b" /* b: pole combs, flips in the level-0 refinement */
 
 typedef struct prw_baked_lod {
     prw_seam_graph graph;
     prw_lod_model lod; /* lod.g == &graph */
+    prw_lod_cull cull; /* per patch (cull.npatches == lod.npatches) */
     char key[33];      /* cache key ("" when unknown) */
 } prw_baked_lod;
 

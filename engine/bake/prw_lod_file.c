@@ -164,6 +164,20 @@ void prw_lod_file_serialize(const prw_baked_lod *bk, uint8_t **data, size_t *siz
         w_ints(&b, p->tris, 3 * (size_t)p->tri_start[lm->levels]);
         w_f64s(&b, p->err, (size_t)lm->levels);
     }
+    /* culling data (version 2) */
+    const prw_lod_cull *c = &bk->cull;
+    w_i32(&b, c->npatches);
+    w_i32(&b, c->full_cones);
+    w_i32(&b, c->refined);
+    for (int i = 0; i < c->npatches; i++) {
+        w_v3(&b, c->lo[i]);
+        w_v3(&b, c->hi[i]);
+        w_v3(&b, c->centre[i]);
+        w_f64(&b, c->radius[i]);
+        w_v3(&b, c->axis[i]);
+        w_f64(&b, c->half_angle[i]);
+        w_u8(&b, c->single_sided[i]);
+    }
     /* header */
     size_t payload = b.n - PRW_LOD_HEADER_SIZE;
     uint64_t sum = prw_hash64(b.p + PRW_LOD_HEADER_SIZE, payload, 0);
@@ -517,6 +531,47 @@ static bool read_lod(rbuf *r, prw_baked_lod *b)
     return !r->bad;
 }
 
+static bool read_cull(rbuf *r, prw_baked_lod *b)
+{
+    prw_lod_cull *c = &b->cull;
+    int n = r_count(r, 0, 113, "culling patch count"); /* 14 doubles + 1 byte per patch */
+    if (r->bad) return false;
+    if (n != b->lod.npatches) return r_fail(r, "culling data for %d patches, the hierarchy has %d", n, b->lod.npatches);
+    int full = r_i32(r, "full cone count"), refined = r_i32(r, "refined count");
+    if (r->bad) return false;
+    if (full < 0 || full > n || refined < 0 || refined > n)
+        return r_fail(r, "culling report counts %d / %d out of range 0..%d", full, refined, n);
+    c->lo = prw_malloc(sizeof(prw_dvec3) * (size_t)n + 1);
+    c->hi = prw_malloc(sizeof(prw_dvec3) * (size_t)n + 1);
+    c->centre = prw_malloc(sizeof(prw_dvec3) * (size_t)n + 1);
+    c->radius = prw_malloc(sizeof(double) * (size_t)n + 1);
+    c->axis = prw_malloc(sizeof(prw_dvec3) * (size_t)n + 1);
+    c->half_angle = prw_malloc(sizeof(double) * (size_t)n + 1);
+    c->single_sided = prw_malloc((size_t)n + 1);
+    c->npatches = n;
+    c->full_cones = full;
+    c->refined = refined;
+    for (int i = 0; i < n && !r->bad; i++) {
+        c->lo[i] = r_v3(r, "culling box");
+        c->hi[i] = r_v3(r, "culling box");
+        c->centre[i] = r_v3(r, "culling sphere centre");
+        c->radius[i] = r_fin(r, "culling sphere radius");
+        c->axis[i] = r_v3(r, "normal cone axis");
+        c->half_angle[i] = r_fin(r, "normal cone half-angle");
+        c->single_sided[i] = (unsigned char)r_bool(r, "single_sided");
+        if (r->bad) break;
+        if (!(c->lo[i].x <= c->hi[i].x && c->lo[i].y <= c->hi[i].y && c->lo[i].z <= c->hi[i].z))
+            return r_fail(r, "patch %d: culling box is inverted", i);
+        if (!(c->radius[i] >= 0)) return r_fail(r, "patch %d: negative culling sphere radius", i);
+        if (!(c->half_angle[i] >= 0 && c->half_angle[i] <= PRW_PI))
+            return r_fail(r, "patch %d: normal cone half-angle %g outside [0, pi]", i, c->half_angle[i]);
+        double al = prw_v3_len(c->axis[i]);
+        if (!(fabs(al - 1) <= 1e-9 || (al == 0 && c->half_angle[i] == PRW_PI)))
+            return r_fail(r, "patch %d: normal cone axis of length %g", i, al);
+    }
+    return !r->bad;
+}
+
 void prw_baked_lod_destroy(prw_baked_lod *b)
 {
     if (!b) return;
@@ -526,6 +581,7 @@ void prw_baked_lod_destroy(prw_baked_lod *b)
     if (!b->lod.seg_keep) b->lod.g = NULL;
     prw_lod_free(&b->lod);
     prw_seam_free(g);
+    prw_lod_cull_free(&b->cull);
     free(b);
 }
 
@@ -559,7 +615,7 @@ bool prw_lod_file_parse(const void *data, size_t size, const char *name, prw_bak
             if (b->key[i] && !((b->key[i] >= '0' && b->key[i] <= '9') || (b->key[i] >= 'a' && b->key[i] <= 'f')))
                 r_fail(&r, "key is not hexadecimal");
     }
-    bool ok = !r.bad && read_graph(&r, b) && read_lod(&r, b);
+    bool ok = !r.bad && read_graph(&r, b) && read_lod(&r, b) && read_cull(&r, b);
     if (ok && r.at != r.n) ok = r_fail(&r, "%zu unexplained bytes after the hierarchy", r.n - r.at);
     if (!ok) {
         prw_baked_lod_destroy(b);

@@ -113,6 +113,8 @@ typedef struct prw_ref_stats {
     uint64_t rays;       /* camera, bounce and shadow rays */
     double seconds;      /* wall time of the sampling (not the scene build) */
     bool time_limited;   /* stopped early by time_limit_s */
+    double tess_px;      /* NURBS models: worst projected error of their tessellation (level 0 of the
+                            hierarchy, exact normals) for this view, pixels; 0 without NURBS models */
 } prw_ref_stats;
 
 typedef struct prw_ref_renderer prw_ref_renderer;

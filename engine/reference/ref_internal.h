@@ -16,6 +16,9 @@ typedef struct ref_inst {
     double lmat[9];      /* world 3x3, row-major (tangents) */
     bool flip;           /* negative determinant: winding (front face) flips */
     double emit_pdf_area;/* > 0: emissive; density per m^2 of the emissive-triangle sampler */
+    bool two_sided;      /* NURBS models: shaded on the side the ray arrives from (ref_nurbs.c) */
+    int nurbs_entry;     /* index into scene->nurbs, -1 for glTF/builder meshes */
+    prw_dmat4 world;     /* NURBS instances: model metres -> world */
 } ref_inst;
 
 typedef struct ref_rect {
@@ -65,7 +68,18 @@ struct prw_ref_renderer {
     uint32_t delta_count;
     ref_env env;
     float srgb_lut[256];
+    prw_mesh *nurbs_meshes; /* level-0 tessellation per NURBS entry (ref_nurbs.c) */
+    uint32_t nurbs_mesh_count;
+    double *nurbs_err;      /* its error bound, model metres */
 };
+
+bool ref_add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m, prw_error *e);
+/* ref_nurbs.c */
+uint32_t ref_nurbs_instance_count(const prw_scene *s);
+bool ref_nurbs_add(prw_ref_renderer *r, prw_error *e);
+void ref_nurbs_free(prw_ref_renderer *r);
+/* Worst projected tessellation error of the NURBS instances for view v, pixels (0: none). */
+double ref_nurbs_px(const prw_ref_renderer *r, const prw_view *v);
 
 /* Per-thread state: the random-number key and counters. */
 typedef struct ref_rng {

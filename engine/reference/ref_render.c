@@ -214,6 +214,7 @@ bool prw_ref_render(prw_ref_renderer *r, const prw_view *view, const prw_ref_des
         stats->rays = atomic_load(&j.rays);
         stats->seconds = secs;
         stats->time_limited = limited;
+        stats->tess_px = ref_nurbs_px(r, view);
     }
     return true;
 }

@@ -190,6 +190,7 @@ void prw_ref_destroy(prw_ref_renderer *r)
     free(r->rects);
     free(r->deltas);
     env_free(&r->env);
+    ref_nurbs_free(r);
     free(r);
 }
 
@@ -211,13 +212,14 @@ static bool mat3_inverse(const double a[9], double out[9])
     return true;
 }
 
-static bool add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m, prw_error *e)
+bool ref_add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m, prw_error *e)
 {
     const prw_scene *s = r->scene;
     ref_inst *in = &r->inst[r->inst_count];
     memset(in, 0, sizeof *in);
     in->mesh = m;
     in->mat = &s->materials[m->material];
+    in->nurbs_entry = -1;
     const double *w = n->world.m;
     for (int row = 0; row < 3; row++)
         for (int col = 0; col < 3; col++) in->lmat[row * 3 + col] = w[col * 4 + row];
@@ -380,6 +382,7 @@ bool prw_ref_create(const prw_scene *s, prw_dvec3 origin, int threads, prw_ref_r
         int g = s->nodes[i].mesh_group;
         if (g >= 0 && (uint32_t)g < s->group_count) cap += s->groups[g].count;
     }
+    cap += ref_nurbs_instance_count(s);
     r->inst = prw_calloc(cap + 1, sizeof(ref_inst));
     for (uint32_t i = 0; i < s->node_count; i++) {
         const prw_node *n = &s->nodes[i];
@@ -388,11 +391,15 @@ bool prw_ref_create(const prw_scene *s, prw_dvec3 origin, int threads, prw_ref_r
         for (uint32_t k = g->first; k < g->first + g->count && k < s->mesh_count; k++) {
             const prw_mesh *m = &s->meshes[k];
             if (m->material < 0 || (uint32_t)m->material >= s->material_count || m->index_count < 3) continue;
-            if (!add_instance(r, n, m, e)) {
+            if (!ref_add_instance(r, n, m, e)) {
                 prw_ref_destroy(r);
                 return false;
             }
         }
+    }
+    if (!ref_nurbs_add(r, e)) {
+        prw_ref_destroy(r);
+        return false;
     }
     rtcCommitScene(r->rtc);
     if (rtcGetDeviceError(r->dev) != RTC_ERROR_NONE) {

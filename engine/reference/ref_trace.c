@@ -466,7 +466,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         if (dist > 0) {
             double wi[3] = {dv[0] / dist, dv[1] / dist, dv[2] / dist};
             double cl = -dot3(wi, ng);
-            if (in->mat->double_sided) cl = fabs(cl);
+            if (in->mat->double_sided || in->two_sided) cl = fabs(cl);
             if (cl > 0) {
                 /* emission at the sampled point (texture via its uv) */
                 surf ls;
@@ -527,7 +527,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
             hit = isect(r, o, d, tnear, &rh);
             if (!hit) break;
             fill_surf(r, &rh, d, &s);
-            if (pa.k > 0 || s.front || s.in->mat->double_sided) break;
+            if (pa.k > 0 || s.front || (s.in->mat->double_sided || s.in->two_sided)) break;
             tnear = s.t + s.eps;
             hit = false;
             if (guard == 255) break;
@@ -557,7 +557,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
             }
             break;
         }
-        if (!s.front && !s.in->mat->double_sided) break; /* opaque black back face */
+        if (!s.front && !(s.in->mat->double_sided || s.in->two_sided)) break; /* opaque black back face */
         double Le[3];
         if (accept(f, pa.k) && surf_emission(r, &s, Le)) {
             double w = 1;

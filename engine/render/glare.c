@@ -105,6 +105,37 @@ void prw_glare_aperture(const prw_glare_settings *s, double pupil_mm, float *ap)
 
 /* ---- PSF ---- */
 
+/* CIE 1931 2-degree colour-matching functions, the multi-lobe Gaussian fit of Wyman, Sloan and Shirley
+ * (JCGT 2013, "Simple analytic approximations to the CIE XYZ color matching functions"). */
+static double g_lobe(double l, double mu, double s1, double s2)
+{
+    double t = (l - mu) / (l < mu ? s1 : s2);
+    return exp(-0.5 * t * t);
+}
+
+void prw_glare_spectral_weights(double lambda_nm[PRW_GLARE_BANDS], double w[PRW_GLARE_BANDS][3])
+{
+    double sum[3] = {0, 0, 0};
+    for (int m = 0; m < PRW_GLARE_BANDS; m++) {
+        double l = PRW_GLARE_LAMBDA_MIN_NM + (PRW_GLARE_LAMBDA_MAX_NM - PRW_GLARE_LAMBDA_MIN_NM) * (m + 0.5) /
+                                                 PRW_GLARE_BANDS;
+        lambda_nm[m] = l;
+        double x = 1.056 * g_lobe(l, 599.8, 37.9, 31.0) + 0.362 * g_lobe(l, 442.0, 16.0, 26.7) -
+                   0.065 * g_lobe(l, 501.1, 20.4, 26.2);
+        double y = 0.821 * g_lobe(l, 568.8, 46.9, 40.5) + 0.286 * g_lobe(l, 530.9, 16.3, 31.1);
+        double z = 1.217 * g_lobe(l, 437.0, 11.8, 36.0) + 0.681 * g_lobe(l, 459.0, 26.0, 13.8);
+        /* XYZ -> linear Rec.709; the negative lobes (outside the gamut) carry no light here */
+        double rgb[3] = {3.2406 * x - 1.5372 * y - 0.4986 * z, -0.9689 * x + 1.8758 * y + 0.0415 * z,
+                         0.0557 * x - 0.2040 * y + 1.0570 * z};
+        for (int c = 0; c < 3; c++) {
+            w[m][c] = rgb[c] > 0 ? rgb[c] : 0;
+            sum[c] += w[m][c];
+        }
+    }
+    for (int m = 0; m < PRW_GLARE_BANDS; m++)
+        for (int c = 0; c < 3; c++) w[m][c] /= sum[c];
+}
+
 bool prw_glare_psf(const prw_glare_settings *s, double pupil_mm, float **psf_out, int *radius, prw_error *e)
 {
     int n = grid_n(s);
@@ -115,47 +146,58 @@ bool prw_glare_psf(const prw_glare_settings *s, double pupil_mm, float **psf_out
     double ppd = s->ppd > 0 ? s->ppd : 40.0;
     double apx = (3.141592653589793 / 180.0) / ppd; /* rad per image pixel */
     double D = PRW_GLARE_APERTURE_MM * 1e-3;
-    const double lambda[3] = {PRW_GLARE_LAMBDA_R, PRW_GLARE_LAMBDA_G, PRW_GLARE_LAMBDA_B};
-    int R = (int)lrint((n / 2 - 1) * PRW_GLARE_LAMBDA_R / (D * apx));
+    double lambda_nm[PRW_GLARE_BANDS], w[PRW_GLARE_BANDS][3];
+    prw_glare_spectral_weights(lambda_nm, w);
+    int R = (int)lrint((n / 2 - 1) * lambda_nm[PRW_GLARE_BANDS - 1] * 1e-9 / (D * apx));
     if (R < 1) R = 1;
     if (R > 512) return prw_fail(e, "glare: PSF radius %d pixels at %g ppd is too large", R, ppd);
     size_t nn = (size_t)n * n, side = 2 * (size_t)R + 1;
     float *ap = malloc(nn * sizeof *ap);
     kiss_fft_cpx *in = malloc(nn * sizeof *in), *out = malloc(nn * sizeof *out);
-    double *acc = calloc(3 * side * side, sizeof *acc);
+    double *band = calloc(side * side, sizeof *band), *acc = calloc(3 * side * side, sizeof *acc);
     int dims[2] = {n, n};
     kiss_fftnd_cfg cfg = kiss_fftnd_alloc(dims, 2, 0, NULL, NULL);
     float *psf = malloc(3 * side * side * sizeof *psf);
-    bool ok = ap && in && out && acc && cfg && psf;
+    bool ok = ap && in && out && band && acc && cfg && psf;
     if (ok) {
         prw_glare_aperture(s, pupil_mm, ap);
         for (size_t i = 0; i < nn; i++) in[i].r = ap[i], in[i].i = 0;
         kiss_fftnd(cfg, in, out);
-        for (int b = 0; b < 3; b++) {
-            double c = lambda[b] / (D * apx), total = 0;
-            double *a = acc + (size_t)b * side * side;
+        /* one FFT; the PSF at wavelength l puts bin k at the angle k l / D, so each band resamples the
+         * same power spectrum; bands are normalised, then summed into R, G, B by their weights */
+        for (int m = 0; m < PRW_GLARE_BANDS; m++) {
+            double c = lambda_nm[m] * 1e-9 / (D * apx), total = 0;
+            memset(band, 0, side * side * sizeof *band);
             for (int v = 0; v < n; v++) {
                 int kv = v < n / 2 ? v : v - n;
                 if (kv == -n / 2) continue; /* Nyquist: no mirror bin, keep the PSF point-symmetric */
                 long py = lrint(kv * c);
+                if (labs(py) > R) continue;
                 for (int u = 0; u < n; u++) {
                     int ku = u < n / 2 ? u : u - n;
                     if (ku == -n / 2) continue;
                     long px = lrint(ku * c);
-                    if (labs(px) > R || labs(py) > R) continue;
+                    if (labs(px) > R) continue;
                     const kiss_fft_cpx *f = &out[(size_t)v * n + u];
                     double pw = (double)f->r * f->r + (double)f->i * f->i;
-                    a[(size_t)(py + R) * side + (size_t)(px + R)] += pw;
+                    band[(size_t)(py + R) * side + (size_t)(px + R)] += pw;
                     total += pw;
                 }
             }
-            for (size_t i = 0; i < side * side; i++)
-                psf[(size_t)b * side * side + i] = total > 0 ? (float)(a[i] / total) : (i == side * side / 2);
+            if (!(total > 0)) band[side * side / 2] = total = 1; /* opaque aperture: a delta */
+            for (int ch = 0; ch < 3; ch++) {
+                if (w[m][ch] == 0) continue;
+                double k = w[m][ch] / total;
+                double *a = acc + (size_t)ch * side * side;
+                for (size_t i = 0; i < side * side; i++) a[i] += k * band[i];
+            }
         }
+        for (size_t i = 0; i < 3 * side * side; i++) psf[i] = (float)acc[i];
     }
     free(ap);
     free(in);
     free(out);
+    free(band);
     free(acc);
     kiss_fft_free(cfg);
     if (!ok) {

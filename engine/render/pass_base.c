@@ -82,6 +82,14 @@ static void node_pc(prw_dmat4 world, prw_dvec3 origin, draw_pc *pc)
     pc->normal_m[3] = det < 0 ? -1.0f : 1.0f; /* mirrored nodes flip the bitangent */
 }
 
+void prw_base_push_constants(prw_dmat4 world, prw_dvec3 origin, float out[28])
+{
+    _Static_assert(sizeof(draw_pc) == 28 * sizeof(float), "draw_pc layout");
+    draw_pc pc;
+    node_pc(world, origin, &pc);
+    memcpy(out, &pc, sizeof pc);
+}
+
 /* The scene's draws and the rect lights' emitting quads for view vi (also replayed by pass_extra_work). */
 void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
 {
@@ -92,6 +100,7 @@ void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
     vkCmdBindVertexBuffers(cmd, 0, 1, &r->vertices.buffer, &zero);
     vkCmdBindIndexBuffer(cmd, r->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
     VkPipeline bound = VK_NULL_HANDLE;
+    VkPipeline(*pipes)[2] = ctx->pipes ? ctx->pipes : r->base_pipes; /* pass_reproject.c brings its own */
     prw_dvec3 origin = prw_render_view_origin(ctx, vi);
     for (uint32_t ni = 0; ni < s->node_count; ni++) {
         uint32_t first, count;
@@ -103,7 +112,7 @@ void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
             const prw_draw_mesh *dm = &r->meshes[k];
             int mi = dm->material >= 0 && (uint32_t)dm->material < s->material_count ? dm->material : 0;
             bool two = s->material_count && s->materials[mi].double_sided;
-            VkPipeline p = r->base_pipes[two][pc.normal_m[3] < 0.0f];
+            VkPipeline p = pipes[two][pc.normal_m[3] < 0.0f];
             if (p != bound) {
                 vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1,
@@ -134,7 +143,7 @@ void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
         }
         draw_pc pc;
         node_pc(m, origin, &pc);
-        VkPipeline p = r->base_pipes[0][pc.normal_m[3] < 0.0f];
+        VkPipeline p = pipes[0][pc.normal_m[3] < 0.0f];
         if (p != bound) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->base_layout, 0, 1, &t->globals_set, 0,
@@ -149,6 +158,7 @@ void prw_base_record_draws(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd)
         ctx->triangles += 2;
         ctx->draws++;
     }
+    prw_lod_record_base(ctx, vi, cmd, pipes, &bound); /* NURBS models with LOD (lod_draw.c) */
 }
 
 static bool base_needed(const prw_frame_ctx *ctx)
@@ -161,6 +171,7 @@ static bool base_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
     (void)e;
     prw_renderer *r = ctx->r;
     if (r->mv && ctx->view_count > 1) return prw_mv_record_base(ctx, cmd, e); /* pass_multiview.c */
+    if (r->rp && ctx->view_count == 2) return prw_reproj_record_base(ctx, cmd, e); /* pass_reproject.c */
     for (uint32_t vi = 0; vi < ctx->view_count; vi++) {
         prw_view_targets *t = &r->views[vi];
         prw_gpu_globals g;

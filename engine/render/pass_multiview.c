@@ -5,7 +5,10 @@
  * (derived at configure time: shaders/CMakeLists.txt); all views share one camera-relative origin
  * (the first view's eye), so an eye matches a mono render up to float rounding, not bit for bit.
  * The resolved layers are then copied into the views' HDR images, so later passes are unchanged.
- * Frames of one view use the per-view loop. */
+ * Frames of one view use the per-view loop.
+ * On lavapipe (Mesa 22.3) this backend is wrong, not only slow: with view mask 0b11 the clipped
+ * triangles of one view get mis-interpolated attributes (see test_stereo_gpu multiview_eyes), so the
+ * "auto" choice (views_choice.c), which checks a probe pair against the loop, never picks it there. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -36,10 +39,9 @@ bool prw_views_backend_resolve(prw_gpu *gpu, const char *name, prw_views_backend
     bool has_mv = prw_gpu_features_enabled(gpu)->multiview;
     const char *dev = prw_gpu_device_name(gpu);
     if (!name || strcmp(name, "auto") == 0) {
-        /* Stored fact (measured on lavapipe 22.3, issue 5): its draw module replays every draw once
-         * per view, so multiview stereo costs 2.1-4.0x mono against ~1.9-2.0x for the loop. */
-        bool lavapipe = dev && strstr(dev, "llvmpipe") != NULL;
-        *out = has_mv && !lavapipe ? PRW_VIEWS_MULTIVIEW : PRW_VIEWS_LOOP;
+        prw_views_choice c;
+        if (!prw_views_backend_choose(gpu, &c, e)) return false;
+        *out = c.backend;
         return true;
     }
     if (strcmp(name, "loop") == 0) {

@@ -63,7 +63,7 @@ uint32_t prw_render_plan_shadows(const prw_scene *s, prw_shadow_view *out, int *
 
 static bool shadow_needed(const prw_frame_ctx *ctx)
 {
-    return ctx->r->shadow_view_count > 0 && ctx->r->mesh_count > 0;
+    return ctx->r->shadow_view_count > 0 && (ctx->r->mesh_count > 0 || ctx->r->lod);
 }
 
 static bool shadow_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
@@ -108,6 +108,7 @@ static bool shadow_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
                 vkCmdDrawIndexed(cmd, r->meshes[k].index_count, 1, r->meshes[k].first_index,
                                  r->meshes[k].vertex_offset, 0);
         }
+        prw_lod_record_shadow(r, v, cmd); /* NURBS models with LOD (lod_draw.c) */
         vkCmdEndRendering(cmd);
     }
     prw_cmd_transition(cmd, &r->shadow_map, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

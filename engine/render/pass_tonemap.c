@@ -1,20 +1,27 @@
 /* pass_tonemap — display-aware tone mapping on the GPU (issue 6), two passes:
- *   "tm_stats" (once for all views: tile partials per view -> one reduction: log-average and largest
- *              luminance, and zeroed classification counters); needed when the operator uses frame
- *              statistics (reinhard, adaptive) or pixels are classified (absolute, overlay, report);
+ *   "tm_stats" (once for all views: partials per 64 x 64 region and view -> one reduction: log-average
+ *              and largest luminance, and zeroed classification counters); needed when the operator
+ *              uses frame statistics (reinhard, adaptive, local, selective) or pixels are classified
+ *              (absolute, overlay, report).  Selective: the same pass also classifies
+ *              (tonemap_classify.comp: the Sobel of the log luminance it already computes gives each
+ *              16 x 16 block's largest gradient), so the classification is not a pass of its own;
  *   "tonemap"  (per view: operator -> gamut mapping -> inverse display model; writes the signal V as
  *              RGBA32F before quantisation and as RGBA8 for PNGs and presenting).
  *            local: instead of tonemap_apply.comp, full-image separable passes (tonemap_sep_lum.comp:
  *            scaled luminance; tonemap_sep_blur.comp: 9 levels x horizontal + vertical into layers of a
  *            scratch r32f array; tonemap_sep_final.comp: scale selection, Ld, encoding), or with
  *            settings.local_tiled tonemap_local.comp on every 16 x 16 block;
- *            selective: tonemap_classify.comp (tile marks) -> tonemap_compact.comp (the 16 x 16 blocks
- *            within one tile of a marked tile: flags, count) -> tonemap_apply.comp (global curve on
- *            the other blocks) and the separable passes with a per-block early-out (a blur level's
- *            horizontal pass runs on the blocks within its radius above or below a needed block, the
- *            vertical pass and the final step on the needed blocks only).
+ *            selective: tonemap_compact.comp (tile marks from the block gradients; the 16 x 16 blocks
+ *            within one tile of a marked tile: flags, lists in raster order, counts) ->
+ *            tonemap_apply.comp (global curve on the other blocks) and the separable passes on the
+ *            lists, dispatched indirectly (a blur level's horizontal pass runs on the blocks within its
+ *            radius above or below a needed block and there only on the rows the vertical pass reads;
+ *            the vertical pass and the final step on the needed blocks only).
+ * Profiling (prw_tm_session_profile): the dispatches are recorded through tm_dispatch*, which leave out
+ * every scope from prof_limit on, so a scope's time is the difference of two runs' wall times.
  * The C reference is tonemap_ops.c; shaders/tonemap_*.comp mirror it. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -70,7 +77,28 @@ struct prw_tm_gpu {
     double la;
     bool la_valid, prev_stats;
     double dt_next, last_time;
+    /* profiling (prw_tm_session_profile): named scopes; with prof_limit >= 0 the dispatches of scopes
+     * from prof_limit on are not recorded (prefix timing: GPU timestamps are not usable on lavapipe,
+     * whose compute dispatches run synchronously outside its timestamp queries) */
+    int prof_limit, prof_count;
+    char prof_names[64][24];
 };
+
+/* starts the profiling scope `name` (the dispatches up to the next scope belong to it) */
+static void tb(prw_tm_gpu *tm, const char *name)
+{
+    if (tm->prof_count < 64) snprintf(tm->prof_names[tm->prof_count], sizeof tm->prof_names[0], "%s", name);
+    tm->prof_count++;
+}
+static bool tm_on(const prw_tm_gpu *tm) { return tm->prof_limit < 0 || tm->prof_count <= tm->prof_limit; }
+static void tm_dispatch(prw_tm_gpu *tm, VkCommandBuffer cmd, uint32_t x, uint32_t y, uint32_t z)
+{
+    if (tm_on(tm)) vkCmdDispatch(cmd, x, y, z);
+}
+static void tm_dispatch_indirect(prw_tm_gpu *tm, VkCommandBuffer cmd, VkBuffer b, VkDeviceSize off)
+{
+    if (tm_on(tm)) vkCmdDispatchIndirect(cmd, b, off);
+}
 
 static bool op_needs_stats(prw_tm_op op)
 {
@@ -81,7 +109,7 @@ static bool op_needs_stats(prw_tm_op op)
 static VkDeviceSize tile_bytes(uint32_t w, uint32_t h)
 {
     VkDeviceSize nb = (VkDeviceSize)((w + 15) / 16) * ((h + 15) / 16);
-    return (20 + 7 * nb) * 4; /* header, marks, needs, 5 lists (tonemap_compact.comp) */
+    return (20 + 8 * nb) * 4; /* header, marks, needs, 5 lists, block gradients (tonemap_compact.comp) */
 }
 static bool tm_counts(const prw_tonemap_settings *s)
 {
@@ -89,6 +117,8 @@ static bool tm_counts(const prw_tonemap_settings *s)
 }
 
 static uint32_t tiles_for(uint32_t w, uint32_t h) { return ((w + TILE - 1) / TILE) * ((h + TILE - 1) / TILE); }
+/* workgroups (partial slots) of the stats pass: 64 x 64 pixel regions (tonemap_stats.glsl) */
+static uint32_t stats_groups(uint32_t w, uint32_t h) { return ((w + 63) / 64) * ((h + 63) / 64); }
 
 static void fill_ubo(const prw_tm_params *p, bool count, tm_ubo *u)
 {
@@ -134,6 +164,7 @@ bool prw_tm_gpu_create(prw_renderer *r, prw_error *e)
     r->tm = tm;
     prw_display_builtin("srgb", &tm->display);
     tm->dt_next = -1;
+    tm->prof_limit = -1;
     tm->settings.op = (unsigned)r->desc.tonemap < PRW_TM_OP_COUNT ? r->desc.tonemap : PRW_TM_EXPOSURE;
     VkDescriptorSetLayoutBinding b[6] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
@@ -229,20 +260,23 @@ static void record_stats(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptor
                          const uint32_t *h, uint32_t count)
 {
     compute_barrier(cmd, CS | VK_PIPELINE_STAGE_2_HOST_BIT, RW | VK_ACCESS_2_HOST_READ_BIT, CS, RW);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->stats_pipe);
+    bool sel = tm->settings.op == PRW_TM_SELECTIVE; /* fused with the classification */
+    tb(tm, sel ? "stats+classify" : "stats");
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sel ? tm->classify_pipe : tm->stats_pipe);
     uint32_t base = 0;
     for (uint32_t v = 0; v < count; v++) {
         tm_pc pc = {w[v], h[v], base, 0};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-        vkCmdDispatch(cmd, (w[v] + TILE - 1) / TILE, (h[v] + TILE - 1) / TILE, 1);
-        base += tiles_for(w[v], h[v]);
+        tm_dispatch(tm, cmd, (w[v] + 63) / 64, (h[v] + 63) / 64, 1);
+        base += stats_groups(w[v], h[v]);
     }
     compute_barrier(cmd, CS, RW, CS, RW);
+    tb(tm, "reduce");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->reduce_pipe);
     tm_pc pc = {0, 0, 0, base};
     vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-    vkCmdDispatch(cmd, 1, 1, 1);
+    tm_dispatch(tm, cmd, 1, 1, 1);
     compute_barrier(cmd, CS, RW, CS, RW);
 }
 
@@ -268,8 +302,8 @@ static bool ensure_sep(prw_renderer *r, uint32_t w, uint32_t h, prw_error *e)
 /* Selective: dispatches list k of the view's tile region (indirect); local: the block grid. */
 static void sep_dispatch(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDeviceSize tile_off, uint32_t gx, uint32_t gy, int list)
 {
-    if (tm->settings.op == PRW_TM_SELECTIVE) vkCmdDispatchIndirect(cmd, tm->tiles.buffer, tile_off + 12 * (VkDeviceSize)list);
-    else vkCmdDispatch(cmd, gx, gy, 1);
+    if (tm->settings.op == PRW_TM_SELECTIVE) tm_dispatch_indirect(tm, cmd, tm->tiles.buffer, tile_off + 12 * (VkDeviceSize)list);
+    else tm_dispatch(tm, cmd, gx, gy, 1);
 }
 
 static int sep_rows(uint32_t lev) /* list of a level's horizontal pass: ceil(radius / 16) */
@@ -286,6 +320,7 @@ static void record_local_sep(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDescriptorSe
     compute_barrier(cmd, CS, RW, CS, RW); /* an earlier view's use of the scratch image */
     uint32_t gx = (w + 15) / 16, gy = (h + 15) / 16;
     tm_pc pc = {w, h, 0, 0};
+    tb(tm, "sep_lum");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_lum_pipe);
     vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
     sep_dispatch(tm, cmd, tile_off, gx, gy, 4);
@@ -293,21 +328,25 @@ static void record_local_sep(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDescriptorSe
     for (uint32_t lev = 0; lev <= PRW_TM_LOCAL_SCALES; lev++)
         for (uint32_t dir = 0; dir < 2; dir++) {
             compute_barrier(cmd, CS, RW, CS, RW);
+            char nm[24];
+            snprintf(nm, sizeof nm, "blur%u%c", lev, dir ? 'v' : 'h');
+            tb(tm, nm);
             tm_pc bp = {w, h, lev, dir};
             vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof bp, &bp);
             sep_dispatch(tm, cmd, tile_off, gx, gy, dir ? 0 : sep_rows(lev));
         }
     compute_barrier(cmd, CS, RW, CS, RW);
+    tb(tm, "sep_final");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_final_pipe);
     vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
     sep_dispatch(tm, cmd, tile_off, gx, gy, 0);
+    compute_barrier(cmd, CS, RW, CS, RW);
 }
 
 static void record_apply(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptorSet *sets, const uint32_t *w,
                          const uint32_t *h, const VkDeviceSize *tile_off, uint32_t count)
 {
     prw_tm_op op = tm->settings.op;
-    uint32_t T = tm->settings.sel_tile ? tm->settings.sel_tile : PRW_TM_SEL_TILE;
     for (uint32_t v = 0; v < count; v++) {
         tm_pc pc = {w[v], h[v], 0, 0};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
@@ -317,21 +356,23 @@ static void record_apply(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptor
             continue;
         }
         if (op == PRW_TM_LOCAL) {
+            tb(tm, "local_tiled");
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->local_pipe);
-            vkCmdDispatch(cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
+            tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
+            compute_barrier(cmd, CS, RW, CS, RW);
             continue;
         }
-        if (op == PRW_TM_SELECTIVE) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->classify_pipe);
-            vkCmdDispatch(cmd, (w[v] + T - 1) / T, (h[v] + T - 1) / T, 1);
-            compute_barrier(cmd, CS, RW, CS, RW);
+        if (op == PRW_TM_SELECTIVE) { /* the stats pass left each block's largest gradient */
+            tb(tm, "compact");
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->compact_pipe);
-            vkCmdDispatch(cmd, 1, 1, 1);
+            tm_dispatch(tm, cmd, 1, 1, 1);
             compute_barrier(cmd, CS, RW, CS | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                             RW | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
         }
+        tb(tm, "apply");
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
-        vkCmdDispatch(cmd, (w[v] + 7) / 8, (h[v] + 7) / 8, 1);
+        tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
+        compute_barrier(cmd, CS, RW, CS, RW);
         if (op == PRW_TM_SELECTIVE) record_local_sep(tm, cmd, sets[v], w[v], h[v], tile_off[v]); /* pixels disjoint from apply's */
     }
     if (count) tm->last_tile_off = tile_off[count - 1];
@@ -392,6 +433,7 @@ static bool stats_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
         w[vi] = ctx->views[vi].width;
         h[vi] = ctx->views[vi].height;
     }
+    r->tm->prof_count = 0; /* profiling is for sessions; keep the counter bounded */
     record_stats(r->tm, cmd, r->tm->sets, w, h, ctx->view_count);
     return true;
 }
@@ -423,6 +465,7 @@ static bool tonemap_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e
         w[vi] = ctx->views[vi].width;
         h[vi] = ctx->views[vi].height;
     }
+    tm->prof_count = 0;
     record_apply(tm, cmd, tm->sets, w, h, off, ctx->view_count);
     return true;
 }
@@ -528,6 +571,7 @@ struct prw_tm_session {
     VkDescriptorSet set;
 };
 
+
 void prw_tm_session_destroy(prw_tm_session *s)
 {
     if (!s) return;
@@ -578,6 +622,7 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     upload_params(r, ev100, false);
     tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
     if (!prw_cmd_begin(r->gpu, &cmd, e)) return false;
+    tm->prof_count = 0;
     prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
     prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
@@ -606,5 +651,28 @@ bool prw_renderer_tonemap_image(prw_renderer *r, const prw_image *hdr, double ev
     if (!prw_tm_session_create(r, hdr, &s, e)) return false;
     bool ok = prw_tm_session_run(s, ev100, NULL, signal, stats, rep, e);
     prw_tm_session_destroy(s);
+    return ok;
+}
+
+bool prw_tm_session_profile(prw_tm_session *s, double ev100, int reps, prw_tm_profile *out, prw_error *e)
+{
+    prw_tm_gpu *tm = s->r->tm;
+    memset(out, 0, sizeof *out);
+    bool ok = prw_tm_session_run(s, ev100, NULL, NULL, NULL, NULL, e);
+    int n = PRW_MIN(tm->prof_count, 64);
+    double prev = 0;
+    for (int k = 0; ok && k <= n; k++) {
+        double best = 1e30, ms;
+        tm->prof_limit = k < n ? k : -1; /* scopes 0..k-1 recorded */
+        for (int i = 0; ok && i < PRW_MAX(reps, 1); i++)
+            if ((ok = prw_tm_session_run(s, ev100, &ms, NULL, NULL, NULL, e))) best = PRW_MIN(best, ms);
+        if (k > 0) {
+            snprintf(out->names[k - 1], sizeof out->names[0], "%s", tm->prof_names[k - 1]);
+            out->ms[k - 1] = best - prev;
+        } else out->base_ms = best;
+        prev = best;
+    }
+    tm->prof_limit = -1;
+    out->count = ok ? n : 0;
     return ok;
 }

@@ -13,8 +13,11 @@
  *  - Fraunhofer diffraction: PSF at wavelength lambda and visual angle theta = |FFT(A)|^2 at spatial
  *    frequency theta / lambda (one FFT at the grid, resampled per band: bin k lies at the angle
  *    k lambda / D), binned into image pixels of 1 / ppd degrees, normalised to sum 1 per band;
- *  - three bands for the R, G, B channels at PRW_GLARE_LAMBDA_{R,G,B} (the thesis uses 32 spectral
- *    samples; ours is the RGB simplification);
+ *  - PRW_GLARE_BANDS spectral bands over 400-700 nm (the thesis uses 32 samples), each PSF normalised,
+ *    summed into the R, G, B channels with weights from the CIE 1931 colour-matching functions
+ *    (analytic fit) taken to linear Rec.709, negative parts dropped, normalised per channel — so
+ *    each channel's PSF is the spectral average over the wavelengths it stands for (the coloured
+ *    ciliary-corona fringes come from this spread, not from three single lines);
  *  - convolution of each channel with its band's PSF by FFT (kissfft, float, zero padding: light is
  *    not wrapped around), negative float noise clamped to 0.
  * Off by default and off in every accuracy comparison: only `prw render --glare` uses it.
@@ -36,9 +39,9 @@ extern "C" {
 #define PRW_GLARE_PARTICLES 400
 #define PRW_GLARE_GRATINGS 120
 #define PRW_GLARE_LASHES 9
-#define PRW_GLARE_LAMBDA_R 610e-9
-#define PRW_GLARE_LAMBDA_G 550e-9
-#define PRW_GLARE_LAMBDA_B 465e-9
+#define PRW_GLARE_BANDS 24
+#define PRW_GLARE_LAMBDA_MIN_NM 400.0
+#define PRW_GLARE_LAMBDA_MAX_NM 700.0
 
 typedef struct prw_glare_settings {
     int n;            /* aperture / FFT grid, a power of two in [64, 2048]; 0 -> 512 */
@@ -55,8 +58,12 @@ double prw_glare_pupil_hippus_mm(double la, double t, uint32_t seed);
 /* Aperture transmission, n x n floats in [0, 1] (row-major, centre at (n/2, n/2)). */
 void prw_glare_aperture(const prw_glare_settings *s, double pupil_mm, float *ap);
 
-/* The PSF of each band: *radius gets R, psf 3 images of (2R+1)^2 floats (band b at b (2R+1)^2), each
- * summing to 1; the caller frees *psf.  Fails on a bad grid size or when out of memory. */
+/* Band centres (nm, ascending, uniform in [MIN, MAX]) and each band's weight in R, G, B (each
+ * channel's weights sum to 1). */
+void prw_glare_spectral_weights(double lambda_nm[PRW_GLARE_BANDS], double w[PRW_GLARE_BANDS][3]);
+
+/* The PSF of each channel: *radius gets R, psf 3 images of (2R+1)^2 floats (channel c at c (2R+1)^2),
+ * each summing to 1; the caller frees *psf.  Fails on a bad grid size or when out of memory. */
 bool prw_glare_psf(const prw_glare_settings *s, double pupil_mm, float **psf, int *radius, prw_error *e);
 
 /* Convolves the RGB channels of img (in place) with the band PSFs (A is kept). */

@@ -30,6 +30,8 @@ typedef struct prw_quality {
     uint32_t shadow_size;      /* shadow-map resolution, texels a side */
     uint32_t supersample;      /* N x N supersampling (box filter in linear HDR) */
     uint32_t tonemap;          /* tone-mapping operator (prw_tm_op; on the command line also by name) */
+    uint32_t stereo_reuse;     /* prw_stereo_reuse: off (0) | reproject (1); changes pixels, FLIP reported by
+                                  `prw bench --views 2` (issue 5) */
     /* no effect yet (the features arrive with later issues) */
     double lod_pixel_tolerance; /* LOD: screen-space geometric error, pixels */
     uint32_t btf_clusters;      /* BTF: clusters */

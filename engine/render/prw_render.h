@@ -11,6 +11,9 @@
  *    log-average and largest luminance; only when the operator or pixel classification needs it),
  *    "tonemap" (per view).
  *    A pass whose needed() is false records nothing.
+ *  - stereo_reuse = reproject (two-view frames, per-view loop): the base pass shades the left eye as a mono
+ *    render and reuses its colour in the right eye where the left eye saw the same surface (pass_reproject.c);
+ *    the right eye's pixels change (FLIP reported by `prw bench --views 2`), the left eye's do not.
  *  - Rect lights are drawn as one-sided emissive quads (their visible surface); a scene should not
  *    add a separate emissive mesh for them (the reference counts emissive meshes as emitters too).
  *  - Camera-relative rendering: world transforms stay double on the CPU; the GPU gets matrices
@@ -43,6 +46,15 @@ typedef enum prw_views_backend {
     PRW_VIEWS_MULTIVIEW = 1, /* view mask 0b11, layered targets, gl_ViewIndex selects the view */
 } prw_views_backend;
 
+/* Pixel-changing reuse between the eyes of a two-view frame (issue 5; the quality knob stereo_reuse). */
+typedef enum prw_stereo_reuse {
+    PRW_STEREO_REUSE_OFF = 0,       /* both eyes fully shaded */
+    PRW_STEREO_REUSE_REPROJECT = 1, /* right eye reuses the left eye's colour where the left eye saw the same
+                                       surface; only the rest is shaded (pass_reproject.c; per-view loop only) */
+} prw_stereo_reuse;
+/* "off" -> 0, "reproject" -> 1 (the knob stereo_reuse by name, quality.c); false for anything else. */
+bool prw_stereo_reuse_parse(const char *text, double *out);
+
 typedef struct prw_render_desc {
     uint32_t width, height;  /* per view */
     uint32_t msaa;           /* 1 or 4; 0 -> 4 */
@@ -54,6 +66,11 @@ typedef struct prw_render_desc {
                                 the image into a scratch target; the image is unchanged; 0 = off */
     prw_views_backend views_backend; /* per-view passes; 0 = loop (issue 5) */
     prw_tm_op tonemap;       /* initial tone-mapping operator on the srgb display; 0 = exposure */
+    prw_stereo_reuse stereo_reuse; /* frames of exactly 2 views on a renderer with max_views >= 2; 0 = off */
+    double reproject_tolerance;    /* reproject: relative depth agreement; 0 -> 0.01; < 0 reuses nothing (tests) */
+    bool reproject_mark;           /* reproject, tests: reused samples get alpha 0 in the right eye's HDR image
+                                      and the clear alpha is 0 (resolved alpha = fraction of the pixel's samples
+                                      shaded by the right eye) */
 } prw_render_desc;
 
 typedef struct prw_frame_stats {
@@ -77,6 +94,8 @@ bool prw_renderer_render(prw_renderer *r, const prw_view *views, uint32_t count,
 /* Changes the extra-work test knob (pass_extra_work.c) of a renderer created with extra_gpu_work > 0
  * (the bench calibrates it); fraction in (0, 16]. */
 bool prw_renderer_set_extra_work(prw_renderer *r, double fraction, prw_error *e);
+/* The scene's NURBS models with LOD (prw_lod_render.h: options, per-frame report); NULL without. */
+struct prw_lod_scene *prw_renderer_lod(prw_renderer *r);
 /* After a frame: the stats of the passes (needed or skipped) as last recorded. */
 void prw_renderer_last_passes(const prw_renderer *r, prw_frame_stats *stats);
 
@@ -119,11 +138,31 @@ bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session
 bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *signal, prw_tm_stats *stats,
                         prw_tm_report *rep, prw_error *e);
 void prw_tm_session_destroy(prw_tm_session *s);
+/* Profiling (prw tmbench --profile): wall time per pass ("stats", "classify", "blur3h", ...) of the
+ * current settings, as differences of runs recording only the first k passes (best of `reps` runs
+ * each; GPU timestamps do not time lavapipe's compute dispatches).  base_ms: the run with no pass. */
+typedef struct prw_tm_profile {
+    int count;
+    char names[64][24];
+    double ms[64], base_ms;
+} prw_tm_profile;
+bool prw_tm_session_profile(prw_tm_session *s, double ev100, int reps, prw_tm_profile *out, prw_error *e);
 
-/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto: a stored fact per device -- on lavapipe
- * (llvmpipe) multiview replays every draw once per view, so the loop wins there (issue 5); on other
- * devices with the multiview feature, multiview.  (pass_multiview.c) */
+/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto = prw_views_backend_choose (pass_multiview.c) */
 bool prw_views_backend_resolve(prw_gpu *gpu, const char *name, prw_views_backend *out, prw_error *e);
+
+/* The auto choice, measured once per device + driver and cached (views_choice.c): multiview only when
+ * a probe stereo pair rendered by it equals the loop's within relative L1 1e-5 and it is >= 3 %
+ * faster over interleaved frames; otherwise the loop.  `reason` says which rule decided. */
+typedef struct prw_views_choice {
+    prw_views_backend backend;
+    bool from_cache;         /* read from $PRW_CACHE_DIR/views/, not measured now */
+    bool multiview_ok;       /* multiview eyes == loop eyes within 1e-5 relative L1 */
+    double multiview_rel_l1; /* worst eye */
+    double loop_ms, multiview_ms; /* median probe frame (two views, 256x144 per eye) */
+    char reason[160];
+} prw_views_choice;
+bool prw_views_backend_choose(prw_gpu *gpu, prw_views_choice *out, prw_error *e);
 const char *prw_views_backend_name(prw_views_backend b);
 
 /* Names of the passes this scene needs for `count` views, for `prw info` (writes a comma list). */

@@ -17,6 +17,9 @@ static const prw_knob_info g_knobs[] = {
     U32(supersample, 1, 8, true, "N x N supersampling, box-filtered in linear HDR"),
     U32(tonemap, 0, PRW_TM_OP_COUNT - 1, true,
         "tone-mapping operator: exposure, reinhard, neutral, adaptive, absolute, local, selective (or 0-6)"),
+    U32(stereo_reuse, 0, 1, true,
+        "stereo: off (0) or reproject (1): the right eye reuses the left eye's colour where both see the same "
+        "surface (changes pixels; per-view loop backend)"),
     F64(lod_pixel_tolerance, 0.01, 100, false, "LOD screen-space error, pixels"),
     U32(btf_clusters, 1, 65536, false, "BTF clusters"),
     U32(btf_components, 1, 1024, false, "BTF components per cluster"),
@@ -100,6 +103,14 @@ bool prw_quality_preset(const char *name, prw_quality *out, prw_error *e)
     return prw_fail(e, "preset '%s': unknown (presets: low, medium, high, ultra)", name);
 }
 
+bool prw_stereo_reuse_parse(const char *text, double *out)
+{
+    if (strcmp(text, "off") == 0) *out = PRW_STEREO_REUSE_OFF;
+    else if (strcmp(text, "reproject") == 0) *out = PRW_STEREO_REUSE_REPROJECT;
+    else return false;
+    return true;
+}
+
 static bool parse_value(const prw_knob_info *k, const char *text, double *out, prw_error *e)
 {
     char *end = NULL;
@@ -108,10 +119,13 @@ static bool parse_value(const prw_knob_info *k, const char *text, double *out, p
         *out = (double)op;
         return true;
     }
+    if (strcmp(k->name, "stereo_reuse") == 0 && prw_stereo_reuse_parse(text, out)) return true; /* by name */
     double v = strtod(text, &end);
     if (end == text || *end != '\0' || !isfinite(v)) {
         if (strcmp(k->name, "tonemap") == 0)
             return prw_fail(e, "knob tonemap='%s': expected an operator (%s) or its number", text, prw_tm_op_list());
+        if (strcmp(k->name, "stereo_reuse") == 0)
+            return prw_fail(e, "knob stereo_reuse='%s': expected off or reproject (or 0, 1)", text);
         return prw_fail(e, "knob %s='%s': expected a number", k->name, text);
     }
     *out = v;
@@ -234,6 +248,8 @@ static size_t format_knob(const prw_quality *q, const prw_knob_info *k, char *bu
     double v = prw_quality_get(q, k);
     if (strcmp(k->name, "tonemap") == 0)
         return (size_t)snprintf(buf, cap, "%s%s=%s", sep ? ";" : "", k->name, prw_tm_op_name((prw_tm_op)v));
+    if (strcmp(k->name, "stereo_reuse") == 0)
+        return (size_t)snprintf(buf, cap, "%s%s=%s", sep ? ";" : "", k->name, v == 1 ? "reproject" : "off");
     if (k->type == PRW_KNOB_U32) return (size_t)snprintf(buf, cap, "%s%s=%u", sep ? ";" : "", k->name, (uint32_t)v);
     return (size_t)snprintf(buf, cap, "%s%s=%.17g", sep ? ";" : "", k->name, v);
 }
@@ -268,6 +284,7 @@ prw_render_desc prw_quality_render_desc(const prw_quality *q, uint32_t width, ui
         .supersample = q->supersample,
         .extra_gpu_work = (float)q->extra_gpu_work,
         .tonemap = (prw_tm_op)q->tonemap,
+        .stereo_reuse = (prw_stereo_reuse)q->stereo_reuse,
     };
     return d;
 }

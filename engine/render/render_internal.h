@@ -70,6 +70,7 @@ struct prw_frame_ctx {
     prw_dvec3 origin; /* camera-relative frame */
     uint64_t triangles;
     uint32_t draws;
+    VkPipeline (*pipes)[2]; /* prw_base_record_draws: [double-sided][mirrored]; NULL = r->base_pipes */
 };
 
 struct prw_renderer {
@@ -116,6 +117,8 @@ struct prw_renderer {
 
     struct prw_tm_gpu *tm; /* display-aware tone mapping state (pass_tonemap.c) */
     struct prw_mv_state *mv; /* multiview backend (pass_multiview.c); NULL with the per-view loop */
+    struct prw_lod_scene *lod; /* NURBS models with per-frame LOD (lod_scene.c); NULL without */
+    struct prw_reproj_state *rp; /* stereo_reuse=reproject (pass_reproject.c); NULL when off */
 };
 
 /* The pass table (pass_shadow.c, pass_base.c, pass_tonemap.c). */
@@ -141,6 +144,19 @@ prw_dvec3 prw_render_view_origin(const prw_frame_ctx *ctx, uint32_t vi);
 bool prw_mv_create(prw_renderer *r, prw_error *e);
 void prw_mv_destroy(prw_renderer *r);
 bool prw_mv_record_base(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e);
+/* stereo_reuse=reproject (pass_reproject.c): targets and pipelines (after the view targets exist; nothing
+ * when off or max_views < 2; fails for multiview); destroy is safe on a partly created state.  The base
+ * pass calls prw_reproj_record_base for frames of 2 views when r->rp exists. */
+bool prw_reproj_create(prw_renderer *r, prw_error *e);
+void prw_reproj_destroy(prw_renderer *r);
+bool prw_reproj_record_base(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e);
+/* NURBS LOD draws (lod_draw.c): inside the base pass's rendering scope (pipes: [double-sided][mirrored],
+ * *bound: the pipeline bound last) and inside shadow view `shadow_view`'s scope. */
+void prw_lod_record_base(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd, VkPipeline (*pipes)[2],
+                         VkPipeline *bound);
+void prw_lod_record_shadow(prw_renderer *r, uint32_t shadow_view, VkCommandBuffer cmd);
+/* The base pass's push constants (112 bytes: model matrix relative to origin, normal matrix, mirror flag). */
+void prw_base_push_constants(prw_dmat4 world, prw_dvec3 origin, float out[28]);
 /* View vi's globals (pass_base.c), relative to prw_render_view_origin(ctx, vi). */
 void prw_base_fill_globals(const prw_frame_ctx *ctx, uint32_t vi, prw_gpu_globals *g);
 

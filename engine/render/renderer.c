@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_lod_render.h"
 #include "prw_shaders.h"
 #include "render_internal.h"
 
@@ -215,7 +216,9 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
          create_shadow_map(r, e) && build_graph(r, e);
     for (uint32_t v = 0; ok && v < r->desc.max_views; v++) ok = create_view_targets(r, v, e);
     if (ok && r->desc.views_backend == PRW_VIEWS_MULTIVIEW) ok = prw_mv_create(r, e); /* pass_multiview.c */
+    if (ok) ok = prw_reproj_create(r, e); /* pass_reproject.c: stereo_reuse=reproject */
     ok = ok && prw_tm_gpu_create(r, e);
+    ok = ok && prw_lod_scene_create(gpu, scene, NULL, NULL, &r->lod, e); /* NURBS models (lod_scene.c) */
     if (ok && r->desc.timestamps) ok = prw_timer_create(gpu, 64, &r->timer, e);
     if (!ok) {
         prw_renderer_destroy(r);
@@ -233,7 +236,9 @@ void prw_renderer_destroy(prw_renderer *r)
     prw_gpu_wait_idle(gpu, &ignored);
     VkDevice dev = prw_gpu_device(gpu);
     prw_tm_gpu_destroy(r);
+    prw_lod_scene_destroy(r->lod);
     prw_mv_destroy(r);
+    prw_reproj_destroy(r);
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) {
         prw_view_targets *t = &r->views[v];
         prw_image_destroy(gpu, &t->msaa_color);
@@ -279,6 +284,8 @@ bool prw_renderer_record(prw_renderer *r, VkCommandBuffer cmd, const prw_view *v
         if (views[i].width != r->desc.width || views[i].height != r->desc.height)
             return prw_fail(e, "render: view %u is %ux%u, targets are %ux%u", i, views[i].width, views[i].height,
                             r->desc.width, r->desc.height);
+    /* NURBS LOD: one level choice per instance for the view set, slots updated before recording */
+    if (r->lod && !prw_lod_scene_update(r->lod, views, count, e)) return false;
     prw_frame_ctx ctx = {.r = r, .views = views, .view_count = count, .origin = views[0].eye};
     uint32_t scopes[PRW_MAX_PASSES];
     if (r->timer) prw_timer_reset(cmd, r->timer);
@@ -319,6 +326,8 @@ bool prw_renderer_render(prw_renderer *r, const prw_view *views, uint32_t count,
 
 void prw_renderer_last_passes(const prw_renderer *r, prw_frame_stats *stats) { *stats = r->last; }
 
+struct prw_lod_scene *prw_renderer_lod(prw_renderer *r) { return r->lod; }
+
 bool prw_renderer_read_hdr(prw_renderer *r, uint32_t v, prw_image *out, prw_error *e)
 {
     if (v >= r->desc.max_views) return prw_fail(e, "render: no view %u", v);
@@ -357,7 +366,7 @@ void prw_renderer_describe_passes(const prw_scene *scene, uint32_t count, char *
     int first[PRW_MAX_LIGHTS];
     uint32_t nshadow = prw_render_plan_shadows(scene, sv, first);
     snprintf(buf, cap, "shadow: %s (%u layers), base: %s, downsample: skipped (stills with --ss only), tonemap: %s",
-             nshadow && scene->mesh_count ? "needed" : "skipped", nshadow, count ? "needed" : "skipped",
+             nshadow && (scene->mesh_count || scene->nurbs_count) ? "needed" : "skipped", nshadow, count ? "needed" : "skipped",
              count ? "needed" : "skipped");
 }
 

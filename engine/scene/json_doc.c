@@ -1,7 +1,9 @@
 /* json_doc.c — see prw_json_doc.h. */
 #include "prw_json_doc.h"
 
+#include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 void prw_json_sanitize(char *dst, size_t cap, const char *src, size_t n)
 {
@@ -53,4 +55,40 @@ cJSON *prw_json_doc_parse(const char *text, size_t size, const char *file, prw_e
         return NULL;
     }
     return root;
+}
+
+bool prw_json_fail_at(const prw_json_ctx *c, const char *place, const char *fmt, ...)
+{
+    char reason[PRW_ERROR_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    va_end(ap);
+    if (place && place[0]) return prw_fail(c->e, "%s:%s: %s", c->file, place, reason);
+    return prw_fail(c->e, "%s: %s", c->file, reason);
+}
+
+void prw_json_join(char *out, size_t cap, const char *place, const char *key)
+{
+    size_t o = 0;
+    for (const char *s = place; *s && o + 1 < cap; s++) out[o++] = *s;
+    if (place[0] && o + 1 < cap) out[o++] = '.';
+    for (const char *s = key; *s && o + 1 < cap; s++) out[o++] = *s;
+    out[o] = '\0';
+}
+
+bool prw_json_check_keys(const prw_json_ctx *c, const cJSON *obj, const char *place, const char *const *keys, int n)
+{
+    uint64_t seen = 0;
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        int k = -1;
+        for (int i = 0; i < n && i < 64 && k < 0; i++)
+            if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
+        char name[80];
+        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
+        if (k < 0) return prw_json_fail_at(c, place, "unknown key '%s'", name);
+        if (seen & (1ull << k)) return prw_json_fail_at(c, place, "duplicate key '%s'", name);
+        seen |= 1ull << k;
+    }
+    return true;
 }

@@ -6,10 +6,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "scene_internal.h"
 #include "prw_json_doc.h"
+#include "prw_lod_node.h"
 
 #include <cJSON.h>
 #include <ctype.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <math.h>
@@ -26,49 +26,13 @@ typedef struct ctx {
     const char *file;
     char dir[1024];           /* manifest directory with trailing '/', or "" */
     prw_error *e;
+    prw_json_ctx j;           /* {file, e} for the shared JSON helpers */
     uint32_t first_material;  /* materials added by this manifest start here */
     int default_material;     /* -1 until a mesh without "material" needs it */
 } ctx;
 
-/* Printable, one-line excerpt of untrusted text (keys, strings) for messages. */
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
-{
-    char reason[PRW_ERROR_MAX];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    if (place && place[0]) return prw_fail(c->e, "%s:%s: %s", c->file, place, reason);
-    return prw_fail(c->e, "%s: %s", c->file, reason);
-}
-
-/* out = "place.key" (or "key" at top level), truncated to PLACE_MAX. */
-static void join(char *out, const char *place, const char *key)
-{
-    size_t o = 0;
-    for (const char *p = place; *p && o + 1 < PLACE_MAX; p++) out[o++] = *p;
-    if (place[0] && o + 1 < PLACE_MAX) out[o++] = '.';
-    for (const char *p = key; *p && o + 1 < PLACE_MAX; p++) out[o++] = *p;
-    out[o] = '\0';
-}
-
-/* Rejects keys outside `keys` and duplicated keys. */
-static bool check_keys(ctx *c, const cJSON *obj, const char *place, const char *const *keys, int nkeys)
-{
-    uint64_t seen = 0;
-    for (const cJSON *it = obj->child; it; it = it->next) {
-        int k = -1;
-        for (int i = 0; i < nkeys && k < 0; i++)
-            if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
-        char name[80];
-        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
-        if (k < 0) return fail_at(c, place, "unknown key '%s'", name);
-        if (seen & (1ull << k)) return fail_at(c, place, "duplicate key '%s'", name);
-        seen |= 1ull << k;
-    }
-    return true;
-}
+/* Errors at a place in the manifest: prw_json_fail_at on the context's file. */
+#define fail_at(c, ...) prw_json_fail_at(&(c)->j, __VA_ARGS__)
 
 static const cJSON *item(const cJSON *obj, const char *key) { return cJSON_GetObjectItemCaseSensitive(obj, key); }
 
@@ -77,7 +41,7 @@ static bool get_num(ctx *c, const cJSON *obj, const char *key, const char *place
                     double lo, bool lo_open, double hi, bool hi_open)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
     if (!v) return required ? fail_at(c, p, "missing (required)") : true;
     double x = cJSON_IsNumber(v) ? v->valuedouble : NAN;
@@ -92,7 +56,7 @@ static bool get_num(ctx *c, const cJSON *obj, const char *key, const char *place
 static bool get_int(ctx *c, const cJSON *obj, const char *key, const char *place, int *out, int lo, int hi)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
     if (!v) return true;
     double x = cJSON_IsNumber(v) ? v->valuedouble : NAN;
@@ -106,7 +70,7 @@ static bool get_vec(ctx *c, const cJSON *obj, const char *key, const char *place
                     bool required, double lo, double hi, bool *present)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
     if (present) *present = v != NULL;
     if (!v) return required ? fail_at(c, p, "missing (required)") : true;
@@ -141,7 +105,7 @@ static bool get_v3(ctx *c, const cJSON *obj, const char *key, const char *place,
 static bool get_str(ctx *c, const cJSON *obj, const char *key, const char *place, const char **out, bool required)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
     if (!v) return required ? fail_at(c, p, "missing (required)") : true;
     if (!cJSON_IsString(v) || !v->valuestring) return fail_at(c, p, "must be a string");
@@ -152,7 +116,7 @@ static bool get_str(ctx *c, const cJSON *obj, const char *key, const char *place
 static bool get_bool(ctx *c, const cJSON *obj, const char *key, const char *place, bool *out)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
     if (!v) return true;
     if (!cJSON_IsBool(v)) return fail_at(c, p, "must be true or false");
@@ -182,7 +146,7 @@ static bool get_obj_array(ctx *c, const cJSON *root, const char *key, const cJSO
 static bool name_ok(ctx *c, const char *name, const char *place)
 {
     char p[PLACE_MAX];
-    join(p, place, "name");
+    prw_json_join(p, PLACE_MAX, place, "name");
     if (strlen(name) >= PRW_NAME_MAX) return fail_at(c, p, "longer than %d bytes", PRW_NAME_MAX - 1);
     for (const char *q = name; *q; q++)
         if ((unsigned char)*q < 0x20 || *q == 0x7f) return fail_at(c, p, "must not contain control characters");
@@ -201,13 +165,13 @@ static bool get_aim(ctx *c, const cJSON *o, const char *place, prw_dvec3 pos, pr
     if (has_d) {
         if (!(prw_v3_len(d) > 0)) {
             char p[PLACE_MAX];
-            join(p, place, "direction");
+            prw_json_join(p, PLACE_MAX, place, "direction");
             return fail_at(c, p, "must not be zero");
         }
         t = prw_v3_add(pos, prw_v3_norm(d));
     } else if (!(prw_v3_len(prw_v3_sub(t, pos)) > 1e-9 * (1 + prw_v3_len(pos)))) {
         char p[PLACE_MAX];
-        join(p, place, "target");
+        prw_json_join(p, PLACE_MAX, place, "target");
         return fail_at(c, p, "must differ from 'position'");
     }
     *target = t;
@@ -229,7 +193,7 @@ static bool up_ok(ctx *c, const char *place, prw_dvec3 pos, prw_dvec3 target, pr
     double lu = prw_v3_len(up);
     if (!(lu > 0) || prw_v3_len(prw_v3_cross(f, prw_v3_scale(up, 1.0 / lu))) < 1e-6) {
         char p[PLACE_MAX];
-        join(p, place, "up");
+        prw_json_join(p, PLACE_MAX, place, "up");
         return fail_at(c, p, "must be non-zero and not parallel to the view direction");
     }
     return true;
@@ -245,7 +209,7 @@ static bool parse_materials(ctx *c, const cJSON *arr)
     for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
         char pl[PLACE_MAX];
         snprintf(pl, sizeof pl, "materials[%d]", i);
-        if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+        if (!prw_json_check_keys(&c->j, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
         prw_material m = prw_material_default();
         const char *name = NULL;
         double bc[4] = {1, 1, 1, 1}, em[3] = {0, 0, 0}, metal = 0, rough = 1, spec = 1;
@@ -294,7 +258,7 @@ static bool find_material(ctx *c, const cJSON *o, const char *pl, int *out)
             return true;
         }
     char p[PLACE_MAX], nm[80];
-    join(p, pl, "material");
+    prw_json_join(p, PLACE_MAX, pl, "material");
     prw_json_sanitize(nm, sizeof nm, name, 64);
     return fail_at(c, p, "unknown material '%s' (not in \"materials\")", nm);
 }
@@ -310,7 +274,7 @@ static bool parse_meshes(ctx *c, const cJSON *arr)
         char pl[PLACE_MAX], sub[PLACE_MAX], defname[32];
         snprintf(pl, sizeof pl, "meshes[%d]", i);
         snprintf(defname, sizeof defname, "mesh%d", i);
-        if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+        if (!prw_json_check_keys(&c->j, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
         const char *name = defname;
         int mat = -1;
         if (!get_str(c, o, "name", pl, &name, false) || !name_ok(c, name, pl)) return false;
@@ -319,20 +283,20 @@ static bool parse_meshes(ctx *c, const cJSON *arr)
         if ((box != NULL) + (quad != NULL) + (sph != NULL) != 1)
             return fail_at(c, pl, "needs exactly one of 'box', 'quad', 'sphere'");
         const cJSON *shape = box ? box : quad ? quad : sph;
-        join(sub, pl, box ? "box" : quad ? "quad" : "sphere");
+        prw_json_join(sub, PLACE_MAX, pl, box ? "box" : quad ? "quad" : "sphere");
         if (!cJSON_IsObject(shape)) return fail_at(c, sub, "must be an object");
         int node = -1;
         if (box) {
             prw_dvec3 lo = prw_v3(0, 0, 0), hi = prw_v3(0, 0, 0);
             bool inward = false;
-            if (!check_keys(c, box, sub, box_keys, 3) || !get_v3(c, box, "min", sub, &lo, true, NULL) ||
+            if (!prw_json_check_keys(&c->j, box, sub, box_keys, 3) || !get_v3(c, box, "min", sub, &lo, true, NULL) ||
                 !get_v3(c, box, "max", sub, &hi, true, NULL) || !get_bool(c, box, "inward", sub, &inward))
                 return false;
             if (hi.x < lo.x || hi.y < lo.y || hi.z < lo.z) return fail_at(c, sub, "max must be >= min on every axis");
             node = prw_scene_add_box(c->s, name, lo, hi, mat, inward, c->e);
         } else if (quad) {
             prw_dvec3 ctr = prw_v3(0, 0, 0), u = prw_v3(0, 0, 0), v = prw_v3(0, 0, 0);
-            if (!check_keys(c, quad, sub, quad_keys, 3) || !get_v3(c, quad, "centre", sub, &ctr, true, NULL) ||
+            if (!prw_json_check_keys(&c->j, quad, sub, quad_keys, 3) || !get_v3(c, quad, "centre", sub, &ctr, true, NULL) ||
                 !get_v3(c, quad, "half_u", sub, &u, true, NULL) || !get_v3(c, quad, "half_v", sub, &v, true, NULL))
                 return false;
             node = prw_scene_add_quad(c->s, name, ctr, u, v, mat, c->e);
@@ -340,7 +304,7 @@ static bool parse_meshes(ctx *c, const cJSON *arr)
             prw_dvec3 ctr = prw_v3(0, 0, 0);
             double r = 1;
             int slices = 64, stacks = 32;
-            if (!check_keys(c, sph, sub, sphere_keys, 4) || !get_v3(c, sph, "centre", sub, &ctr, true, NULL) ||
+            if (!prw_json_check_keys(&c->j, sph, sub, sphere_keys, 4) || !get_v3(c, sph, "centre", sub, &ctr, true, NULL) ||
                 !get_num(c, sph, "radius", sub, &r, true, 0, true, COORD_LIMIT, false) ||
                 !get_int(c, sph, "slices", sub, &slices, 3, 1024) || !get_int(c, sph, "stacks", sub, &stacks, 2, 512))
                 return false;
@@ -393,7 +357,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
         if (k < 0) {
             char ty[80];
             prw_json_sanitize(ty, sizeof ty, type, 64);
-            join(p, pl, "type");
+            prw_json_join(p, PLACE_MAX, pl, "type");
             return fail_at(c, p, "unknown light type '%s' (point, spot, directional, rect)", ty);
         }
         const light_kind *lk = &k_lights[k];
@@ -407,11 +371,11 @@ static bool parse_lights(ctx *c, const cJSON *arr)
                         else other = true;
                     }
             if (other && !mine) {
-                join(p, pl, it->string);
+                prw_json_join(p, PLACE_MAX, pl, it->string);
                 return fail_at(c, p, "does not apply to %s lights", lk->name);
             }
         }
-        if (!check_keys(c, o, pl, keys_by_type[k], nkeys_by_type[k])) return false;
+        if (!prw_json_check_keys(&c->j, o, pl, keys_by_type[k], nkeys_by_type[k])) return false;
         if (!get_str(c, o, "name", pl, &name, false) || !name_ok(c, name, pl)) return false;
 
         prw_light l;
@@ -425,7 +389,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
         if (lk->aimed && !get_aim(c, o, pl, pos, &target, true)) return false;
         if (!get_vec(c, o, "color", pl, col, 3, 0, false, 0, 1e6, NULL)) return false;
         if (!(col[0] + col[1] + col[2] > 0)) {
-            join(p, pl, "color");
+            prw_json_join(p, PLACE_MAX, pl, "color");
             return fail_at(c, p, "must not be black");
         }
         if (!get_num(c, o, "intensity", pl, &l.intensity, true, 0, false, INTENSITY_LIMIT, false)) return false;
@@ -435,7 +399,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
         if (!native && !lumens) {
             char un[80];
             prw_json_sanitize(un, sizeof un, unit, 64);
-            join(p, pl, "unit");
+            prw_json_join(p, PLACE_MAX, pl, "unit");
             return fail_at(c, p, "unit '%s' does not apply to %s lights (use %s%s%s)", un, lk->name, lk->units[0],
                            lk->units[1] ? " or " : "", lk->units[1] ? lk->units[1] : "");
         }
@@ -446,7 +410,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
                 !get_num(c, o, "outer_cone_deg", pl, &outer, false, 0, true, 90, false))
                 return false;
             if (inner > outer) {
-                join(p, pl, "inner_cone_deg");
+                prw_json_join(p, PLACE_MAX, pl, "inner_cone_deg");
                 return fail_at(c, p, "must be <= outer_cone_deg (%g)", outer);
             }
             l.inner_cone = inner * PRW_PI / 180.0;
@@ -464,7 +428,7 @@ static bool parse_lights(ctx *c, const cJSON *arr)
          * I = flux / (4 pi); rect, one-sided Lambertian: L = flux / (pi * area). */
         if (lumens) l.intensity = lk->type == PRW_LIGHT_RECT ? l.intensity / (PRW_PI * w * h) : l.intensity / (4 * PRW_PI);
         if (!isfinite(l.intensity)) {
-            join(p, pl, "intensity");
+            prw_json_join(p, PLACE_MAX, pl, "intensity");
             return fail_at(c, p, "converts to a non-finite value");
         }
         for (int q = 0; q < 3; q++) l.color[q] = (float)col[q];
@@ -485,7 +449,7 @@ static bool parse_cameras(ctx *c, const cJSON *arr)
         char pl[PLACE_MAX], defname[32];
         snprintf(pl, sizeof pl, "cameras[%d]", i);
         snprintf(defname, sizeof defname, "camera%d", i);
-        if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+        if (!prw_json_check_keys(&c->j, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
         const char *name = defname;
         prw_dvec3 pos = prw_v3(0, 0, 0), target = prw_v3(0, 0, 0), up = prw_v3(0, 1, 0);
         double yfov = 50, znear = 0.05, aspect = 0, ev100 = 0;
@@ -538,13 +502,13 @@ static bool parse_gltf(ctx *c, const cJSON *arr)
     for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
         char pl[PLACE_MAX], p[PLACE_MAX];
         snprintf(pl, sizeof pl, "gltf[%d]", i);
-        if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+        if (!prw_json_check_keys(&c->j, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
         const char *file = NULL;
         double q[4] = {0, 0, 0, 1}, sc[3] = {1, 1, 1};
         prw_node n = prw_node_default();
         if (!get_str(c, o, "file", pl, &file, true)) return false;
         if (!file[0]) {
-            join(p, pl, "file");
+            prw_json_join(p, PLACE_MAX, pl, "file");
             return fail_at(c, p, "must not be empty");
         }
         if (!get_v3(c, o, "translation", pl, &n.translation, false, NULL) ||
@@ -553,7 +517,7 @@ static bool parse_gltf(ctx *c, const cJSON *arr)
             return false;
         double ql = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
         if (!(ql > 1e-9)) {
-            join(p, pl, "rotation");
+            prw_json_join(p, PLACE_MAX, pl, "rotation");
             return fail_at(c, p, "quaternion [x, y, z, w] must not be zero");
         }
         n.rotation = (prw_dquat){q[0] / ql, q[1] / ql, q[2] / ql, q[3] / ql};
@@ -568,6 +532,89 @@ static bool parse_gltf(ctx *c, const cJSON *arr)
     return true;
 }
 
+/* "nurbs": trimmed-NURBS models drawn with LOD (issue 7): a file or a procedural model, a TRS, a
+ * material, LOD knobs and an optional instance grid.  The model is loaded here once (validation,
+ * bounds); the renderer builds its hierarchy. */
+static bool parse_nurbs(ctx *c, const cJSON *arr)
+{
+    static const char *const keys[] = {"name", "file", "procedural", "translation", "rotation", "scale", "material",
+                                       "instances", "chord_rel", "finest_rel", "tol_px", "single_sided"};
+    static const char *const inst_keys[] = {"grid", "spacing"};
+    int i = 0;
+    for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
+        char pl[PLACE_MAX], p[PLACE_MAX];
+        snprintf(pl, sizeof pl, "nurbs[%d]", i);
+        if (!prw_json_check_keys(&c->j, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+        prw_scene_nurbs nb;
+        memset(&nb, 0, sizeof nb);
+        nb.grid[0] = nb.grid[1] = 1;
+        const char *name = NULL, *file = NULL, *proc = NULL;
+        char defname[32];
+        snprintf(defname, sizeof defname, "nurbs%d", i);
+        if (!get_str(c, o, "name", pl, &name, false) || (name && !name_ok(c, name, pl)) ||
+            !get_str(c, o, "file", pl, &file, false) || !get_str(c, o, "procedural", pl, &proc, false))
+            return false;
+        if ((file != NULL) == (proc != NULL)) return fail_at(c, pl, "needs exactly one of 'file' and 'procedural'");
+        if (file) {
+            prw_json_join(p, PLACE_MAX, pl, "file");
+            if (!file[0]) return fail_at(c, p, "must not be empty");
+            int n = file[0] == '/' ? snprintf(nb.file, sizeof nb.file, "%s", file)
+                                   : snprintf(nb.file, sizeof nb.file, "%s%s", c->dir, file);
+            if (n < 0 || (size_t)n >= sizeof nb.file) return fail_at(c, p, "path longer than %zu bytes", sizeof nb.file - 1);
+        } else if (!prw_scene_nurbs_procedural_known(proc)) {
+            char nm[80];
+            prw_json_join(p, PLACE_MAX, pl, "procedural");
+            prw_json_sanitize(nm, sizeof nm, proc, 64);
+            return fail_at(c, p, "unknown procedural model '%s' (car_shell, box, plate)", nm);
+        } else {
+            snprintf(nb.procedural, sizeof nb.procedural, "%s", proc);
+        }
+        double q[4] = {0, 0, 0, 1}, sc[3] = {1, 1, 1};
+        prw_node n = prw_node_default();
+        if (!get_v3(c, o, "translation", pl, &n.translation, false, NULL) ||
+            !get_vec(c, o, "rotation", pl, q, 4, 0, false, -1e6, 1e6, NULL) ||
+            !get_vec(c, o, "scale", pl, sc, 3, 0, false, -1e6, 1e6, NULL) || !find_material(c, o, pl, &nb.material) ||
+            !get_num(c, o, "chord_rel", pl, &nb.chord_rel, false, 1e-7, false, 0.1, false) ||
+            !get_num(c, o, "finest_rel", pl, &nb.finest_rel, false, 1e-7, false, 0.1, false) ||
+            !get_num(c, o, "tol_px", pl, &nb.tol_px, false, 0.01, false, 100, false) ||
+            !get_bool(c, o, "single_sided", pl, &nb.single_sided))
+            return false;
+        double ql = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        if (!(ql > 1e-9)) {
+            prw_json_join(p, PLACE_MAX, pl, "rotation");
+            return fail_at(c, p, "quaternion [x, y, z, w] must not be zero");
+        }
+        if (!(fabs(sc[0] * sc[1] * sc[2]) > 1e-18)) {
+            prw_json_join(p, PLACE_MAX, pl, "scale");
+            return fail_at(c, p, "must not be zero on any axis");
+        }
+        const cJSON *inst = item(o, "instances");
+        if (inst) {
+            prw_json_join(p, PLACE_MAX, pl, "instances");
+            double g[2] = {1, 1};
+            if (!cJSON_IsObject(inst)) return fail_at(c, p, "must be an object");
+            if (!prw_json_check_keys(&c->j, inst, p, inst_keys, 2) || !get_vec(c, inst, "grid", p, g, 2, 0, true, 1, 1000, NULL) ||
+                !get_vec(c, inst, "spacing", p, nb.spacing, 2, 0, true, -COORD_LIMIT, COORD_LIMIT, NULL))
+                return false;
+            if (g[0] != floor(g[0]) || g[1] != floor(g[1]) || g[0] * g[1] > 10000)
+                return fail_at(c, p, "grid must be two integers >= 1 with at most 10000 instances");
+            nb.grid[0] = (int)g[0];
+            nb.grid[1] = (int)g[1];
+        }
+        n.rotation = (prw_dquat){q[0] / ql, q[1] / ql, q[2] / ql, q[3] / ql};
+        n.scale = prw_v3(sc[0], sc[1], sc[2]);
+        prw_copy_name(n.name, name ? name : defname);
+        prw_copy_name(nb.name, n.name);
+        prw_nurbs_model m;
+        if (!prw_scene_nurbs_load(&nb, &m, c->e)) return prw_fail_wrap(c->e, "%s:%s", c->file, pl);
+        prw_nurbs_model_bounds(&m, &nb.model_min, &nb.model_max);
+        prw_nurbs_model_free(&m);
+        nb.node = prw_scene_add_node(c->s, &n);
+        if (nb.node < 0 || prw_scene_add_nurbs(c->s, &nb) < 0) return fail_at(c, pl, "cannot add the model");
+    }
+    return true;
+}
+
 /* "environment": {"file", "scale", "rotation_deg"} or {"uniform_cd_m2"}; fills *env (present). */
 static bool parse_environment(ctx *c, const cJSON *o, prw_environment *env)
 {
@@ -576,7 +623,7 @@ static bool parse_environment(ctx *c, const cJSON *o, prw_environment *env)
     memset(env, 0, sizeof *env);
     if (!o) return true;
     if (!cJSON_IsObject(o)) return fail_at(c, pl, "must be an object");
-    if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+    if (!prw_json_check_keys(&c->j, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
     const char *file = NULL;
     double uni[3] = {0, 0, 0}, scale = 1, rot = 0;
     bool has_uni = false;
@@ -594,7 +641,7 @@ static bool parse_environment(ctx *c, const cJSON *o, prw_environment *env)
         !get_num(c, o, "rotation_deg", pl, &rot, false, -360, false, 360, false))
         return false;
     char p[PLACE_MAX];
-    join(p, pl, "file");
+    prw_json_join(p, PLACE_MAX, pl, "file");
     if (!file[0]) return fail_at(c, p, "must not be empty");
     int n = file[0] == '/' ? snprintf(env->file, sizeof env->file, "%s", file)
                            : snprintf(env->file, sizeof env->file, "%s%s", c->dir, file);
@@ -622,6 +669,7 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
     c.s = s;
     c.file = path ? path : "(manifest)";
     c.e = e;
+    c.j = (prw_json_ctx){c.file, e};
     c.default_material = -1;
     c.first_material = s->material_count;
     const char *slash = strrchr(c.file, '/');
@@ -635,11 +683,11 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
     if (!root) return false;
 
     static const char *const keys[] = {"prw_manifest", "gltf", "materials", "meshes", "lights", "cameras",
-                                       "environment"};
+                                       "environment", "nurbs"};
     prw_scene_mark mark = prw_scene_mark_get(s);
-    const cJSON *gltf = NULL, *mats = NULL, *meshes = NULL, *lights = NULL, *cams = NULL;
+    const cJSON *gltf = NULL, *mats = NULL, *meshes = NULL, *lights = NULL, *cams = NULL, *nurbs = NULL;
     bool ok = cJSON_IsObject(root) ? true : fail_at(&c, "", "top level must be a JSON object");
-    ok = ok && check_keys(&c, root, "", keys, (int)PRW_ARRAY_LEN(keys));
+    ok = ok && prw_json_check_keys(&c.j, root, "", keys, (int)PRW_ARRAY_LEN(keys));
     if (ok) {
         const cJSON *v = item(root, "prw_manifest");
         if (!v) ok = fail_at(&c, "prw_manifest", "missing (required; this reader understands version 1)");
@@ -648,10 +696,10 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
     }
     ok = ok && get_obj_array(&c, root, "gltf", &gltf) && get_obj_array(&c, root, "materials", &mats) &&
          get_obj_array(&c, root, "meshes", &meshes) && get_obj_array(&c, root, "lights", &lights) &&
-         get_obj_array(&c, root, "cameras", &cams);
+         get_obj_array(&c, root, "cameras", &cams) && get_obj_array(&c, root, "nurbs", &nurbs);
     /* materials first: meshes refer to them by name */
     ok = ok && parse_materials(&c, mats) && parse_gltf(&c, gltf) && parse_meshes(&c, meshes) &&
-         parse_lights(&c, lights) && parse_cameras(&c, cams);
+         parse_nurbs(&c, nurbs) && parse_lights(&c, lights) && parse_cameras(&c, cams);
     prw_environment env;
     memset(&env, 0, sizeof env);
     ok = ok && parse_environment(&c, item(root, "environment"), &env);

@@ -20,6 +20,22 @@ cJSON *prw_json_doc_parse(const char *text, size_t size, const char *file, prw_e
  * for quoting input text in error messages. */
 void prw_json_sanitize(char *dst, size_t cap, const char *src, size_t n);
 
+/* Errors at a place inside a document read "<file>:<place>: <reason>" ("<file>: <reason>" when place
+ * is empty), e.g. "hmd.json:distortion_k[2]: must be a finite number". */
+typedef struct prw_json_ctx {
+    const char *file;
+    prw_error *e;
+} prw_json_ctx;
+bool prw_json_fail_at(const prw_json_ctx *c, const char *place, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* out = "place.key", or "key" when place is empty; truncated to cap - 1 bytes. */
+void prw_json_join(char *out, size_t cap, const char *place, const char *key);
+
+/* Every member of obj has one of the n (<= 64) names in keys and none appears twice; otherwise the
+ * error "unknown key '<k>'" or "duplicate key '<k>'" at place (the key quoted via prw_json_sanitize). */
+bool prw_json_check_keys(const prw_json_ctx *c, const cJSON *obj, const char *place, const char *const *keys, int n);
+
 #ifdef __cplusplus
 }
 #endif

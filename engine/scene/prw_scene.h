@@ -126,6 +126,26 @@ typedef struct prw_environment {
     float uniform[3];   /* cd/m^2 (linear RGB) when file is "" */
 } prw_environment;
 
+/* A trimmed-NURBS model drawn with per-frame seam-graph LOD (issue 7; drawn by engine/render's
+ * prw_lod_render.h, loaded by engine/scene/prw_lod_node.h).  Plain data: the scene stores where the
+ * model comes from; the renderer builds (or loads from the bake cache) its hierarchy. */
+typedef struct prw_scene_nurbs {
+    char name[PRW_NAME_MAX];
+    char file[1024];       /* resolved .igs/.iges/.json path; "" for a procedural model */
+    char procedural[32];   /* "car_shell" | "box" | "plate" when file is "" */
+    int node;              /* the model's metres are in this node's space */
+    int material;          /* index into materials */
+    int grid[2];           /* instances: grid[0] x grid[1] copies (>= 1 each) */
+    double spacing[2];     /* copy (i, j) = the node's placement moved by (i * spacing[0], 0, j * spacing[1])
+                              in world space (a grid on the floor, whatever the node's rotation) */
+    double chord_rel;      /* sewing chordal tolerance / model diagonal (0: 2e-4) */
+    double finest_rel;     /* > 0: the finest level is refined to finest_rel x diagonal (prw_lod_options),
+                              sewing at half of it; 0: the finest level targets the sewing chord */
+    double tol_px;         /* LOD screen-space tolerance in pixels (0: 0.5) */
+    bool single_sided;     /* closed, outward-oriented: back-face culling of patches and triangles */
+    prw_dvec3 model_min, model_max; /* model-space bounds (control hulls), set by the loader */
+} prw_scene_nurbs;
+
 typedef struct prw_scene {
     prw_mesh *meshes;
     uint32_t mesh_count;
@@ -145,6 +165,8 @@ typedef struct prw_scene {
     prw_dvec3 bounds_min, bounds_max; /* world */
     char source[256]; /* manifest path or "demo" */
     prw_environment environment; /* zeroed: none */
+    prw_scene_nurbs *nurbs; /* NURBS models with LOD (issue 7) */
+    uint32_t nurbs_count;
 } prw_scene;
 
 prw_scene *prw_scene_create(void);
@@ -163,6 +185,9 @@ int prw_scene_add_node(prw_scene *s, const prw_node *n);       /* parent must al
 int prw_scene_add_camera(prw_scene *s, const prw_camera *c);
 /* Normalises l->color to Y = 1; a black (or negative / non-finite) colour becomes white. */
 int prw_scene_add_light(prw_scene *s, const prw_light *l);
+/* Copies n (node and material must exist, grid >= 1; -1 otherwise); its instances' world bounds
+ * count in the scene bounds. */
+int prw_scene_add_nurbs(prw_scene *s, const prw_scene_nurbs *n);
 
 /* Defaults: identity TRS, no parent/mesh/camera/light; material: white, roughness 1, no textures. */
 prw_node prw_node_default(void);

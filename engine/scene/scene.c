@@ -55,13 +55,14 @@ void prw_scene_destroy(prw_scene *s)
     free(s->nodes);
     free(s->cameras);
     free(s->lights);
+    free(s->nurbs);
     free(s);
 }
 
 prw_scene_mark prw_scene_mark_get(const prw_scene *s)
 {
     prw_scene_mark m = {s->mesh_count, s->group_count, s->material_count, s->texture_count,
-                        s->node_count, s->camera_count, s->light_count};
+                        s->node_count, s->camera_count, s->light_count, s->nurbs_count};
     return m;
 }
 
@@ -79,6 +80,7 @@ void prw_scene_rollback(prw_scene *s, prw_scene_mark m)
     if (m.nodes < s->node_count) s->node_count = m.nodes;
     if (m.cameras < s->camera_count) s->camera_count = m.cameras;
     if (m.lights < s->light_count) s->light_count = m.lights;
+    if (m.nurbs < s->nurbs_count) s->nurbs_count = m.nurbs;
 }
 
 /* ---- meshes ---- */
@@ -270,6 +272,17 @@ int prw_scene_add_camera(prw_scene *s, const prw_camera *c)
     *d = *c;
     prw_copy_name(d->name, c->name);
     return (int)s->camera_count++;
+}
+
+int prw_scene_add_nurbs(prw_scene *s, const prw_scene_nurbs *n)
+{
+    if (n->node < 0 || (uint32_t)n->node >= s->node_count || n->material < 0 ||
+        (uint32_t)n->material >= s->material_count || n->grid[0] < 1 || n->grid[1] < 1)
+        return -1;
+    s->nurbs = grow(s->nurbs, s->nurbs_count, sizeof *s->nurbs);
+    s->nurbs[s->nurbs_count] = *n;
+    prw_copy_name(s->nurbs[s->nurbs_count].name, n->name);
+    return (int)s->nurbs_count++;
 }
 
 int prw_scene_add_light(prw_scene *s, const prw_light *l)
@@ -496,6 +509,22 @@ void prw_scene_update(prw_scene *s)
         const prw_node *n = &s->nodes[i];
         if (n->has_bounds) merge_bounds(&s->has_bounds, &s->bounds_min, &s->bounds_max, n->world_min, n->world_max);
     }
+    /* NURBS models (issue 7): every instance's model box, transformed */
+    for (uint32_t i = 0; i < s->nurbs_count; i++) {
+        const prw_scene_nurbs *nb = &s->nurbs[i];
+        if (nb->node < 0 || (uint32_t)nb->node >= s->node_count) continue;
+        for (int gi = 0; gi < nb->grid[0]; gi++)
+            for (int gj = 0; gj < nb->grid[1]; gj++)
+                for (int c = 0; c < 8; c++) {
+                    prw_dvec3 p = prw_v3(c & 1 ? nb->model_max.x : nb->model_min.x,
+                                         c & 2 ? nb->model_max.y : nb->model_min.y,
+                                         c & 4 ? nb->model_max.z : nb->model_min.z);
+                    p = prw_dm4_point(s->nodes[nb->node].world, p);
+                    p.x += gi * nb->spacing[0];
+                    p.z += gj * nb->spacing[1];
+                    merge_bounds(&s->has_bounds, &s->bounds_min, &s->bounds_max, p, p);
+                }
+    }
     if (!s->has_bounds) s->bounds_min = s->bounds_max = prw_v3(0, 0, 0);
 }
 
@@ -605,6 +634,21 @@ uint64_t prw_scene_hash(const prw_scene *s)
         H(h, l->height);
         uint8_t sh = l->cast_shadows;
         H(h, sh);
+    }
+    /* NURBS models (issue 7): only when present (older hashes unchanged); the file by path */
+    for (uint32_t i = 0; i < s->nurbs_count; i++) {
+        const prw_scene_nurbs *nb = &s->nurbs[i];
+        HA(h, nb->file, strlen(nb->file));
+        HA(h, nb->procedural, strlen(nb->procedural));
+        H(h, nb->node);
+        H(h, nb->material);
+        HA(h, nb->grid, sizeof nb->grid);
+        HA(h, nb->spacing, sizeof nb->spacing);
+        H(h, nb->chord_rel);
+        H(h, nb->finest_rel);
+        H(h, nb->tol_px);
+        uint8_t ss = nb->single_sided;
+        H(h, ss);
     }
     /* only when present, so hashes of scenes without an environment stay as they were */
     const prw_environment *env = &s->environment;

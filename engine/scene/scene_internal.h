@@ -10,7 +10,7 @@ extern "C" {
 
 /* Element counts at one moment, to undo a failed load (loaders are all-or-nothing). */
 typedef struct prw_scene_mark {
-    uint32_t meshes, groups, materials, textures, nodes, cameras, lights;
+    uint32_t meshes, groups, materials, textures, nodes, cameras, lights, nurbs;
 } prw_scene_mark;
 
 prw_scene_mark prw_scene_mark_get(const prw_scene *s);

@@ -192,48 +192,8 @@ bool prw_camera_orientation_look_at(prw_dvec3 position, prw_dvec3 target, prw_dv
 
 /* ---------------------------------------------------------------- parsing */
 
-typedef struct ctx {
-    const char *file;
-    prw_error *e;
-} ctx;
+typedef prw_json_ctx ctx;
 
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
-{
-    char reason[PRW_ERROR_MAX];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    if (place && place[0]) return prw_fail(c->e, "%s:%s: %s", c->file, place, reason);
-    return prw_fail(c->e, "%s: %s", c->file, reason);
-}
-
-/* out = "place.key" (or "key" at top level), truncated to PLACE_MAX. */
-static void join(char *out, const char *place, const char *key)
-{
-    size_t o = 0;
-    for (const char *s = place; *s && o + 1 < PLACE_MAX; s++) out[o++] = *s;
-    if (place[0] && o + 1 < PLACE_MAX) out[o++] = '.';
-    for (const char *s = key; *s && o + 1 < PLACE_MAX; s++) out[o++] = *s;
-    out[o] = '\0';
-}
-
-static bool check_keys(ctx *c, const cJSON *obj, const char *place, const char *const *keys, int nkeys)
-{
-    unsigned seen = 0;
-    for (const cJSON *it = obj->child; it; it = it->next) {
-        int k = -1;
-        for (int i = 0; i < nkeys && k < 0; i++)
-            if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
-        char name[80];
-        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
-        if (k < 0) return fail_at(c, place, "unknown key '%s'", name);
-        if (seen & (1u << k)) return fail_at(c, place, "duplicate key '%s'", name);
-        seen |= 1u << k;
-    }
-    return true;
-}
 
 static const cJSON *item(const cJSON *obj, const char *key) { return cJSON_GetObjectItemCaseSensitive(obj, key); }
 
@@ -242,13 +202,13 @@ static bool get_num(ctx *c, const cJSON *obj, const char *key, const char *place
                     double lo, bool lo_open, double hi, bool hi_open)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
-    if (!v) return required ? fail_at(c, p, "missing (required)") : true;
+    if (!v) return required ? prw_json_fail_at(c, p, "missing (required)") : true;
     double x = cJSON_IsNumber(v) ? v->valuedouble : NAN;
     bool ok = isfinite(x) && (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
     if (!ok)
-        return fail_at(c, p, "must be a finite number %s %g and %s %g", lo_open ? ">" : ">=", lo,
+        return prw_json_fail_at(c, p, "must be a finite number %s %g and %s %g", lo_open ? ">" : ">=", lo,
                        hi_open ? "<" : "<=", hi);
     *out = x;
     return true;
@@ -258,7 +218,7 @@ static bool get_vec(ctx *c, const cJSON *obj, const char *key, const char *place
                     bool *present)
 {
     char p[PLACE_MAX];
-    join(p, place, key);
+    prw_json_join(p, PLACE_MAX, place, key);
     const cJSON *v = item(obj, key);
     *present = v != NULL;
     if (!v) return true;
@@ -269,7 +229,7 @@ static bool get_vec(ctx *c, const cJSON *obj, const char *key, const char *place
         ok = isfinite(x) && fabs(x) <= lim;
         out[i] = x;
     }
-    if (!ok) return fail_at(c, p, "must be an array of %d finite numbers with |x| <= %g", n, lim);
+    if (!ok) return prw_json_fail_at(c, p, "must be an array of %d finite numbers with |x| <= %g", n, lim);
     return true;
 }
 
@@ -278,37 +238,37 @@ static bool parse_key(ctx *c, const cJSON *o, const char *pl, const prw_camera_k
 {
     static const char *const keys[] = {"t", "position", "orientation", "look_at", "up", "yfov_deg", "ipd_m"};
     char p[PLACE_MAX];
-    if (!check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
+    if (!prw_json_check_keys(c, o, pl, keys, (int)PRW_ARRAY_LEN(keys))) return false;
     k->yfov_deg = prev ? prev->yfov_deg : PRW_CAMERA_PATH_DEFAULT_YFOV_DEG;
     k->ipd_m = prev ? prev->ipd_m : PRW_CAMERA_PATH_DEFAULT_IPD_M;
     if (!get_num(c, o, "t", pl, &k->t, true, -TIME_LIMIT, false, TIME_LIMIT, false)) return false;
     if (prev && !(k->t - prev->t >= PRW_CAMERA_PATH_MIN_DT)) {
-        join(p, pl, "t");
-        return fail_at(c, p, "%.17g must exceed the previous keyframe's time %.17g by at least %g s", k->t, prev->t,
+        prw_json_join(p, PLACE_MAX, pl, "t");
+        return prw_json_fail_at(c, p, "%.17g must exceed the previous keyframe's time %.17g by at least %g s", k->t, prev->t,
                        PRW_CAMERA_PATH_MIN_DT);
     }
     double pos[3], q[4], at[3], up[3] = {0, 1, 0};
     bool has_pos, has_q, has_at, has_up;
     if (!get_vec(c, o, "position", pl, pos, 3, COORD_LIMIT, &has_pos)) return false;
     if (!has_pos) {
-        join(p, pl, "position");
-        return fail_at(c, p, "missing (required)");
+        prw_json_join(p, PLACE_MAX, pl, "position");
+        return prw_json_fail_at(c, p, "missing (required)");
     }
     k->position = prw_v3(pos[0], pos[1], pos[2]);
     if (!get_vec(c, o, "orientation", pl, q, 4, 2.0, &has_q)) return false;
     if (!get_vec(c, o, "look_at", pl, at, 3, COORD_LIMIT, &has_at)) return false;
     if (!get_vec(c, o, "up", pl, up, 3, COORD_LIMIT, &has_up)) return false;
-    if (has_q && has_at) return fail_at(c, pl, "give either 'orientation' or 'look_at', not both");
-    if (!has_q && !has_at) return fail_at(c, pl, "needs 'orientation' or 'look_at'");
+    if (has_q && has_at) return prw_json_fail_at(c, pl, "give either 'orientation' or 'look_at', not both");
+    if (!has_q && !has_at) return prw_json_fail_at(c, pl, "needs 'orientation' or 'look_at'");
     if (has_up && !has_at) {
-        join(p, pl, "up");
-        return fail_at(c, p, "only applies together with 'look_at'");
+        prw_json_join(p, PLACE_MAX, pl, "up");
+        return prw_json_fail_at(c, p, "only applies together with 'look_at'");
     }
     if (has_q) {
         double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
         if (!(fabs(n - 1.0) <= QUAT_UNIT_TOL)) {
-            join(p, pl, "orientation");
-            return fail_at(c, p, "must be a unit quaternion [x, y, z, w] (|q| = %.9g, not within %g of 1)", n,
+            prw_json_join(p, PLACE_MAX, pl, "orientation");
+            return prw_json_fail_at(c, p, "must be a unit quaternion [x, y, z, w] (|q| = %.9g, not within %g of 1)", n,
                            QUAT_UNIT_TOL);
         }
         k->orientation = q_make(q[0], q[1], q[2], q[3]);
@@ -316,9 +276,9 @@ static bool parse_key(ctx *c, const cJSON *o, const char *pl, const prw_camera_k
         prw_error le;
         if (!prw_camera_orientation_look_at(k->position, prw_v3(at[0], at[1], at[2]), prw_v3(up[0], up[1], up[2]),
                                             &k->orientation, &le)) {
-            join(p, pl, strstr(le.msg, "'up'") ? "up" : "look_at");
+            prw_json_join(p, PLACE_MAX, pl, strstr(le.msg, "'up'") ? "up" : "look_at");
             const char *reason = strchr(le.msg, ':');
-            return fail_at(c, p, "%s", reason ? reason + 2 : le.msg);
+            return prw_json_fail_at(c, p, "%s", reason ? reason + 2 : le.msg);
         }
     }
     if (!get_num(c, o, "yfov_deg", pl, &k->yfov_deg, false, 0, true, YFOV_MAX_DEG, true)) return false;
@@ -329,35 +289,35 @@ static bool parse_key(ctx *c, const cJSON *o, const char *pl, const prw_camera_k
 static bool parse_root(ctx *c, const cJSON *root, prw_camera_path *out)
 {
     static const char *const keys[] = {"prw_camera_path", "fps", "keyframes"};
-    if (!cJSON_IsObject(root)) return fail_at(c, "", "top level must be a JSON object");
-    if (!check_keys(c, root, "", keys, (int)PRW_ARRAY_LEN(keys))) return false;
+    if (!cJSON_IsObject(root)) return prw_json_fail_at(c, "", "top level must be a JSON object");
+    if (!prw_json_check_keys(c, root, "", keys, (int)PRW_ARRAY_LEN(keys))) return false;
     const cJSON *v = item(root, "prw_camera_path");
-    if (!v) return fail_at(c, "prw_camera_path", "missing (required; this reader understands version 1)");
+    if (!v) return prw_json_fail_at(c, "prw_camera_path", "missing (required; this reader understands version 1)");
     if (!cJSON_IsNumber(v) || v->valuedouble != (double)PRW_CAMERA_PATH_VERSION)
-        return fail_at(c, "prw_camera_path", "unsupported version (this reader understands 1)");
+        return prw_json_fail_at(c, "prw_camera_path", "unsupported version (this reader understands 1)");
     double fps = 0;
     if (!get_num(c, root, "fps", "", &fps, false, 0, true, FPS_MAX, false)) return false;
     out->fps = fps;
     const cJSON *arr = item(root, "keyframes");
-    if (!arr) return fail_at(c, "keyframes", "missing (required)");
-    if (!cJSON_IsArray(arr)) return fail_at(c, "keyframes", "must be an array of objects");
+    if (!arr) return prw_json_fail_at(c, "keyframes", "missing (required)");
+    if (!cJSON_IsArray(arr)) return prw_json_fail_at(c, "keyframes", "must be an array of objects");
     int n = cJSON_GetArraySize(arr);
-    if (n < 2) return fail_at(c, "keyframes", "needs at least 2 keyframes (has %d)", n);
+    if (n < 2) return prw_json_fail_at(c, "keyframes", "needs at least 2 keyframes (has %d)", n);
     if ((unsigned)n > PRW_CAMERA_PATH_MAX_KEYS)
-        return fail_at(c, "keyframes", "too many keyframes (%d; at most %u)", n, PRW_CAMERA_PATH_MAX_KEYS);
+        return prw_json_fail_at(c, "keyframes", "too many keyframes (%d; at most %u)", n, PRW_CAMERA_PATH_MAX_KEYS);
     int i = 0;
     for (const cJSON *it = arr->child; it; it = it->next, i++) {
         char pl[PLACE_MAX];
         snprintf(pl, sizeof pl, "keyframes[%d]", i);
-        if (!cJSON_IsObject(it)) return fail_at(c, pl, "must be an object");
+        if (!cJSON_IsObject(it)) return prw_json_fail_at(c, pl, "must be an object");
         prw_camera_keyframe k;
         if (!parse_key(c, it, pl, out->count ? &out->keys[out->count - 1] : NULL, &k)) return false;
         const char *field = "";
         char reason[256];
         if (!key_valid(&k, out->count ? &out->keys[out->count - 1] : NULL, &field, reason, sizeof reason)) {
             char p[PLACE_MAX];
-            join(p, pl, field);
-            return fail_at(c, p, "%s", reason);
+            prw_json_join(p, PLACE_MAX, pl, field);
+            return prw_json_fail_at(c, p, "%s", reason);
         }
         push_key(out, &k);
     }
@@ -368,7 +328,7 @@ bool prw_camera_path_parse(const char *text, size_t size, const char *name, prw_
 {
     ctx c = {name ? name : "(camera path)", e};
     prw_camera_path_init(out, 0);
-    if (!text) return fail_at(&c, "", "no camera-path text");
+    if (!text) return prw_json_fail_at(&c, "", "no camera-path text");
     cJSON *root = prw_json_doc_parse(text, size, c.file, e);
     if (!root) return false;
     bool ok = parse_root(&c, root, out);

@@ -5,7 +5,6 @@
 
 #include <cJSON.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -237,31 +236,16 @@ bool prw_display_builtin(const char *name, prw_display *out)
 
 #define PLACE_MAX 96
 
-typedef struct ctx {
-    const char *file;
-    prw_error *e;
-} ctx;
-
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
-{
-    char reason[PRW_ERROR_MAX];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    if (place && place[0]) return prw_fail(c->e, "%s:%s: %s", c->file, place, reason);
-    return prw_fail(c->e, "%s: %s", c->file, reason);
-}
+typedef prw_json_ctx ctx;
 
 static const cJSON *item(const cJSON *obj, const char *key) { return cJSON_GetObjectItemCaseSensitive(obj, key); }
 
 static bool get_num(ctx *c, const cJSON *o, const char *key, double *out, bool required, double lo, double hi)
 {
     const cJSON *v = item(o, key);
-    if (!v) return required ? fail_at(c, key, "missing (required)") : true;
+    if (!v) return required ? prw_json_fail_at(c, key, "missing (required)") : true;
     double x = cJSON_IsNumber(v) ? v->valuedouble : NAN;
-    if (!(isfinite(x) && x >= lo && x <= hi)) return fail_at(c, key, "must be a finite number in [%g, %g]", lo, hi);
+    if (!(isfinite(x) && x >= lo && x <= hi)) return prw_json_fail_at(c, key, "must be a finite number in [%g, %g]", lo, hi);
     *out = x;
     return true;
 }
@@ -270,7 +254,7 @@ static bool get_enum(ctx *c, const cJSON *o, const char *key, const char *const 
                      bool required)
 {
     const cJSON *v = item(o, key);
-    if (!v) return required ? fail_at(c, key, "missing (required)") : true;
+    if (!v) return required ? prw_json_fail_at(c, key, "missing (required)") : true;
     if (cJSON_IsString(v))
         for (int i = 0; i < n; i++)
             if (strcmp(v->valuestring, names[i]) == 0) {
@@ -282,7 +266,7 @@ static bool get_enum(ctx *c, const cJSON *o, const char *key, const char *const 
         strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
         strncat(list, names[i], sizeof list - strlen(list) - 1);
     }
-    return fail_at(c, key, "must be one of %s", list);
+    return prw_json_fail_at(c, key, "must be one of %s", list);
 }
 
 static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
@@ -291,29 +275,19 @@ static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
                                        "gamma",       "peak",      "black",       "reflectivity",
                                        "ambient",     "primaries", "reference_white_fraction",
                                        "reference_white", "pixels_per_degree", "bits", "hmd"};
-    if (!cJSON_IsObject(root)) return fail_at(c, "", "top level must be a JSON object");
-    unsigned seen = 0;
-    for (const cJSON *it = root->child; it; it = it->next) {
-        int k = -1;
-        for (int i = 0; i < (int)PRW_ARRAY_LEN(keys) && k < 0; i++)
-            if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
-        char name[80];
-        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
-        if (k < 0) return fail_at(c, "", "unknown key '%s'", name);
-        if (seen & (1u << k)) return fail_at(c, "", "duplicate key '%s'", name);
-        seen |= 1u << k;
-    }
+    if (!cJSON_IsObject(root)) return prw_json_fail_at(c, "", "top level must be a JSON object");
+    if (!prw_json_check_keys(c, root, "", keys, (int)PRW_ARRAY_LEN(keys))) return false;
     const cJSON *v = item(root, "prw_display");
-    if (!v) return fail_at(c, "prw_display", "missing (required; this reader understands version 1)");
+    if (!v) return prw_json_fail_at(c, "prw_display", "missing (required; this reader understands version 1)");
     if (!cJSON_IsNumber(v) || v->valuedouble != 1.0)
-        return fail_at(c, "prw_display", "unsupported version (this reader understands 1)");
+        return prw_json_fail_at(c, "prw_display", "unsupported version (this reader understands 1)");
     memset(d, 0, sizeof *d);
     v = item(root, "name");
     if (!cJSON_IsString(v) || !v->valuestring[0] || strlen(v->valuestring) >= sizeof d->name)
-        return fail_at(c, "name", "must be a non-empty string shorter than %zu bytes", sizeof d->name);
+        return prw_json_fail_at(c, "name", "must be a non-empty string shorter than %zu bytes", sizeof d->name);
     snprintf(d->name, sizeof d->name, "%s", v->valuestring);
     v = item(root, "description");
-    if (v && !cJSON_IsString(v)) return fail_at(c, "description", "must be a string");
+    if (v && !cJSON_IsString(v)) return prw_json_fail_at(c, "description", "must be a string");
     static const char *const eotfs[] = {"srgb", "gamma", "bt1886", "pq"};
     static const char *const prims[] = {"rec709", "p3", "rec2020"};
     int eo = 0, pr = 0;
@@ -325,7 +299,7 @@ static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
     if (d->eotf == PRW_EOTF_GAMMA || d->eotf == PRW_EOTF_BT1886) {
         if (!get_num(c, root, "gamma", &d->gamma, true, 1, 4)) return false;
     } else if (item(root, "gamma")) {
-        return fail_at(c, "gamma", "only for the gamma and bt1886 EOTFs");
+        return prw_json_fail_at(c, "gamma", "only for the gamma and bt1886 EOTFs");
     }
     double frac = NAN, white = NAN, bits = 0, ppd = 0;
     if (!get_num(c, root, "peak", &d->peak, true, 1e-3, 10000) || !get_num(c, root, "black", &d->black, true, 0, 1e4) ||
@@ -336,13 +310,13 @@ static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
         !get_num(c, root, "pixels_per_degree", &ppd, false, 0, 1000) || !get_num(c, root, "bits", &bits, false, 8, 16))
         return false;
     if (isnan(frac) == isnan(white))
-        return fail_at(c, "", "give exactly one of reference_white_fraction and reference_white");
+        return prw_json_fail_at(c, "", "give exactly one of reference_white_fraction and reference_white");
     d->ref_white = isnan(white) ? frac * d->peak : white;
     d->ppd = ppd;
-    if (bits > 0 && bits != floor(bits)) return fail_at(c, "bits", "must be an integer");
+    if (bits > 0 && bits != floor(bits)) return prw_json_fail_at(c, "bits", "must be an integer");
     d->bits = bits > 0 ? (uint32_t)bits : (d->eotf == PRW_EOTF_PQ ? 10u : 8u);
     v = item(root, "hmd");
-    if (v && !cJSON_IsBool(v)) return fail_at(c, "hmd", "must be true or false");
+    if (v && !cJSON_IsBool(v)) return prw_json_fail_at(c, "hmd", "must be true or false");
     d->hmd = v && cJSON_IsTrue(v);
     return prw_display_validate(d, c->file, c->e);
 }
@@ -350,7 +324,7 @@ static bool parse_root(ctx *c, const cJSON *root, prw_display *d)
 bool prw_display_parse(const char *text, size_t size, const char *file, prw_display *out, prw_error *e)
 {
     ctx c = {file ? file : "(display)", e};
-    if (!text) return fail_at(&c, "", "no text");
+    if (!text) return prw_json_fail_at(&c, "", "no text");
     cJSON *root = prw_json_doc_parse(text, size, c.file, e);
     if (!root) return false;
     prw_display d;

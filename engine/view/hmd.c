@@ -2,7 +2,6 @@
  * panel composition; see prw_hmd.h. */
 #include <cJSON.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -201,30 +200,15 @@ bool prw_hmd_validate(const prw_hmd *h, const char *file, prw_error *e)
 
 /* ---- JSON ---- */
 
-typedef struct ctx {
-    const char *file;
-    prw_error *e;
-} ctx;
-
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static bool fail_at(ctx *c, const char *place, const char *fmt, ...)
-{
-    char reason[PRW_ERROR_MAX];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    if (place && place[0]) return prw_fail(c->e, "%s:%s: %s", c->file, place, reason);
-    return prw_fail(c->e, "%s: %s", c->file, reason);
-}
+typedef prw_json_ctx ctx;
 
 static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObjectItemCaseSensitive(o, k); }
 
 static bool get_num(ctx *c, const cJSON *o, const char *key, double *out)
 {
     const cJSON *v = item(o, key);
-    if (!v) return fail_at(c, key, "missing (required)");
-    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) return fail_at(c, key, "must be a finite number");
+    if (!v) return prw_json_fail_at(c, key, "missing (required)");
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) return prw_json_fail_at(c, key, "must be a finite number");
     *out = v->valuedouble;
     return true;
 }
@@ -232,14 +216,14 @@ static bool get_num(ctx *c, const cJSON *o, const char *key, double *out)
 static bool get_array(ctx *c, const cJSON *o, const char *key, int n, double *out)
 {
     const cJSON *v = item(o, key);
-    if (!v) return fail_at(c, key, "missing (required)");
-    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != n) return fail_at(c, key, "must be an array of %d numbers", n);
+    if (!v) return prw_json_fail_at(c, key, "missing (required)");
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != n) return prw_json_fail_at(c, key, "must be an array of %d numbers", n);
     int i = 0;
     for (const cJSON *it = v->child; it; it = it->next, i++) {
         if (!cJSON_IsNumber(it) || !isfinite(it->valuedouble)) {
             char place[80];
             snprintf(place, sizeof place, "%s[%d]", key, i);
-            return fail_at(c, place, "must be a finite number");
+            return prw_json_fail_at(c, place, "must be a finite number");
         }
         out[i] = it->valuedouble;
     }
@@ -251,34 +235,24 @@ static bool parse_root(ctx *c, const cJSON *root, prw_hmd *h)
     static const char *const keys[] = {"prw_hmd",        "name",          "description",       "panel",
                                        "screen_size_m",  "eye_to_screen_m", "lens_separation_m", "ipd_m",
                                        "distortion_k",   "chromatic",     "eye_buffer_scale",  "peak_luminance"};
-    if (!cJSON_IsObject(root)) return fail_at(c, "", "top level must be a JSON object");
-    unsigned seen = 0;
-    for (const cJSON *it = root->child; it; it = it->next) {
-        int k = -1;
-        for (int i = 0; i < (int)PRW_ARRAY_LEN(keys) && k < 0; i++)
-            if (it->string && strcmp(it->string, keys[i]) == 0) k = i;
-        char name[80];
-        prw_json_sanitize(name, sizeof name, it->string ? it->string : "", 64);
-        if (k < 0) return fail_at(c, "", "unknown key '%s'", name);
-        if (seen & (1u << k)) return fail_at(c, "", "duplicate key '%s'", name);
-        seen |= 1u << k;
-    }
+    if (!cJSON_IsObject(root)) return prw_json_fail_at(c, "", "top level must be a JSON object");
+    if (!prw_json_check_keys(c, root, "", keys, (int)PRW_ARRAY_LEN(keys))) return false;
     const cJSON *v = item(root, "prw_hmd");
-    if (!v) return fail_at(c, "prw_hmd", "missing (required; this reader understands version 1)");
+    if (!v) return prw_json_fail_at(c, "prw_hmd", "missing (required; this reader understands version 1)");
     if (!cJSON_IsNumber(v) || v->valuedouble != 1.0)
-        return fail_at(c, "prw_hmd", "unsupported version (this reader understands 1)");
+        return prw_json_fail_at(c, "prw_hmd", "unsupported version (this reader understands 1)");
     memset(h, 0, sizeof *h);
     v = item(root, "name");
     if (!cJSON_IsString(v) || !v->valuestring[0] || strlen(v->valuestring) >= sizeof h->name)
-        return fail_at(c, "name", "must be a non-empty string shorter than %zu bytes", sizeof h->name);
+        return prw_json_fail_at(c, "name", "must be a non-empty string shorter than %zu bytes", sizeof h->name);
     snprintf(h->name, sizeof h->name, "%s", v->valuestring);
     v = item(root, "description");
-    if (v && !cJSON_IsString(v)) return fail_at(c, "description", "must be a string");
+    if (v && !cJSON_IsString(v)) return prw_json_fail_at(c, "description", "must be a string");
     double panel[2], size[2];
     if (!get_array(c, root, "panel", 2, panel)) return false;
     for (int i = 0; i < 2; i++)
         if (!(panel[i] >= 1 && panel[i] <= 16384 && panel[i] == floor(panel[i])))
-            return fail_at(c, i ? "panel[1]" : "panel[0]", "must be an integer in [1, 16384]");
+            return prw_json_fail_at(c, i ? "panel[1]" : "panel[0]", "must be an integer in [1, 16384]");
     h->panel_width = (uint32_t)panel[0];
     h->panel_height = (uint32_t)panel[1];
     if (!get_array(c, root, "screen_size_m", 2, size) || !get_num(c, root, "eye_to_screen_m", &h->eye_to_screen) ||
@@ -295,7 +269,7 @@ static bool parse_root(ctx *c, const cJSON *root, prw_hmd *h)
 bool prw_hmd_parse(const char *text, size_t size, const char *file, prw_hmd *out, prw_error *e)
 {
     ctx c = {file ? file : "(hmd)", e};
-    if (!text) return fail_at(&c, "", "no text");
+    if (!text) return prw_json_fail_at(&c, "", "no text");
     cJSON *root = prw_json_doc_parse(text, size, c.file, e);
     if (!root) return false;
     prw_hmd h;

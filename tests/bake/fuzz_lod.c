@@ -1,6 +1,7 @@
 /* Fuzz target for the .lod reader (engine/bake): the input is parsed in memory; a failure must
  * leave one message "fuzz.lod: <reason>"; a success must give a hierarchy that selection and
- * extraction walk at every level (ASan / UBSan catch stray reads) with finite output positions.
+ * extraction walk at every level (selection also with the file's culling data; ASan / UBSan catch
+ * stray reads) with finite output positions.
  * Each input is tried twice: as given, and with its header's payload size and checksum rewritten
  * to match (so mutations reach the structural checks instead of stopping at the checksum).
  * Violations abort.  The seed corpus (corpus/) is written by bake_corpus_gen. */
@@ -47,6 +48,10 @@ static void one(const uint8_t *data, size_t size)
     int *lv = malloc(sizeof(int) * (size_t)lm->npatches + 1), *sl = malloc(sizeof(int) * (size_t)b->graph.nsegs + 1);
     prw_lod_view v = {.eye = {{1, 2, 3}, {1.1, 2, 3}}, .neyes = 2, .pixel_angle = 1e-3, .tri_budget = 100};
     prw_lod_select_report rep;
+    prw_lod_select(lm, &v, lv, &rep);
+    /* again with the file's culling data, every patch single-sided so the cones are used */
+    for (int p = 0; p < b->cull.npatches; p++) b->cull.single_sided[p] = 1;
+    v.cull = &b->cull;
     prw_lod_select(lm, &v, lv, &rep);
     prw_lod_mesh m;
     memset(&m, 0, sizeof m);

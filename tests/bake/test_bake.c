@@ -83,6 +83,17 @@ static int compare_baked(const prw_baked_lod *x, const prw_baked_lod *y)
             D(SAME(p->tris, q->tris, sizeof(int) * 3 * (size_t)p->tri_start[a->levels]));
         D(SAME(p->err, q->err, sizeof(double) * (size_t)a->levels));
     }
+    /* culling data (format version 2) */
+    const prw_lod_cull *c = &x->cull, *d = &y->cull;
+    D(c->npatches == d->npatches && c->npatches == a->npatches && c->full_cones == d->full_cones &&
+      c->refined == d->refined);
+    if (c->npatches == d->npatches) {
+        size_t np = (size_t)c->npatches;
+        D(SAME(c->lo, d->lo, sizeof(prw_dvec3) * np) && SAME(c->hi, d->hi, sizeof(prw_dvec3) * np));
+        D(SAME(c->centre, d->centre, sizeof(prw_dvec3) * np) && SAME(c->radius, d->radius, sizeof(double) * np));
+        D(SAME(c->axis, d->axis, sizeof(prw_dvec3) * np) && SAME(c->half_angle, d->half_angle, sizeof(double) * np));
+        D(SAME(c->single_sided, d->single_sided, np));
+    }
 #undef D
     return diff;
 }
@@ -259,6 +270,7 @@ static void test_key(void)
     KEY_DIFFERS(q.lod.tau0 = 1e-4);
     KEY_DIFFERS(q.lod.max_cells = 8);
     KEY_DIFFERS(q.lod.max_patch_triangles = 100);
+    KEY_DIFFERS(q.lod.finest_rel = 1e-5);
 #undef KEY_DIFFERS
     CHECK(distinct == cases);
     prw_bake_key(t, n, PRW_MODEL_IGES, &o, k1);
@@ -399,8 +411,10 @@ static void test_mutations(void)
                 continue;
             }
             parsed++;
-            /* walk it as a renderer would */
-            prw_lod_view v = {.eye = {{0.5, -3, 1}}, .neyes = 1, .pixel_angle = 1e-3};
+            /* walk it as a renderer would, with the file's culling data (single-sided, so the cones
+             * are used) */
+            prw_lod_view v = {.eye = {{0.5, -3, 1}}, .neyes = 1, .pixel_angle = 1e-3, .cull = &x->cull};
+            for (int p = 0; p < x->cull.npatches; p++) x->cull.single_sided[p] = 1;
             int *lv = prw_malloc(sizeof(int) * (size_t)x->lod.npatches + 1);
             int *sl = prw_malloc(sizeof(int) * (size_t)x->graph.nsegs + 1);
             prw_lod_select_report rep;
@@ -440,8 +454,8 @@ static void test_bad_header(void)
     c[0] = 'X';
     CHECK(!prw_lod_file_parse(c, n, "h.lod", &x, &e) && strstr(e.msg, "magic"));
     memcpy(c, full, n);
-    c[8] = 2;
-    CHECK(!prw_lod_file_parse(c, n, "h.lod", &x, &e) && strstr(e.msg, "version 2"));
+    c[8] = 1; /* a version-1 file (no culling data) */
+    CHECK(!prw_lod_file_parse(c, n, "h.lod", &x, &e) && strstr(e.msg, "version 1"));
     memcpy(c, full, n);
     memset(c + n, 0, 8);
     CHECK(!prw_lod_file_parse(c, n + 8, "h.lod", &x, &e) && strstr(e.msg, "trailing"));
@@ -458,6 +472,55 @@ static void test_bad_header(void)
     CHECK(!prw_lod_file_parse(c, n, "h.lod", &x, &e) && strstr(e.msg, "node count"));
     printf("  absurd node count: %s\n", e.msg);
     CHECK(!prw_lod_file_read(prw_test_path("no-such.lod"), &x, &e) && strstr(e.msg, "no-such.lod"));
+    free(c);
+    free(full);
+    prw_baked_lod_destroy(b);
+}
+
+/* The culling section (format version 2) is validated like the rest: each mutation of patch 0's
+ * record (the file's last 2 x 113 bytes; checksum recomputed) is refused with its reason. */
+static void put_f64(uint8_t *d, double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, 8);
+    for (int i = 0; i < 8; i++) d[i] = (uint8_t)(u >> (8 * i));
+}
+
+static void test_bad_cull(void)
+{
+    uint8_t *full;
+    size_t n;
+    prw_baked_lod *b, *x;
+    tiny_file(&full, &n, &b);
+    if (!full) return;
+    CHECK(b->cull.npatches == 2 && b->cull.npatches == b->lod.npatches);
+    size_t rec = n - 2 * 113; /* patch 0: lo, hi, centre (3 x 24), radius (72), axis (80), half-angle (104), flag (112) */
+    static const struct {
+        size_t off;
+        double v;
+        const char *msg;
+    } cases[] = {{0, 1e9, "inverted"}, {72, -1, "negative"}, {80, 2, "axis of length"}, {104, 4, "half-angle"},
+                 {104, NAN, "half-angle"}};
+    uint8_t *c = prw_malloc(n);
+    prw_error e;
+    for (size_t k = 0; k < PRW_ARRAY_LEN(cases); k++) {
+        memcpy(c, full, n);
+        put_f64(c + rec + cases[k].off, cases[k].v);
+        patch_header(c, n);
+        bool ok = prw_lod_file_parse(c, n, "c.lod", &x, &e);
+        if (ok) prw_baked_lod_destroy(x);
+        CHECK(!ok && strstr(e.msg, cases[k].msg));
+        printf("  culling mutation %zu: %s\n", k, ok ? "(parsed)" : e.msg);
+    }
+    memcpy(c, full, n);
+    c[rec + 112] = 2;
+    patch_header(c, n);
+    CHECK(!prw_lod_file_parse(c, n, "c.lod", &x, &e) && strstr(e.msg, "single_sided"));
+    memcpy(c, full, n);
+    c[rec - 12] = 3; /* culling patch count 2 -> 3 */
+    patch_header(c, n);
+    CHECK(!prw_lod_file_parse(c, n, "c.lod", &x, &e) && strstr(e.msg, "culling"));
+    printf("  culling patch count 3: %s\n", e.msg);
     free(c);
     free(full);
     prw_baked_lod_destroy(b);
@@ -491,6 +554,7 @@ int main(int argc, char **argv)
         {"prefixes", test_prefixes},
         {"mutations", test_mutations},
         {"bad_header", test_bad_header},
+        {"bad_cull", test_bad_cull},
         {"bad_model", test_bad_model},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));

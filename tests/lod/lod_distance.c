@@ -41,7 +41,8 @@ static double tri_dist(prw_dvec3 p, prw_dvec3 a, prw_dvec3 b, prw_dvec3 c)
 
 double lod_two_sided(const prw_trimmed_surface *t, const prw_lod_mesh *m, int n, int order)
 {
-    double u0, u1, v0, v1, worst = 0;
+    double u0, u1, v0, v1, worst = 0, su = NAN, sv = NAN;
+    size_t last = 0;
     prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
     prw_trim_region r;
     prw_error e;
@@ -51,12 +52,17 @@ double lod_two_sided(const prw_trimmed_surface *t, const prw_lod_mesh *m, int n,
             double u = u0 + (u1 - u0) * i / n, v = v0 + (v1 - v0) * j / n;
             if (prw_trim_classify(&r, u, v) == PRW_TRIM_OUTSIDE) continue;
             prw_dvec3 p = prw_nurbs_surface_eval(&t->surface, u, v);
+            /* only the max over samples matters: a sample is done once some triangle is within the
+             * running max (the last sample's nearest triangle is tried first) */
             double best = INFINITY;
-            for (size_t k = 0; k < m->ntris; k++) {
+            for (size_t q = 0; q <= m->ntris && best > worst; q++) {
+                size_t k = q == 0 ? last : q - 1;
+                if (k >= m->ntris || (q > 0 && k == last)) continue;
                 const uint32_t *tr = m->tris + 3 * k;
-                best = fmin(best, tri_dist(p, V(m->pos + 3 * tr[0]), V(m->pos + 3 * tr[1]), V(m->pos + 3 * tr[2])));
+                double d = tri_dist(p, V(m->pos + 3 * tr[0]), V(m->pos + 3 * tr[1]), V(m->pos + 3 * tr[2]));
+                if (d < best) best = d, last = k;
             }
-            worst = fmax(worst, best);
+            if (best < INFINITY) worst = fmax(worst, best);
         }
     prw_trim_region_free(&r);
     for (size_t k = 0; k < m->ntris; k++) {
@@ -66,8 +72,17 @@ double lod_two_sided(const prw_trimmed_surface *t, const prw_lod_mesh *m, int n,
             for (int j = 0; i + j <= order; j++) {
                 double wb = (double)i / order, wc = (double)j / order, wa = 1 - wb - wc;
                 prw_dvec3 p = prw_v3_add(prw_v3_add(prw_v3_scale(a, wa), prw_v3_scale(b, wb)), prw_v3_scale(c, wc));
-                double u, v;
-                worst = fmax(worst, prw_nurbs_surface_invert(&t->surface, p, false, &u, &v));
+                /* Newton from the previous sample's foot point first: any surface point's distance
+                 * bounds the true one from above, so a result within the running max is final;
+                 * otherwise the full inversion (grid start) decides */
+                double u = su, v = sv;
+                double d = prw_nurbs_surface_invert(&t->surface, p, true, &u, &v);
+                if (d > worst) {
+                    double u2, v2, d2 = prw_nurbs_surface_invert(&t->surface, p, false, &u2, &v2);
+                    if (d2 < d) d = d2, u = u2, v = v2;
+                }
+                su = u, sv = v;
+                worst = fmax(worst, d);
             }
     }
     return worst;

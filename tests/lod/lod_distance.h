@@ -6,7 +6,10 @@
 
 /* Surface -> mesh: an n x n (u, v) grid, points inside the trimmed region (prw_trim at 1e-6 of the
  * domain) to the nearest triangle.  Mesh -> surface: an order-`order` barycentric grid on every
- * triangle to the untrimmed surface by point inversion.  Returns the larger. */
+ * triangle to the untrimmed surface by point inversion.  Returns the larger.  Exact for the max:
+ * a sample is settled early only when an upper bound of its distance (some triangle's, or Newton
+ * from the previous foot point) is already within the running max; otherwise the full search
+ * (every triangle / grid-start inversion) decides. */
 double lod_two_sided(const prw_trimmed_surface *t, const prw_lod_mesh *m, int n, int order);
 
 #endif

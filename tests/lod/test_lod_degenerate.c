@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "prw_lod.h"
 #include "prw_nurbs_make.h"
@@ -97,10 +98,12 @@ static void check_model(const char *name, prw_nurbs_model *m)
         return;
     }
     prw_lod_model lm;
+    clock_t t0 = clock();
     /* Degenerate input is about finiteness and no crash, not refinement depth: a small level-0
      * refinement cap keeps the hierarchy build (quadratic in hub valence) short, also under ASan. */
     prw_lod_options lo = {.max_patch_triangles = 1024};
     CHECK_OK(prw_lod_build(m, &g, &lo, &lm, &e), &e);
+    double build_s = (double)(clock() - t0) / CLOCKS_PER_SEC;
     int *lv = prw_malloc(sizeof(int) * (size_t)g.npatches + 1), *sl = prw_malloc(sizeof(int) * (size_t)g.nsegs + 1);
     prw_lod_mesh out;
     memset(&out, 0, sizeof out);
@@ -114,8 +117,8 @@ static void check_model(const char *name, prw_nurbs_model *m)
         for (int p = 0; p < g.npatches; p++)
             if (lm.patches[p].ok) bad += !isfinite(lm.patches[p].err[k]);
     }
-    printf("  %s: %d patches, %d nodes, %d segments (shared %d, open %d, degenerate %d), built %d, reported %d%s%s\n", name,
-           g.npatches, g.nnodes, g.nsegs, g.shared, g.open, g.degenerate, g.npatches - lm.failed_patches,
+    printf("  %s: %d patches, %d nodes, %d segments (shared %d, open %d, degenerate %d), built %d (%.2f s), reported %d%s%s\n", name,
+           g.npatches, g.nnodes, g.nsegs, g.shared, g.open, g.degenerate, g.npatches - lm.failed_patches, build_s,
            lm.failed_patches, lm.failed_patches ? ": " : "", lm.first_problem);
     CHECK(bad == 0);
     prw_lod_mesh_free(&out);

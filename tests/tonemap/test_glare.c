@@ -45,6 +45,29 @@ static double centre_fraction(const float *psf, int R, int band)
     return psf[(size_t)band * side * side + (size_t)R * side + (size_t)R];
 }
 
+/* Spectral bands: weights are a partition of each channel; each channel's mean wavelength lies near
+ * the dominant wavelength of its Rec.709 primary (R 611, G 549, B 464 nm: from the primaries'
+ * chromaticities and D65), so the colour-matching fit and the XYZ -> RGB step are the right way round. */
+static void test_spectral(void)
+{
+    double l[PRW_GLARE_BANDS], w[PRW_GLARE_BANDS][3];
+    prw_glare_spectral_weights(l, w);
+    const double dominant[3] = {611, 549, 464};
+    for (int c = 0; c < 3; c++) {
+        double sum = 0, mean = 0;
+        for (int m = 0; m < PRW_GLARE_BANDS; m++) {
+            CHECK(w[m][c] >= 0 && isfinite(w[m][c]));
+            sum += w[m][c];
+            mean += w[m][c] * l[m];
+        }
+        CHECK_NEAR(sum, 1.0, 1e-12);
+        printf("channel %d: mean wavelength %.1f nm\n", c, mean);
+        CHECK_MSG(fabs(mean - dominant[c]) < 20, "channel %d mean wavelength %.1f nm", c, mean);
+    }
+    for (int m = 1; m < PRW_GLARE_BANDS; m++) CHECK(l[m] > l[m - 1]);
+    CHECK(l[0] > PRW_GLARE_LAMBDA_MIN_NM && l[PRW_GLARE_BANDS - 1] < PRW_GLARE_LAMBDA_MAX_NM);
+}
+
 static void test_psf(void)
 {
     prw_error e;
@@ -134,6 +157,7 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"pupil", test_pupil},
+        {"spectral", test_spectral},
         {"psf", test_psf},
         {"apply", test_apply},
     };
