@@ -48,7 +48,7 @@ void main()
         } else if (op == OP_REINHARD) {
             float lavg = max(tm_log_avg(), LOG_DELTA);
             float scale = P.op1.y / lavg;
-            float w = P.op1.z > 0.0 ? P.op1.z : scale * st.final_stats.y;
+            float w = P.op1.z > 0.0 ? P.op1.z : WHITE_HEADROOM * scale * st.final_stats.y;
             float w2 = max(w * w, 1e-12);
             float ls = scale * L;
             float ld = ls / (1.0 + ls) * (1.0 + ls / w2);
@@ -75,7 +75,7 @@ void main()
                     ry = (knee - lmin) / dl * pow(lp / knee, P.op2.x);
                 } else {
                     // shoulder constants from the frame statistics (prw_tm_derive)
-                    float U = log(max(exposure * st.final_stats.y, 1e-30));
+                    float U = log(max(WHITE_HEADROOM * exposure * st.final_stats.y, 1e-30));
                     float V = log(lmax / white_cd);
                     bool on = V > 0.0 && U > V * (1.0 + 1e-6);
                     if (lp <= white_cd || !on) {

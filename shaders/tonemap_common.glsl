@@ -28,6 +28,7 @@ layout(push_constant) uniform prw_tm_pc {
     uint width, height, base, total;
 } pc;
 
+const float WHITE_HEADROOM = 1.05; // PRW_TM_WHITE_HEADROOM (engine/render/prw_tonemap.h)
 const int OP_EXPOSURE = 0, OP_REINHARD = 1, OP_NEUTRAL = 2, OP_ADAPTIVE = 3, OP_ABSOLUTE = 4;
 const int OP_LOCAL = 5, OP_SELECTIVE = 6;
 const int EOTF_SRGB = 0, EOTF_GAMMA = 1, EOTF_BT1886 = 2, EOTF_PQ = 3;

@@ -20,7 +20,8 @@
  *  - reinhard: Reinhard, Stark, Shirley, Ferwerda 2002, "Photographic tone reproduction for digital
  *    images", eqs. 1-4: log-average Lw_bar = exp(mean ln(delta + Lw)) with delta = PRW_TM_LOG_DELTA
  *    cd/m^2 (the guard against log 0), L = a / Lw_bar * Lw (key a, default 0.18),
- *    Ld = L (1 + L / Lwhite^2) / (1 + L), Lwhite default = the image's largest L.  Colour by the
+ *    Ld = L (1 + L / Lwhite^2) / (1 + L), Lwhite default = PRW_TM_WHITE_HEADROOM x the image's
+ *    largest L (so the largest pixel lands just below peak, not on it).  Colour by the
  *    ratio Ld / Lw.  An auto-exposure operator: it ignores the camera's exposure.
  *  - neutral: Khronos PBR Neutral tone mapper (Khronos Group, "PBR Neutral Tone Mapping", 2024:
  *    F90 = 0.04, start of compression 0.8 - 0.04, desaturation 0.15), applied to g * x * rgb.
@@ -30,7 +31,8 @@
  *    [K, W]); below K = min(4 L_min, W / 2) a power toe L_min + (K - L_min) (L'/K)^p with
  *    p = K / (K - L_min) (C1 at K) lifts what would fall under black + reflection; above W, when the
  *    frame's largest L' exceeds L_max, a shoulder in log luminance u = ln(L'/W) in [0, U],
- *    v = a u / (1 + b u) + m u with m = lambda V / U, a = 1 - m, b chosen so v(U) = V = ln(L_max/W)
+ *    v = a u / (1 + b u) + m u with m = lambda V / U, a = 1 - m, b chosen so v(U) = V = ln(L_max/W),
+ *    U = ln(PRW_TM_WHITE_HEADROOM x the largest L' / W) (the largest pixel just below peak)
  *    (C1 at W: v'(0) = 1; monotonic; slope >= m everywhere so highlights never flatten to one
  *    value).  Colour keeps the scene's chromaticity: r_i = r_Y + (Y_t / dL) (rgb_i / L - 1).
  *  - absolute: the predictive mode: scene cd/m^2 shown at the same cd/m^2, clipped to
@@ -84,6 +86,10 @@ extern "C" {
 #define PRW_TM_INPUT_MAX 1e12   /* cd/m^2 */
 #define PRW_TM_LOG_DELTA 1e-6   /* cd/m^2, Reinhard's delta */
 #define PRW_TM_SHOULDER_LAMBDA 0.5
+/* reinhard's default Lwhite and adaptive's shoulder end sit this factor above the frame's largest
+ * value: a flat brightest region (a window, a lamp) is shown just below peak, not piled on it
+ * (issue 6 must-show 2a: < 0.5 % of pixels at peak).  Mirrored in shaders/tonemap_common.glsl. */
+#define PRW_TM_WHITE_HEADROOM 1.05
 #define PRW_TM_GAMUT_EPS 1e-6   /* channel excursions smaller than this are rounding, not gamut */
 #define PRW_TM_LOCAL_SCALES 8   /* local: scales s_0..s_7 (9 blur levels) */
 #define PRW_TM_LOCAL_PHI 8.0

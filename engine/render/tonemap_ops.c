@@ -142,10 +142,10 @@ void prw_tm_derive(const prw_tm_params *p, const prw_tm_stats *st, prw_tm_frame 
     memset(f, 0, sizeof *f);
     double lavg = fmax(p->adapt_la > 0 ? p->adapt_la : st->log_avg, PRW_TM_LOG_DELTA);
     f->rh_scale = p->key / lavg;
-    double w = p->white > 0 ? p->white : f->rh_scale * st->max_lum;
+    double w = p->white > 0 ? p->white : PRW_TM_WHITE_HEADROOM * f->rh_scale * st->max_lum;
     f->rh_white2 = fmax(w * w, 1e-12);
     /* adaptive shoulder over u in [0, U], U = ln(largest L' / W) = ln(exposure * max) */
-    double U = log(fmax(p->exposure * st->max_lum, 1e-30));
+    double U = log(fmax(PRW_TM_WHITE_HEADROOM * p->exposure * st->max_lum, 1e-30));
     double V = log(p->lmax / p->white_cd);
     f->sh_v = V;
     if (V > 0 && U > V * (1.0 + 1e-6)) {
