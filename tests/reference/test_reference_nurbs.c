@@ -20,7 +20,7 @@ static const char *k_scene =
     "{\"prw_manifest\": 1,\n"
     " \"materials\": [{\"name\": \"white\", \"base_color\": [0.8, 0.8, 0.8], \"specular\": 0, \"roughness\": 1}],\n"
     " \"nurbs\": [{\"name\": \"box\", \"procedural\": \"box\", \"material\": \"white\", \"single_sided\": true,\n"
-    "             \"chord_rel\": 5e-5}],\n"
+    "             \"chord_rel\": 1e-4}],\n"
     " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.3, -1, -0.5], \"intensity\": 1000}],\n"
     " \"cameras\": [{\"name\": \"main\", \"position\": [2.6, 1.9, 3.3], \"target\": [0, 0, 0], \"yfov_deg\": 55,\n"
     "               \"ev100\": 8}]}\n";
