@@ -85,6 +85,14 @@ static bool finite_image(const prw_image *im)
     return true;
 }
 
+/* The GPU and a scene from manifest text; NULL (a failed check) when either is missing. */
+static prw_scene *setup(const char *text)
+{
+    prw_scene *s = gpu_up() ? load_scene(text) : NULL;
+    CHECK(s != NULL);
+    return s;
+}
+
 static void test_scene_renders(void)
 {
     if (!gpu_up()) {
@@ -193,15 +201,8 @@ static bool same(const emission *a, const emission *b)
 
 static void test_update_minimal(void)
 {
-    if (!gpu_up()) {
-        CHECK(false);
-        return;
-    }
-    prw_scene *s = load_scene(k_shell_scene);
-    if (!s) {
-        CHECK(false);
-        return;
-    }
+    prw_scene *s = setup(k_shell_scene);
+    if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_render_desc rd = {.width = 128, .height = 128, .msaa = 1, .shadow_size = 256};
@@ -347,15 +348,8 @@ static int box_leaks(prw_renderer *r, const prw_view *v, double tol_px, int *ins
 
 static void test_crack_free_box(void)
 {
-    if (!gpu_up()) {
-        CHECK(false);
-        return;
-    }
-    prw_scene *s = load_scene(k_box_scene);
-    if (!s) {
-        CHECK(false);
-        return;
-    }
+    prw_scene *s = setup(k_box_scene);
+    if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_view v;
@@ -451,15 +445,8 @@ static double mean_flip(const prw_image *a, const prw_image *b)
 
 static void test_flip_vs_finest(void)
 {
-    if (!gpu_up()) {
-        CHECK(false);
-        return;
-    }
-    prw_scene *s = load_scene(k_shell_scene);
-    if (!s) {
-        CHECK(false);
-        return;
-    }
+    prw_scene *s = setup(k_shell_scene);
+    if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_view v;
@@ -550,15 +537,8 @@ static void test_far_from_origin(void)
 
 static void test_view_set(void)
 {
-    if (!gpu_up()) {
-        CHECK(false);
-        return;
-    }
-    prw_scene *s = load_scene(k_box_scene);
-    if (!s) {
-        CHECK(false);
-        return;
-    }
+    prw_scene *s = setup(k_box_scene);
+    if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_render_desc rd = {.width = 128, .height = 128, .msaa = 1, .shadow_size = 256};
