@@ -26,6 +26,7 @@
 
 #include "bench_internal.h"
 #include "prw_lod_node.h"
+#include "prw_lod_proxy.h"
 #include "prw_lod_render.h"
 
 #define LB_RESAMPLES 4000
@@ -36,7 +37,8 @@ typedef struct lod_bench_opts {
     uint32_t width, height;
     long frames;
     double tol_px, chord_rel;
-    bool per_pose, centre_pixel;
+    bool per_pose, centre_pixel, profile, no_proxy;
+    long msaa;
 } lod_bench_opts;
 
 static void lod_usage(void)
@@ -50,6 +52,10 @@ static void lod_usage(void)
            "  --per-pose     also print every pose's times, triangles and updates\n"
            "  --centre-pixel the tolerance in pixels of the image centre (default: of the image corner,\n"
            "                 where a pixel subtends the smallest angle)\n"
+           "  --msaa 1|4     samples per pixel (default 4)\n"
+           "  --no-proxy     never draw a copy as a whole-model proxy level (patches only)\n"
+           "  --profile      a separate run with GPU timestamps (each flushes on lavapipe, so its frame\n"
+           "                 times are not the A/B figures): median per-pass times of A and B\n"
            "Prints full-tessellation vs displayed triangles, LOD selection + update time, and the frame\n"
            "time of 100 instances (10 x 10 grid over the same screen area) vs 1, interleaved.\n");
 }
@@ -141,6 +147,34 @@ static bool timed_frame(prw_renderer *r, const prw_view *v, double *ms, prw_lod_
     return true;
 }
 
+/* --profile: per pose, the per-pass GPU times of A and B (renderers created with timestamps). */
+static void profile_pose(prw_renderer *r, double (*pass_ms)[PRW_MAX_PASSES], long k, const char **names,
+                         uint32_t *count)
+{
+    prw_frame_stats st;
+    prw_renderer_last_passes(r, &st);
+    *count = st.pass_count;
+    for (uint32_t i = 0; i < st.pass_count && i < PRW_MAX_PASSES; i++) {
+        names[i] = st.passes[i].name;
+        pass_ms[k][i] = st.passes[i].skipped ? 0 : st.passes[i].gpu_ms;
+    }
+}
+
+static void profile_print(const char *label, double (*pass_ms)[PRW_MAX_PASSES], long n, const char **names,
+                          uint32_t count)
+{
+    double *col = prw_calloc((size_t)n, sizeof(double));
+    printf("profile %s:", label);
+    for (uint32_t i = 0; i < count; i++) {
+        for (long k = 0; k < n; k++) col[k] = pass_ms[k][i];
+        prw_stats_summary s;
+        prw_stats_summarize(col, (size_t)n, &s);
+        printf(" %s %.1f ms", names[i], s.p50);
+    }
+    printf(" (medians over %ld poses)\n", n);
+    free(col);
+}
+
 static int run(const lod_bench_opts *o, prw_error *e)
 {
     prw_scene *sa = NULL, *sb = NULL;
@@ -154,7 +188,9 @@ static int run(const lod_bench_opts *o, prw_error *e)
     double *up_a = prw_calloc((size_t)n, sizeof(double)), *bytes_a = prw_calloc((size_t)n, sizeof(double));
     double *culled_a = prw_calloc((size_t)n, sizeof(double)), *maxpx_a = prw_calloc((size_t)n, sizeof(double));
     double *draws_a = prw_calloc((size_t)n, sizeof(double)), *draws_b = prw_calloc((size_t)n, sizeof(double));
+    double *prox_a = prw_calloc((size_t)n, sizeof(double)), *prox_b = prw_calloc((size_t)n, sizeof(double));
     uint64_t relayouts_a = 0, relayouts_b = 0;
+    double(*prof_a)[PRW_MAX_PASSES] = NULL, (*prof_b)[PRW_MAX_PASSES] = NULL;
     prw_dvec3 centre;
     double radius, wall0 = prw_now();
     if (!make_scene(o, 1, &sa, &centre, &radius, e) || !make_scene(o, 10, &sb, &centre, &radius, e)) goto done;
@@ -165,15 +201,22 @@ static int run(const lod_bench_opts *o, prw_error *e)
            "diagonal\n",
            o->model, o->width, o->height, n, o->tol_px, o->centre_pixel ? "centre" : "corner", o->chord_rel);
     for (int i = 0; i < meta.count; i++) printf("  %-8s %s\n", meta.key[i], meta.value[i]);
-    prw_render_desc rd = {.width = o->width, .height = o->height, .msaa = 4, .shadow_size = 1024};
+    prw_render_desc rd = {.width = o->width, .height = o->height, .msaa = (uint32_t)o->msaa, .shadow_size = 1024,
+                          .timestamps = o->profile};
+    if (o->profile) {
+        prof_a = prw_calloc((size_t)n, sizeof *prof_a);
+        prof_b = prw_calloc((size_t)n, sizeof *prof_b);
+    }
+    const char *pass_names[PRW_MAX_PASSES] = {0};
+    uint32_t pass_count_a = 0, pass_count_b = 0;
     double tc = prw_now();
     if (!prw_renderer_create(gpu, sa, &rd, &ra, e)) goto done;
     double t_create_a = prw_now() - tc;
     tc = prw_now();
     if (!prw_renderer_create(gpu, sb, &rd, &rb, e)) goto done;
     double t_create_b = prw_now() - tc;
-    if (o->centre_pixel) {
-        prw_lod_gpu_options go = {.tol_px = o->tol_px, .centre_pixel = true};
+    if (o->centre_pixel || o->no_proxy) {
+        prw_lod_gpu_options go = {.tol_px = o->tol_px, .centre_pixel = o->centre_pixel, .no_proxy = o->no_proxy};
         prw_lod_scene_set_options(prw_renderer_lod(ra), &go);
         prw_lod_scene_set_options(prw_renderer_lod(rb), &go);
     }
@@ -196,6 +239,10 @@ static int run(const lod_bench_opts *o, prw_error *e)
         bool ok = (k & 1) ? timed_frame(rb, &v, &tb[k], &rpb, e) && timed_frame(ra, &v, &ta[k], &rpa, e)
                           : timed_frame(ra, &v, &ta[k], &rpa, e) && timed_frame(rb, &v, &tb[k], &rpb, e);
         if (!ok) goto done;
+        if (o->profile) {
+            profile_pose(ra, prof_a, k, pass_names, &pass_count_a);
+            profile_pose(rb, prof_b, k, pass_names, &pass_count_b);
+        }
         lod_a[k] = rpa.select_ms + rpa.update_ms;
         lod_b[k] = rpb.select_ms + rpb.update_ms;
         tri_a[k] = (double)rpa.triangles;
@@ -206,12 +253,15 @@ static int run(const lod_bench_opts *o, prw_error *e)
         maxpx_a[k] = rpa.max_px;
         draws_a[k] = (double)rpa.draws;
         draws_b[k] = (double)rpb.draws;
+        prox_a[k] = (double)rpa.proxy_instances;
+        prox_b[k] = (double)rpb.proxy_instances;
         relayouts_a += rpa.relayouts;
         relayouts_b += rpb.relayouts;
         if (o->per_pose)
             printf("pose %3ld: A %8.1f ms %6.0f tris %3.0f slots %3.0f draws %.3f ms | B %8.1f ms %6.0f tris %4.0f draws "
-                   "%.3f ms | B/A %.3f\n",
-                   k, ta[k], tri_a[k], up_a[k], draws_a[k], lod_a[k], tb[k], tri_b[k], draws_b[k], lod_b[k], tb[k] / ta[k]);
+                   "%3.0f proxies %.3f ms | B/A %.3f\n",
+                   k, ta[k], tri_a[k], up_a[k], draws_a[k], lod_a[k], tb[k], tri_b[k], draws_b[k], prox_b[k], lod_b[k],
+                   tb[k] / ta[k]);
     }
     prw_stats_summary sa_tri, sa_lod, sb_lod, sb_tri, s_up, s_bytes, s_cul, s_px, s_ta, s_tb;
     prw_stats_summarize(tri_a, (size_t)n, &sa_tri);
@@ -238,10 +288,23 @@ static int run(const lod_bench_opts *o, prw_error *e)
     prw_stats_summary s_da, s_db;
     prw_stats_summarize(draws_a, (size_t)n, &s_da);
     prw_stats_summarize(draws_b, (size_t)n, &s_db);
+    prw_stats_summary s_pa, s_pb;
+    prw_stats_summarize(prox_a, (size_t)n, &s_pa);
+    prw_stats_summarize(prox_b, (size_t)n, &s_pb);
     printf("100 instances: displayed triangles median %.0f (%.2f x one instance's); base-pass LOD draws median "
            "%.0f (1 instance: %.0f); new layouts during the walk: 1 instance %llu, 100 instances %llu\n",
            sb_tri.p50, sb_tri.p50 / sa_tri.p50, s_db.p50, s_da.p50, (unsigned long long)relayouts_a,
            (unsigned long long)relayouts_b);
+    const struct prw_lod_proxy *px = prw_lod_gpu_proxy(prw_lod_scene_model(prw_renderer_lod(ra), 0));
+    if (px && !o->no_proxy) {
+        printf("whole-model proxy: %d levels built from level %d (%d triangles, bound %.3g m) in %.2f s:", px->nlevels,
+               px->start_level, px->start_triangles, px->eps_start, px->build_s);
+        for (int l = 0; l < px->nlevels; l++) printf(" %d tris / %.3g m", px->levels[l].ntris, px->levels[l].err);
+        printf("\n  copies drawn as a proxy per frame: 1 instance median %.0f, 100 instances median %.0f (max %.0f)\n",
+               s_pa.p50, s_pb.p50, s_pb.max);
+    } else {
+        printf("whole-model proxy: off (--no-proxy)\n");
+    }
     printf("slot memory after the walk: 1 instance %.2f MB, 100 instances %.2f MB\n",
            prw_lod_gpu_memory(prw_lod_scene_model(prw_renderer_lod(ra), 0)) / 1e6,
            prw_lod_gpu_memory(prw_lod_scene_model(prw_renderer_lod(rb), 0)) / 1e6);
@@ -253,6 +316,11 @@ static int run(const lod_bench_opts *o, prw_error *e)
     printf("frame time: 1 instance median %.1f ms, 100 instances median %.1f ms; B/A (median of %ld per-pose "
            "ratios) = %.3f, 95 %% [%.3f, %.3f] (goal <= 1.5)\n",
            s_ta.p50, s_tb.p50, n, ratio.ratio, ratio.lo, ratio.hi);
+    if (o->profile && pass_count_a == pass_count_b) {
+        profile_print("A (1 instance)", prof_a, n, pass_names, pass_count_a);
+        profile_print("B (100 instances)", prof_b, n, pass_names, pass_count_b);
+        printf("profile: GPU timestamps flush on lavapipe; these frame times are not the A/B figures above\n");
+    }
     if (prw_gpu_validation_count(gpu) != 0) {
         prw_fail(e, "%u Vulkan validation messages (see above)", prw_gpu_validation_count(gpu));
         goto done;
@@ -266,7 +334,8 @@ done:
     prw_scene_destroy(sa);
     prw_scene_destroy(sb);
     free(ta), free(tb), free(lod_a), free(lod_b), free(tri_a), free(tri_b);
-    free(up_a), free(bytes_a), free(culled_a), free(maxpx_a), free(draws_a), free(draws_b);
+    free(prof_a), free(prof_b);
+    free(up_a), free(bytes_a), free(culled_a), free(maxpx_a), free(draws_a), free(draws_b), free(prox_a), free(prox_b);
     return rc;
 }
 
@@ -275,7 +344,7 @@ int bench_lod_main(prw_args *a)
     prw_error e = {{0}};
     bool bad = false;
     const char *v;
-    lod_bench_opts o = {.model = "car_shell", .width = 1280, .height = 720, .frames = 40, .tol_px = 0.5,
+    lod_bench_opts o = {.model = "car_shell", .width = 1280, .height = 720, .frames = 40, .msaa = 4, .tol_px = 0.5,
                         .chord_rel = 1e-5};
     if (prw_args_flag(a, "help")) {
         lod_usage();
@@ -283,9 +352,13 @@ int bench_lod_main(prw_args *a)
     }
     o.per_pose = prw_args_flag(a, "per-pose");
     o.centre_pixel = prw_args_flag(a, "centre-pixel");
+    o.profile = prw_args_flag(a, "profile");
+    o.no_proxy = prw_args_flag(a, "no-proxy");
     if ((v = prw_args_value(a, "size", &e, &bad)) && !prw_parse_size(v, &o.width, &o.height, &e)) bad = true;
     if (!bad && (v = prw_args_value(a, "frames", &e, &bad)) && !prw_parse_int(v, "--frames", 2, 100000, &o.frames, &e))
         bad = true;
+    if (!bad && (v = prw_args_value(a, "msaa", &e, &bad)) && !prw_parse_int(v, "--msaa", 1, 4, &o.msaa, &e)) bad = true;
+    if (!bad && o.msaa != 1 && o.msaa != 4) bad = true, prw_fail(&e, "--msaa: 1 or 4, got %ld", o.msaa);
     if (!bad && (v = prw_args_value(a, "tol-px", &e, &bad)) && !prw_parse_double(v, "--tol-px", 0.01, 100, &o.tol_px, &e))
         bad = true;
     if (!bad && (v = prw_args_value(a, "chord-rel", &e, &bad)) &&

@@ -246,9 +246,10 @@ static void hud_lines(char lines[HUD_ROWS][96], int *n, const walk_ctx *c, const
     snprintf(lines[k++], 96, "triangles %llu  draws %u", (unsigned long long)st->triangles, st->draws);
     if (lod) {
         const prw_lod_frame_report *lr = prw_lod_scene_last_report(lod);
-        snprintf(lines[k++], 96, "LOD: %llu patches drawn %llu culled, %llu tris, %llu uploads, worst %.2f px",
+        snprintf(lines[k++], 96, "LOD: %llu patches drawn %llu culled, %llu proxies, %llu tris, %llu uploads, worst %.2f px",
                  (unsigned long long)lr->drawn_patches, (unsigned long long)lr->culled_patches,
-                 (unsigned long long)lr->triangles, (unsigned long long)lr->reuploaded, lr->max_px);
+                 (unsigned long long)lr->proxy_instances, (unsigned long long)lr->triangles,
+                 (unsigned long long)lr->reuploaded, lr->max_px);
     }
     snprintf(lines[k++], 96, "eye %.2f %.2f %.2f m  yaw %.1f pitch %.1f deg", eye.x, eye.y, eye.z, yaw * 180 / PI,
              pitch * 180 / PI);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_lod_proxy.h"
 #include "prw_lod_render.h"
 
 #define VF 12 /* floats per vertex: position 3, normal 3, uv 2, tangent 4 (the base pipeline's layout) */
@@ -48,6 +49,14 @@ struct prw_lod_gpu {
     size_t tmpcap_v, tmpcap_i;
     unsigned char *flip; /* per patch: emit with reversed winding and normals (consistent orientation) */
     int orient_conflicts;
+    /* whole-model proxy levels (prw_lod_proxy.h), one shared buffer pair: per corner vertices */
+    prw_lod_proxy proxy;
+    bool have_proxy;
+    prw_buffer pvbuf, pibuf;
+    uint32_t *pfirst;        /* per proxy level: first index */
+    int *use_proxy;          /* per instance: proxy level drawn, or -1 (the patches) */
+    prw_lod_range *prange;   /* per instance: the proxy level's range */
+    prw_dvec3 mlo, mhi;      /* box of every usable patch (control hulls and sewing points) */
 };
 
 static int clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
@@ -249,6 +258,60 @@ static void orient_patches(prw_lod_gpu *g, const double *volume)
     free(queue);
 }
 
+/* The proxy levels as one vertex buffer of per-corner vertices (the slot vertex format; normal and
+ * tangent from the exact surface at the corner's (patch, u, v), as prw_lod_gpu_emit writes them) and
+ * one index buffer 0, 1, 2, ... so a level is one indexed range. */
+static bool upload_proxy(prw_lod_gpu *g, prw_error *e)
+{
+    const prw_lod_proxy *px = &g->proxy;
+    size_t corners = 0;
+    for (int l = 0; l < px->nlevels; l++) corners += 3 * (size_t)px->levels[l].ntris;
+    if (!corners || corners > UINT32_MAX / 4) return true;
+    if (!prw_buffer_create(g->gpu, corners * VF * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, PRW_MEM_UPLOAD,
+                           &g->pvbuf, e) ||
+        !prw_buffer_create(g->gpu, corners * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, PRW_MEM_UPLOAD,
+                           &g->pibuf, e))
+        return false;
+    if (!g->pvbuf.mapped || !g->pibuf.mapped) return prw_fail(e, "lod: upload buffers are not host-mapped");
+    float *vd = g->pvbuf.mapped;
+    uint32_t *id = g->pibuf.mapped;
+    g->pfirst = prw_calloc((size_t)px->nlevels + 1, sizeof(uint32_t));
+    size_t c = 0;
+    for (int l = 0; l < px->nlevels; l++) {
+        const prw_lod_proxy_level *pl = &px->levels[l];
+        g->pfirst[l] = (uint32_t)c;
+        for (int t = 0; t < pl->ntris; t++) {
+            /* the triangle's own orientation is already consistent (the builder applied the flips) */
+            for (int k = 0; k < 3; k++, c++) {
+                int patch = pl->corner_patch[3 * t + k];
+                if (patch < 0 || patch >= g->np) patch = pl->tri_patch[t] >= 0 && pl->tri_patch[t] < g->np ? pl->tri_patch[t] : 0;
+                double u = pl->corner_uv[6 * t + 2 * k], v = pl->corner_uv[6 * t + 2 * k + 1];
+                const double *x = pl->pos + 3 * (size_t)pl->tris[3 * t + k];
+                prw_dvec3 n, tg;
+                surface_frame(&g->m->surfaces[patch].surface, u, v, &n, &tg);
+                if (n.x == 0 && n.y == 0 && n.z == 0) { /* undefined exact normal: the face's */
+                    const double *a = pl->pos + 3 * (size_t)pl->tris[3 * t], *b = pl->pos + 3 * (size_t)pl->tris[3 * t + 1],
+                                 *cc = pl->pos + 3 * (size_t)pl->tris[3 * t + 2];
+                    n = prw_v3_cross(prw_v3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                                     prw_v3(cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]));
+                    double ln = prw_v3_len(n);
+                    n = ln > 0 && isfinite(ln) ? prw_v3_scale(n, 1.0 / ln) : prw_v3(0, 0, 1);
+                }
+                float *d = vd + c * VF;
+                d[0] = (float)(x[0] - g->centre.x);
+                d[1] = (float)(x[1] - g->centre.y);
+                d[2] = (float)(x[2] - g->centre.z);
+                d[3] = (float)n.x, d[4] = (float)n.y, d[5] = (float)n.z;
+                d[6] = (float)u, d[7] = (float)v;
+                d[8] = (float)tg.x, d[9] = (float)tg.y, d[10] = (float)tg.z;
+                d[11] = g->flip && g->flip[patch] ? -1.0f : 1.0f;
+                id[c] = (uint32_t)c;
+            }
+        }
+    }
+    return true;
+}
+
 bool prw_lod_gpu_create(prw_gpu *gpu, const prw_lod_model *lm, const prw_nurbs_model *m, uint32_t instances,
                         const prw_lod_gpu_options *o, prw_lod_gpu **out, prw_error *e)
 {
@@ -333,6 +396,21 @@ bool prw_lod_gpu_create(prw_gpu *gpu, const prw_lod_model *lm, const prw_nurbs_m
     g->have_cull = ok;
     for (int p = 0; ok && p < np && p < g->cull.npatches; p++)
         if (g->flip[p]) g->cull.axis[p] = prw_v3_scale(g->cull.axis[p], -1); /* the drawn side */
+    /* the model's box (distance of an instance for the proxy choice) */
+    g->mlo = prw_v3(DBL_MAX, DBL_MAX, DBL_MAX), g->mhi = prw_v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
+    for (int p = 0; p < np; p++) {
+        if (!lm->patches[p].ok) continue;
+        g->mlo = prw_v3(fmin(g->mlo.x, lm->patches[p].lo.x), fmin(g->mlo.y, lm->patches[p].lo.y), fmin(g->mlo.z, lm->patches[p].lo.z));
+        g->mhi = prw_v3(fmax(g->mhi.x, lm->patches[p].hi.x), fmax(g->mhi.y, lm->patches[p].hi.y), fmax(g->mhi.z, lm->patches[p].hi.z));
+    }
+    g->use_proxy = prw_malloc(sizeof(int) * instances);
+    for (uint32_t i = 0; i < instances; i++) g->use_proxy[i] = -1;
+    g->prange = prw_calloc(instances, sizeof(prw_lod_range));
+    if (ok && !g->o.no_proxy) {
+        ok = prw_lod_proxy_build(lm, g->flip, NULL, &g->proxy, e);
+        g->have_proxy = ok;
+        ok = ok && upload_proxy(g, e);
+    }
     if (!ok) {
         prw_lod_gpu_destroy(g);
         return false;
@@ -349,6 +427,12 @@ void prw_lod_gpu_destroy(prw_lod_gpu *g)
         prw_buffer_destroy(g->gpu, &g->ibuf[i]);
     }
     if (g->have_cull) prw_lod_cull_free(&g->cull);
+    if (g->have_proxy) prw_lod_proxy_free(&g->proxy);
+    prw_buffer_destroy(g->gpu, &g->pvbuf);
+    prw_buffer_destroy(g->gpu, &g->pibuf);
+    free(g->pfirst);
+    free(g->use_proxy);
+    free(g->prange);
     prw_lod_mesh_free(&g->mesh);
     void *ptrs[] = {g->capv,  g->capi, g->cap_done,     g->pseg_start, g->pseg,         g->lfloor,     g->vbuf,     g->ibuf,
                     g->relayouts, g->vslot, g->islot,     g->icap,         g->plev,       g->seg_levels, g->drawn,
@@ -523,6 +607,51 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
             while (newlev[p] + 1 < nl && lp->err[newlev[p] + 1] <= lp->err[newlev[p]]) newlev[p]++;
         }
     }
+    /* A whole-model proxy level instead of the patches (prw_lod_proxy.h): the coarsest-in-triangles
+     * level whose bound projects within the tolerance from the nearer eye at the model box's nearest
+     * point, when it has fewer triangles than the patches selected; the patch slots are then left as
+     * they are (their levels and segments too), so going back to the patches uploads only what
+     * changed since. */
+    g->use_proxy[inst] = -1;
+    if (!g->o.force && !g->o.no_proxy && g->have_proxy && g->proxy.nlevels > 0) {
+        prw_lod_view lv;
+        prw_lod_gpu_model_view(g, world, views, count, &lv);
+        double d = DBL_MAX;
+        for (int k = 0; k < lv.neyes; k++) {
+            prw_dvec3 x = lv.eye[k];
+            double dx = fmax(0, fmax(g->mlo.x - x.x, x.x - g->mhi.x)), dy = fmax(0, fmax(g->mlo.y - x.y, x.y - g->mhi.y)),
+                   dz = fmax(0, fmax(g->mlo.z - x.z, x.z - g->mhi.z));
+            d = fmin(d, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        double eps = lv.tol_px * lv.pixel_angle * d;
+        int best = -1;
+        bool any_drawn = false;
+        for (int p = 0; p < np && !any_drawn; p++) any_drawn = drawn[p] != 0;
+        for (int l = 0; l < g->proxy.nlevels && any_drawn; l++) {
+            const prw_lod_proxy_level *pl = &g->proxy.levels[l];
+            if (pl->err <= eps && (uint64_t)pl->ntris < sr.triangles &&
+                (best < 0 || pl->ntris < g->proxy.levels[best].ntris))
+                best = l;
+        }
+        if (best >= 0) {
+            const prw_lod_proxy_level *pl = &g->proxy.levels[best];
+            g->use_proxy[inst] = best;
+            g->prange[inst] = (prw_lod_range){g->pfirst[best], 3 * (uint32_t)pl->ntris, (uint32_t)pl->ntris, 0};
+            free(newlev);
+            memset(up, 0, (size_t)np);
+            if (rep) {
+                double t2 = prw_now();
+                rep->instances++;
+                rep->proxy_instances++;
+                rep->triangles += (uint64_t)pl->ntris;
+                rep->draws++;
+                rep->select_ms += 1e3 * (t2 - t0);
+                double px = d > 0 ? pl->err / (lv.pixel_angle * d) : 0;
+                if (px > rep->max_px) rep->max_px = px;
+            }
+            return true;
+        }
+    }
     double t1 = prw_now();
     int *seg = g->segtmp;
     prw_lod_segment_levels(lm, newlev, seg);
@@ -630,11 +759,23 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
     return ok;
 }
 
-VkBuffer prw_lod_gpu_vertex_buffer(const prw_lod_gpu *g, uint32_t inst) { return g->vbuf[inst].buffer; }
-VkBuffer prw_lod_gpu_index_buffer(const prw_lod_gpu *g, uint32_t inst) { return g->ibuf[inst].buffer; }
+VkBuffer prw_lod_gpu_vertex_buffer(const prw_lod_gpu *g, uint32_t inst)
+{
+    return g->use_proxy[inst] >= 0 ? g->pvbuf.buffer : g->vbuf[inst].buffer;
+}
+VkBuffer prw_lod_gpu_index_buffer(const prw_lod_gpu *g, uint32_t inst)
+{
+    return g->use_proxy[inst] >= 0 ? g->pibuf.buffer : g->ibuf[inst].buffer;
+}
+int prw_lod_gpu_proxy_level(const prw_lod_gpu *g, uint32_t inst) { return inst < g->ninst ? g->use_proxy[inst] : -1; }
+const prw_lod_proxy *prw_lod_gpu_proxy(const prw_lod_gpu *g) { return g->have_proxy ? &g->proxy : NULL; }
 
 const prw_lod_range *prw_lod_gpu_ranges(const prw_lod_gpu *g, uint32_t inst, bool all, uint32_t *count)
 {
+    if (inst < g->ninst && g->use_proxy[inst] >= 0) {
+        *count = 1;
+        return &g->prange[inst];
+    }
     if (inst >= g->ninst || g->lfloor[inst] < 0) {
         *count = 0;
         return NULL;
@@ -668,7 +809,7 @@ void prw_lod_gpu_slot(const prw_lod_gpu *g, uint32_t inst, int p, const float **
 
 size_t prw_lod_gpu_memory(const prw_lod_gpu *g)
 {
-    size_t n = 0;
+    size_t n = (size_t)g->pvbuf.size + (size_t)g->pibuf.size;
     for (uint32_t i = 0; i < g->ninst; i++) n += (size_t)g->vbuf[i].size + (size_t)g->ibuf[i].size;
     return n;
 }

@@ -568,6 +568,7 @@ struct prw_tm_session {
     prw_renderer *r;
     uint32_t w, h;
     prw_gpu_image in, ldr, sig;
+    prw_desc_pool *pool; /* the session's own: its set goes with it (the renderer's pool only grows) */
     VkDescriptorSet set;
 };
 
@@ -578,6 +579,7 @@ void prw_tm_session_destroy(prw_tm_session *s)
     prw_image_destroy(s->r->gpu, &s->in);
     prw_image_destroy(s->r->gpu, &s->ldr);
     prw_image_destroy(s->r->gpu, &s->sig);
+    if (s->pool) prw_desc_pool_destroy(s->r->gpu, s->pool);
     free(s);
 }
 
@@ -602,7 +604,7 @@ bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session
     bool ok = prw_image_create(r->gpu, &din, &s->in, e) && prw_image_create(r->gpu, &dldr, &s->ldr, e) &&
               prw_image_create(r->gpu, &dsig, &s->sig, e) &&
               prw_image_upload(r->gpu, &s->in, 0, hdr->rgba, (size_t)w * h * 16, e) &&
-              prw_desc_alloc(r->gpu, r->pool, tm->set_layout, &s->set, e);
+              prw_desc_pool_create(r->gpu, &s->pool, e) && prw_desc_alloc(r->gpu, s->pool, tm->set_layout, &s->set, e);
     if (!ok) {
         prw_tm_session_destroy(s);
         return false;

@@ -45,6 +45,15 @@
  *    needed for crack-free neighbours and come back into view without an upload); the base pass
  *    draws only the drawn patches' ranges, the shadow pass draws all patches (a patch outside the
  *    camera's frustum or facing away from it still casts shadows into the view).
+ *  - Whole-model proxy levels (lod/prw_lod_proxy.h, built at create from the hierarchy with the
+ *    patches' orientation; none with no_proxy): after the patch selection, an instance is drawn as ONE
+ *    proxy level instead of its patches when some level's measured bound, projected from the nearer
+ *    eye at the nearest point of the model's box (the same conservative distance and corner pixel
+ *    angle as the patches), is within the tolerance and the level has fewer triangles than the
+ *    drawn patches; the one with the fewest triangles is taken.  A copy is never part proxy, part
+ *    patches, so no crack can open between the two.  The proxy levels live in one shared buffer pair
+ *    (per-corner vertices: exact normals at the corner's (patch, u, v)); the instance's patch slots
+ *    are left untouched meanwhile.  An instance with every patch culled is not drawn either way.
  *  - Each instance chooses its levels independently: instances differ in distance and screen size,
  *    and one shared choice would have to take, per patch, the finest level any instance needs.
  *  - Reports: drawn / culled patches, triangles drawn (base pass), slots re-uploaded, bytes written,
@@ -79,6 +88,7 @@ typedef struct prw_lod_gpu_options {
     bool centre_pixel;   /* pixel angle at the image centre (lod/'s tests) instead of the corner's */
     bool force;          /* every patch at force_level (clamped), none culled: reference images */
     int force_level;
+    bool no_proxy;       /* at create: no whole-model proxy levels (always the patches) */
 } prw_lod_gpu_options;
 
 typedef struct prw_lod_frame_report {
@@ -92,6 +102,7 @@ typedef struct prw_lod_frame_report {
     uint64_t draws;      /* base-pass draw calls (runs of consecutive drawn patches) */
     int floor_binds, finest_binds, budget_binds;
     double max_px; /* worst projected error of a drawn patch at its level (pixels; 0 when forced) */
+    uint64_t proxy_instances; /* instances drawn as a whole-model proxy level */
 } prw_lod_frame_report;
 
 typedef struct prw_lod_range {
@@ -117,6 +128,10 @@ VkBuffer prw_lod_gpu_index_buffer(const prw_lod_gpu *g, uint32_t inst);
 /* Draw ranges of instance inst after its last update: the drawn patches (all = false) or every
  * patch (all = true, for shadows).  Empty ranges are left out. */
 const prw_lod_range *prw_lod_gpu_ranges(const prw_lod_gpu *g, uint32_t inst, bool all, uint32_t *count);
+/* The whole-model proxy level instance inst was drawn with in its last update (-1: the patches), and
+ * the proxy levels (NULL when built with no_proxy). */
+int prw_lod_gpu_proxy_level(const prw_lod_gpu *g, uint32_t inst);
+const struct prw_lod_proxy *prw_lod_gpu_proxy(const prw_lod_gpu *g);
 /* Introspection for tests: per-patch levels, drawn and uploaded flags of instance inst (npatches),
  * and how many layouts the instance has had. */
 const int *prw_lod_gpu_levels(const prw_lod_gpu *g, uint32_t inst);

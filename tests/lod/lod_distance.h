@@ -12,4 +12,11 @@
  * (every triangle / grid-start inversion) decides. */
 double lod_two_sided(const prw_trimmed_surface *t, const prw_lod_mesh *m, int n, int order);
 
+/* The same for a whole model: surface -> mesh samples of every patch (n x n each, inside its trim)
+ * to the nearest triangle; mesh -> surface: each barycentric sample to the union of the trimmed
+ * patches, per patch an upper bound of the distance (the inversion's foot when it lies in the
+ * trimmed region, else the nearest of 8 exact samples per trim-polygon edge), patches skipped by
+ * their control-hull box.  The mesh -> surface half can only overestimate. */
+double lod_two_sided_model(const prw_nurbs_model *mdl, const prw_lod_mesh *m, int n, int order);
+
 #endif
