@@ -15,10 +15,8 @@
 #include <string.h>
 
 #include "bench_internal.h"
+#include "prw_build_info.h"
 
-#ifndef PRW_GIT_HASH
-#define PRW_GIT_HASH "unknown"
-#endif
 #ifndef PRW_BUILD_TYPE
 #define PRW_BUILD_TYPE "unknown"
 #endif
@@ -78,7 +76,7 @@ void bench_machine_meta(bench_meta *m, prw_gpu *gpu)
     bench_meta_add(m, "device", "%s", prw_gpu_device_name(gpu));
     bench_meta_add(m, "threads", "%d (LP_NUM_THREADS %s)", prw_threads_get(),
                    getenv("LP_NUM_THREADS") ? getenv("LP_NUM_THREADS") : "unset");
-    bench_meta_add(m, "git", "%s", PRW_GIT_HASH);
+    bench_meta_add(m, "git", "%s", prw_build_git_hash());
     bench_meta_add(m, "build", "%s", PRW_BUILD_TYPE);
 }
 

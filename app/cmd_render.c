@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "app.h"
+#include "prw_build_info.h"
 #include "prw_image.h"
 #include "prw_render.h"
 #include "prw_view.h"
@@ -16,9 +17,6 @@
 #include "prw_glare.h"
 #endif
 
-#ifndef PRW_GIT_HASH
-#define PRW_GIT_HASH "unknown"
-#endif
 
 static void render_usage(void)
 {
@@ -236,7 +234,7 @@ static int prw_render_job_run(const render_job *job)
     snprintf(ev, sizeof ev, "%.4f", view.ev100);
     snprintf(spp, sizeof spp, "%u", job->msaa);
     prw_kv attrs[] = {
-        {"prw:git", PRW_GIT_HASH}, {"prw:scene", scene->source}, {"prw:camera", scene->cameras[cam].name},
+        {"prw:git", prw_build_git_hash()}, {"prw:scene", scene->source}, {"prw:camera", scene->cameras[cam].name},
         {"prw:ev100", ev},         {"prw:msaa", spp},            {"prw:units", "cd/m^2, linear Rec.709"},
     };
     if (prw_gpu_validation_count(gpu) != 0) { /* a wrong image is not written */

@@ -23,6 +23,7 @@
 #include <GLFW/glfw3.h>
 
 #include "app.h"
+#include "prw_build_info.h"
 #include "prw_camera_path.h"
 #include "prw_image.h"
 #include "prw_lod_render.h"
@@ -35,9 +36,6 @@
 #include "walk_measure.h"
 #include "walk_script.h"
 
-#ifndef PRW_GIT_HASH
-#define PRW_GIT_HASH "unknown"
-#endif
 
 #define PI 3.14159265358979323846
 #define LEVELS 5
@@ -196,7 +194,7 @@ static bool screenshot(walk_ctx *c, const prw_view *v_in, double sim_t, prw_erro
     char ev[32], tt[32];
     snprintf(ev, sizeof ev, "%.4f", v.ev100);
     snprintf(tt, sizeof tt, "%.6f", sim_t);
-    prw_kv attrs[] = {{"prw:git", PRW_GIT_HASH}, {"prw:scene", c->scene->source}, {"prw:ev100", ev},
+    prw_kv attrs[] = {{"prw:git", prw_build_git_hash()}, {"prw:scene", c->scene->source}, {"prw:ev100", ev},
                       {"prw:walk_time_s", tt},   {"prw:units", "cd/m^2, linear Rec.709"}};
     if (ok && prw_gpu_validation_count(c->gpu) != 0)
         ok = prw_fail(e, "%u Vulkan validation messages (see above); screenshot not written", prw_gpu_validation_count(c->gpu));

@@ -5,10 +5,8 @@
 #include <string.h>
 
 #include "app.h"
+#include "prw_build_info.h"
 
-#ifndef PRW_GIT_HASH
-#define PRW_GIT_HASH "unknown"
-#endif
 
 static void usage(FILE *f)
 {
@@ -43,7 +41,7 @@ static void usage(FILE *f)
 
 static int print_version(void)
 {
-    printf("prw %s (git %s)\n", PRW_VERSION, PRW_GIT_HASH);
+    printf("prw %s (git %s)\n", PRW_VERSION, prw_build_git_hash());
     prw_gpu *gpu;
     prw_error e;
     prw_threads_set(g_prw_opts.threads);

@@ -7,15 +7,13 @@
 #include <sys/stat.h>
 
 #include "app.h"
+#include "prw_build_info.h"
 #include "prw_compose.h"
 #include "prw_hmd.h"
 #include "prw_image.h"
 #include "prw_render.h"
 #include "render_stereo.h"
 
-#ifndef PRW_GIT_HASH
-#define PRW_GIT_HASH "unknown"
-#endif
 
 static void parent_dir(const char *path)
 {
@@ -127,7 +125,7 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     for (int i = 0; i < 3; i++) {
         const prw_image *img = i < 2 ? &hdr[i] : &comp_hdr;
         prw_kv attrs[] = {
-            {"prw:git", PRW_GIT_HASH}, {"prw:scene", scene->source}, {"prw:camera", scene->cameras[cam].name},
+            {"prw:git", prw_build_git_hash()}, {"prw:scene", scene->source}, {"prw:camera", scene->cameras[cam].name},
             {"prw:ev100", ev},         {"prw:stereo", mode},          {"prw:ipd_m", ipd},
             {"prw:eye", i == 0 ? "left" : i == 1 ? "right" : "composed"},
             {"prw:units", "cd/m^2, linear Rec.709"},
