@@ -51,9 +51,10 @@
  *    o->max_level_triangles are dropped unmeasured; then only the Pareto front is kept: ordered
  *    fine to coarse, triangles strictly decreasing and err strictly increasing.
  *  - No output (errors through prw_error).  Measured (test_lod_proxy --bench: the car shell at the
- *    bench setting, finest_rel 1e-5, seam chord 0.5e-5 x diag; M_s 12,127 triangles at k_s 3): 9
- *    levels from 1,339 triangles (err 6.5e-4 x diag) to 32 (4.5e-2 x diag), built in 1.9-2.4 s on one
- *    core of a shared 2-core EPYC, RelWithDebInfo.
+ *    bench setting, finest_rel 1e-5, seam chord 0.5e-5 x diag; M_s 12,127 triangles at k_s 3; prw
+ *    bench --lod prints the same): 18 levels from 503 triangles (err 1.45e-3 x diag) through 216
+ *    (2.9e-3) and 149 (4.5e-3) to 34 (0.126), built in 2.1-2.7 s on one core of a 2-core EPYC,
+ *    RelWithDebInfo.  (The patches' own floor, every patch at its coarsest level: 295 triangles.)
  *
  * Per-corner data: a triangle keeps the patch it came from; each corner has (patch, u, v) of its
  * vertex on the triangle's own patch when the vertex lies on that patch (seam vertices lie on

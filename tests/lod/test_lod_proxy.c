@@ -27,6 +27,16 @@
 #include "prw_nurbs_procedural.h"
 #include "prw_test.h"
 
+/* Under ASan (memory errors, not power: 127 s in full) every third level (and the coarsest) meets
+ * the dense oracle and the option rebuilds are skipped. */
+#if defined(__SANITIZE_ADDRESS__)
+#define ORACLE_STRIDE 3
+#define ORACLE_LIGHT 1
+#else
+#define ORACLE_STRIDE 1
+#define ORACLE_LIGHT 0
+#endif
+
 typedef struct ekey {
     uint32_t a, b;
     int fwd, back; /* uses a->b and b->a */
@@ -225,7 +235,8 @@ static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), 
         /* bound honesty against the exact surface */
         prw_lod_mesh lmsh;
         level_mesh(L, &lmsh);
-        double meas = lod_two_sided_model(&m, &lmsh, 32, 6);
+        bool check = l % ORACLE_STRIDE == 0 || l + 1 == px.nlevels;
+        double meas = check ? lod_two_sided_model(&m, &lmsh, 32, 6) : 0;
         printf("  level %d (stage %d): %6d triangles %6d vertices, err %.4g (%.3g diag, d_start %.3g), measured %.4g = "
                "%.3f err; corners off-surface %d (worst %.2g diag), border %d\n",
                l, L->stage, L->ntris, L->nverts, L->err, L->err / diag, L->d_start, meas, meas / L->err, off,
@@ -259,8 +270,9 @@ static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), 
         free(pos);
     }
     /* options: a small query budget drops the finest levels only (the rest identical); a smaller
-     * start mesh starts at a coarser k_s */
-    {
+     * start mesh starts at a coarser k_s (6-8 more builds: not under ASan, where the same code runs
+     * in the main build above) */
+    if (!ORACLE_LIGHT) {
         prw_lod_proxy p2;
         /* the smallest budgets first that still keep a level (the models differ in size) */
         static const double budgets[] = {6e4, 2e4, 6e3, 2e3, 600};
