@@ -10,47 +10,6 @@
 #include "prw_predicates.h"
 #include "prw_tess_fixed.h"
 
-typedef struct hentry {
-    double cost;
-    int v, w;
-    unsigned sv, sw;
-} hentry;
-
-typedef struct heap {
-    hentry *a;
-    int n, cap;
-} heap;
-
-static void hpush(heap *h, hentry x)
-{
-    if (h->n == h->cap) {
-        h->cap = h->cap ? 2 * h->cap : 256;
-        h->a = prw_realloc(h->a, sizeof(hentry) * (size_t)h->cap);
-    }
-    int i = h->n++;
-    while (i > 0 && h->a[(i - 1) / 2].cost > x.cost) {
-        h->a[i] = h->a[(i - 1) / 2];
-        i = (i - 1) / 2;
-    }
-    h->a[i] = x;
-}
-
-static hentry hpop(heap *h)
-{
-    hentry top = h->a[0], x = h->a[--h->n];
-    int i = 0;
-    for (;;) {
-        int c = 2 * i + 1;
-        if (c >= h->n) break;
-        if (c + 1 < h->n && h->a[c + 1].cost < h->a[c].cost) c++;
-        if (h->a[c].cost >= x.cost) break;
-        h->a[i] = h->a[c];
-        i = c;
-    }
-    if (h->n) h->a[i] = x;
-    return top;
-}
-
 typedef struct work {
     const prw_seam_graph *g;
     const prw_nurbs_surface *s;
@@ -63,7 +22,7 @@ typedef struct work {
     lod_ivec *vt;
     unsigned char *active;
     unsigned *stamp;
-    heap h;
+    lod_heap h;
     lod_ivec nb, nb2, tmp;
     int level;
     unsigned *vmark, *kmark, gen; /* de-duplication marks (per vertex / per weld key) */
@@ -140,7 +99,7 @@ static void push_candidates(work *w, int v)
             for (int j = 0; j < w->nb.n; j++)
                 if (j != i && w->nb.v[j] < w->p->nbound && lod_span(w->p, v, w->nb.v[j], w->active, 0, &w->tmp))
                     eps = fmax(eps, seg_dist(pv, pt, w->p->pos[w->nb.v[j]]));
-        hpush(&w->h, (hentry){verr + eps, v, to, w->stamp[v], w->stamp[to]});
+        lod_heap_push(&w->h, (lod_hent){verr + eps, v, to, w->stamp[v], w->stamp[to]});
     }
 }
 
@@ -867,7 +826,7 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
         w.h.n = 0;
         for (int v = 0; v < p->nverts; v++) push_candidates(&w, v);
         while (w.h.n > 0) {
-            hentry x = hpop(&w.h);
+            lod_hent x = lod_heap_pop(&w.h);
             if (x.cost > tau) break;
             if (!w.active[x.v] || !w.active[x.w] || w.stamp[x.v] != x.sv || w.stamp[x.w] != x.sw) continue;
             if (!check(&w, x.v, x.w, tau)) continue;

@@ -15,6 +15,45 @@ void lod_ipush(lod_ivec *l, int x)
     l->v[l->n++] = x;
 }
 
+void lod_iremove(lod_ivec *l, int x)
+{
+    for (int i = 0; i < l->n; i++)
+        if (l->v[i] == x) {
+            l->v[i] = l->v[--l->n];
+            return;
+        }
+}
+
+void lod_heap_push(lod_heap *h, lod_hent x)
+{
+    if (h->n == h->cap) {
+        h->cap = h->cap ? 2 * h->cap : 256;
+        h->a = prw_realloc(h->a, sizeof(lod_hent) * (size_t)h->cap);
+    }
+    int i = h->n++;
+    while (i > 0 && h->a[(i - 1) / 2].cost > x.cost) {
+        h->a[i] = h->a[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h->a[i] = x;
+}
+
+lod_hent lod_heap_pop(lod_heap *h)
+{
+    lod_hent top = h->a[0], x = h->a[--h->n];
+    int i = 0;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= h->n) break;
+        if (c + 1 < h->n && h->a[c + 1].cost < h->a[c].cost) c++;
+        if (h->a[c].cost >= x.cost) break;
+        h->a[i] = h->a[c];
+        i = c;
+    }
+    if (h->n) h->a[i] = x;
+    return top;
+}
+
 bool lod_span(const prw_lod_patch *p, int a, int b, const unsigned char *active, int level, lod_ivec *span)
 {
     span->n = 0;

@@ -10,6 +10,24 @@ typedef struct lod_ivec {
 } lod_ivec;
 
 void lod_ipush(lod_ivec *l, int x);
+/* Removes one x (order not kept). */
+void lod_iremove(lod_ivec *l, int x);
+
+/* A binary min-heap of candidate collapses v -> w (cost first; sv, sw: the callers' staleness
+ * stamps), shared by the patch hierarchy and the whole-model proxy. */
+typedef struct lod_hent {
+    double cost;
+    int v, w;
+    unsigned sv, sw;
+} lod_hent;
+
+typedef struct lod_heap {
+    lod_hent *a;
+    int n, cap;
+} lod_heap;
+
+void lod_heap_push(lod_heap *h, lod_hent x);
+lod_hent lod_heap_pop(lod_heap *h); /* h->n > 0 */
 
 /* Is vertex v present?  active != NULL: active[v]; else removed_at[v] > level. */
 static inline bool lod_active(const prw_lod_patch *p, const unsigned char *active, int level, int v)

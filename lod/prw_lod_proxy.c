@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_lod_internal.h"
 #include "prw_lod_proxy.h"
 
 /* ---------- geometry ---------- */
@@ -233,39 +234,10 @@ static double one_sided(const double *pos, int nverts, const uint32_t *tris, int
 
 /* ---------- collapse work state ---------- */
 
-typedef struct ivec {
-    int *v;
-    int n, cap;
-} ivec;
-
-static void ipush(ivec *l, int x)
-{
-    if (l->n == l->cap) {
-        l->cap = l->cap ? 2 * l->cap : 8;
-        l->v = prw_realloc(l->v, sizeof(int) * (size_t)l->cap);
-    }
-    l->v[l->n++] = x;
-}
-
-static void iremove(ivec *l, int x)
-{
-    for (int i = 0; i < l->n; i++)
-        if (l->v[i] == x) {
-            l->v[i] = l->v[--l->n];
-            return;
-        }
-}
-
 typedef struct occ {
     int patch, next;
     double u, v;
 } occ;
-
-typedef struct hent {
-    double cost;
-    int v, w;
-    unsigned stamp;
-} hent;
 
 typedef struct work {
     int nv, nt;
@@ -277,45 +249,14 @@ typedef struct work {
     int *tpatch, *cpatch;
     double *cuv;
     unsigned char *talive, *valive, *fixed;
-    ivec *vt;
+    lod_ivec *vt;
     double *verr;
     unsigned *stamp;
-    hent *h;
-    int hn, hcap;
+    lod_heap h;
     double area2_min; /* |cross| threshold: 2 x 1e-12 x diag^2 */
-    ivec nb, nbw;
+    lod_ivec nb, nbw;
     int alive_tris;
 } work;
-
-static void hpush(work *w, hent x)
-{
-    if (w->hn == w->hcap) {
-        w->hcap = w->hcap ? 2 * w->hcap : 1024;
-        w->h = prw_realloc(w->h, sizeof(hent) * (size_t)w->hcap);
-    }
-    int i = w->hn++;
-    while (i > 0 && w->h[(i - 1) / 2].cost > x.cost) {
-        w->h[i] = w->h[(i - 1) / 2];
-        i = (i - 1) / 2;
-    }
-    w->h[i] = x;
-}
-
-static hent hpop(work *w)
-{
-    hent top = w->h[0], x = w->h[--w->hn];
-    int i = 0;
-    for (;;) {
-        int c = 2 * i + 1;
-        if (c >= w->hn) break;
-        if (c + 1 < w->hn && w->h[c + 1].cost < w->h[c].cost) c++;
-        if (w->h[c].cost >= x.cost) break;
-        w->h[i] = w->h[c];
-        i = c;
-    }
-    if (w->hn) w->h[i] = x;
-    return top;
-}
 
 static prw_dvec3 wp(const work *w, int v) { return P3(w->pos + 3 * v); }
 
@@ -326,7 +267,7 @@ static bool tri_has(const work *w, int t, int x)
 }
 
 /* Neighbours of v (each once) into nb; edge degrees into deg (parallel). */
-static void neighbours(const work *w, int v, ivec *nb, int *deg, int maxn)
+static void neighbours(const work *w, int v, lod_ivec *nb, int *deg, int maxn)
 {
     nb->n = 0;
     for (int i = 0; i < w->vt[v].n; i++) {
@@ -341,7 +282,7 @@ static void neighbours(const work *w, int v, ivec *nb, int *deg, int maxn)
                     nb->n = -1;
                     return;
                 }
-                ipush(nb, x);
+                lod_ipush(nb, x);
                 deg[j] = 0;
             }
             deg[j]++;
@@ -355,7 +296,7 @@ static void neighbours(const work *w, int v, ivec *nb, int *deg, int maxn)
 static bool manifold_star(work *w, int v, int *deg, bool *border)
 {
     neighbours(w, v, &w->nb, deg, MAXVAL);
-    const ivec nb = w->nb;
+    const lod_ivec nb = w->nb;
     if (nb.n < 0) return false;
     int ones = 0;
     for (int j = 0; j < nb.n; j++) {
@@ -391,7 +332,7 @@ static double collapse_cost(work *w, int v, int to)
     int deg[MAXVAL + 1], degw[MAXVAL + 1];
     bool border;
     if (w->fixed[v] || !manifold_star(w, v, deg, &border)) return INFINITY;
-    const ivec nb = w->nb; /* v's neighbours, from manifold_star */
+    const lod_ivec nb = w->nb; /* v's neighbours, from manifold_star */
     int ti = -1;
     for (int j = 0; j < nb.n; j++)
         if (nb.v[j] == to) ti = j;
@@ -400,7 +341,7 @@ static double collapse_cost(work *w, int v, int to)
     if (border && edge_deg != 1) return INFINITY;             /* a border vertex moves only along the border */
     if (w->vt[v].n == 1 && w->vt[to].n == 1) return INFINITY; /* an isolated triangle stays */
     neighbours(w, to, &w->nbw, degw, 4 * MAXVAL);
-    const ivec nbw = w->nbw;
+    const lod_ivec nbw = w->nbw;
     if (nbw.n < 0) return INFINITY;
     int common = 0;
     for (int j = 0; j < nb.n; j++) {
@@ -455,7 +396,7 @@ static void push_best(work *w, int v)
         double c = collapse_cost(w, v, cand[j]);
         if (c < best) best = c, bt = cand[j];
     }
-    if (bt >= 0) hpush(w, (hent){best, v, bt, w->stamp[v]});
+    if (bt >= 0) lod_heap_push(&w->h, (lod_hent){best, v, bt, w->stamp[v], 0});
 }
 
 /* Corner data of vertex x for a triangle of patch p. */
@@ -473,7 +414,7 @@ static void corner_of(const work *w, int x, int p, int *cp, double *uv)
 
 static void do_collapse(work *w, int v, int to, double cost)
 {
-    ivec *lv = &w->vt[v];
+    lod_ivec *lv = &w->vt[v];
     for (int i = 0; i < lv->n; i++) {
         int t = lv->v[i];
         if (tri_has(w, t, to)) {
@@ -481,7 +422,7 @@ static void do_collapse(work *w, int v, int to, double cost)
             w->alive_tris--;
             for (int k = 0; k < 3; k++) {
                 int x = (int)w->tri[3 * t + k];
-                if (x != v) iremove(&w->vt[x], t);
+                if (x != v) lod_iremove(&w->vt[x], t);
             }
             continue;
         }
@@ -490,14 +431,14 @@ static void do_collapse(work *w, int v, int to, double cost)
                 w->tri[3 * t + k] = (uint32_t)to;
                 corner_of(w, to, w->tpatch[t], &w->cpatch[3 * t + k], &w->cuv[6 * t + 2 * k]);
             }
-        ipush(&w->vt[to], t);
+        lod_ipush(&w->vt[to], t);
     }
     lv->n = 0;
     w->valive[v] = 0;
     w->verr[to] = fmax(w->verr[to], cost);
     /* new costs around `to` (others are re-checked when popped) */
     int deg[4 * MAXVAL + 1];
-    ivec nb = {0};
+    lod_ivec nb = {0};
     neighbours(w, to, &nb, deg, 4 * MAXVAL);
     push_best(w, to);
     for (int j = 0; j < nb.n; j++) push_best(w, nb.v[j]);
@@ -719,7 +660,7 @@ bool prw_lod_proxy_build(const prw_lod_model *lm, const unsigned char *flip, con
     out->eps_start = eps_s;
     out->start_triangles = w.nt;
     /* adjacency */
-    w.vt = prw_calloc((size_t)w.nv + 1, sizeof(ivec));
+    w.vt = prw_calloc((size_t)w.nv + 1, sizeof(lod_ivec));
     w.talive = prw_malloc((size_t)w.nt + 1);
     memset(w.talive, 1, (size_t)w.nt + 1);
     w.valive = prw_calloc((size_t)w.nv + 1, 1);
@@ -728,13 +669,13 @@ bool prw_lod_proxy_build(const prw_lod_model *lm, const unsigned char *flip, con
     w.stamp = prw_calloc((size_t)w.nv + 1, sizeof(unsigned));
     for (int t = 0; t < w.nt; t++)
         for (int k = 0; k < 3; k++) {
-            ipush(&w.vt[w.tri[3 * t + k]], t);
+            lod_ipush(&w.vt[w.tri[3 * t + k]], t);
             w.valive[w.tri[3 * t + k]] = 1;
         }
     w.alive_tris = w.nt;
     {
         int deg[4 * MAXVAL + 1];
-        ivec nb = {0};
+        lod_ivec nb = {0};
         for (int v = 0; v < w.nv; v++) {
             neighbours(&w, v, &nb, deg, 4 * MAXVAL);
             if (nb.n < 0) {
@@ -764,12 +705,12 @@ bool prw_lod_proxy_build(const prw_lod_model *lm, const unsigned char *flip, con
         /* while the mesh is still too fine to be kept, whole octaves only (fewer heap rebuilds) */
         if (w.alive_tris > max_level_tris && k % PRW_PROXY_STEPS != PRW_PROXY_STEPS - 1) continue;
         int before = w.alive_tris;
-        w.hn = 0;
+        w.h.n = 0;
         for (int v = 0; v < w.nv; v++) push_best(&w, v);
-        while (w.hn) {
-            if (w.h[0].cost > budget) break;
-            hent x = hpop(&w);
-            if (x.stamp != w.stamp[x.v] || !w.valive[x.v]) continue;
+        while (w.h.n > 0) {
+            if (w.h.a[0].cost > budget) break;
+            lod_hent x = lod_heap_pop(&w.h);
+            if (x.sv != w.stamp[x.v] || !w.valive[x.v]) continue;
             double c = collapse_cost(&w, x.v, x.w);
             if (c > x.cost) { /* stale: look again */
                 push_best(&w, x.v);
@@ -846,7 +787,7 @@ done:
     free(w.vt);
     free(w.verr);
     free(w.stamp);
-    free(w.h);
+    free(w.h.a);
     free(w.nb.v);
     free(w.nbw.v);
     if (!ok) {
