@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "lod_distance.h"
+#include "lod_fixture.h"
 #include "prw_lod_proxy.h"
 #include "prw_nurbs_procedural.h"
 #include "prw_test.h"
@@ -142,16 +143,14 @@ static void level_mesh(const prw_lod_proxy_level *L, prw_lod_mesh *m)
 static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), double chord_rel, bool car)
 {
     prw_nurbs_model m;
-    prw_nurbs_model_init(&m);
-    prw_error e;
-    CHECK_OK(make(&m, &e), &e);
-    prw_dvec3 lo, hi;
-    prw_nurbs_model_bounds(&m, &lo, &hi);
-    double diag = prw_v3_len(prw_v3_sub(hi, lo));
     prw_seam_graph g;
-    CHECK_OK(prw_seam_build(&m, &(prw_seam_options){.chord = chord_rel * diag}, &g, &e), &e);
     prw_lod_model lm;
-    CHECK_OK(prw_lod_build(&m, &g, NULL, &lm, &e), &e);
+    prw_error e;
+    double diag;
+    if (!lod_fixture(make, chord_rel, NULL, &m, &g, &lm, &diag, NULL, &e)) {
+        CHECK_MSG(false, "%s", e.msg);
+        return;
+    }
     CHECK(lm.failed_patches == 0);
     unsigned char *flip = patch_flips(&lm);
     prw_lod_proxy px;
@@ -316,9 +315,7 @@ static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), 
     }
     free(flip);
     prw_lod_proxy_free(&px);
-    prw_lod_free(&lm);
-    prw_seam_free(&g);
-    prw_nurbs_model_free(&m);
+    lod_fixture_free(&m, &g, &lm);
 }
 
 static bool make_box(prw_nurbs_model *m, prw_error *e) { return prw_procedural_filleted_box(m, 1.0, 0.3, e); }
@@ -326,18 +323,16 @@ static bool make_box(prw_nurbs_model *m, prw_error *e) { return prw_procedural_f
 static void bench(void)
 {
     prw_nurbs_model m;
-    prw_nurbs_model_init(&m);
-    prw_error e;
-    CHECK_OK(prw_procedural_car_shell(&m, &e), &e);
-    prw_dvec3 lo, hi;
-    prw_nurbs_model_bounds(&m, &lo, &hi);
-    double diag = prw_v3_len(prw_v3_sub(hi, lo));
     prw_seam_graph g;
-    CHECK_OK(prw_seam_build(&m, &(prw_seam_options){.chord = 0.5e-5 * diag}, &g, &e), &e);
     prw_lod_model lm;
-    double t0 = prw_now();
-    CHECK_OK(prw_lod_build(&m, &g, &(prw_lod_options){.finest_rel = 1e-5}, &lm, &e), &e);
-    double t1 = prw_now();
+    prw_error e;
+    double diag, t0 = prw_now();
+    if (!lod_fixture(prw_procedural_car_shell, 0.5e-5, &(prw_lod_options){.finest_rel = 1e-5}, &m, &g, &lm, &diag, NULL,
+                     &e)) {
+        CHECK_MSG(false, "%s", e.msg);
+        return;
+    }
+    double t1 = prw_now(); /* seam graph + hierarchy */
     unsigned char *flip = patch_flips(&lm);
     prw_lod_proxy px;
     CHECK_OK(prw_lod_proxy_build(&lm, flip, NULL, &px, &e), &e);
@@ -374,9 +369,7 @@ static void bench(void)
                px.levels[l].err / diag, px.levels[l].d_start);
     free(flip);
     prw_lod_proxy_free(&px);
-    prw_lod_free(&lm);
-    prw_seam_free(&g);
-    prw_nurbs_model_free(&m);
+    lod_fixture_free(&m, &g, &lm);
 }
 
 static void test_box(void) { run("filleted box", make_box, 2e-4, false); }

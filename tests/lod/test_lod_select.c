@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "lod_distance.h"
+#include "lod_fixture.h"
 #include "prw_lod_select.h"
 #include "prw_nurbs_procedural.h"
 #include "prw_test.h"
@@ -16,17 +17,15 @@ static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), 
                 int nd, int stride)
 {
     prw_nurbs_model m;
-    prw_nurbs_model_init(&m);
-    prw_error e;
-    CHECK_OK(make(&m, &e), &e);
-    prw_dvec3 lo, hi;
-    prw_nurbs_model_bounds(&m, &lo, &hi);
-    double diag = prw_v3_len(prw_v3_sub(hi, lo));
-    prw_dvec3 centre = prw_v3_scale(prw_v3_add(lo, hi), 0.5);
     prw_seam_graph g;
-    CHECK_OK(prw_seam_build(&m, &(prw_seam_options){.chord = chord_rel * diag}, &g, &e), &e);
     prw_lod_model lm;
-    CHECK_OK(prw_lod_build(&m, &g, NULL, &lm, &e), &e);
+    prw_error e;
+    double diag;
+    prw_dvec3 centre;
+    if (!lod_fixture(make, chord_rel, NULL, &m, &g, &lm, &diag, &centre, &e)) {
+        CHECK_MSG(false, "%s", e.msg);
+        return;
+    }
     printf("  %s: %d patches, %d segments (open %d, unmatched %d), failed patches %d %s\n", name, g.npatches, g.nsegs,
            g.open, g.unmatched, lm.failed_patches, lm.first_problem);
     CHECK(lm.failed_patches == 0 && g.unmatched == 0);
@@ -86,9 +85,7 @@ static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), 
     prw_lod_mesh_free(&out);
     free(lv);
     free(sl);
-    prw_lod_free(&lm);
-    prw_seam_free(&g);
-    prw_nurbs_model_free(&m);
+    lod_fixture_free(&m, &g, &lm);
 }
 
 static bool make_box(prw_nurbs_model *m, prw_error *e) { return prw_procedural_filleted_box(m, 1.0, 0.3, e); }
