@@ -297,8 +297,11 @@ static int run(const lod_bench_opts *o, prw_error *e)
            (unsigned long long)relayouts_b);
     const struct prw_lod_proxy *px = prw_lod_gpu_proxy(prw_lod_scene_model(prw_renderer_lod(ra), 0));
     if (px && !o->no_proxy) {
-        printf("whole-model proxy: %d levels built from level %d (%d triangles, bound %.3g m) in %.2f s:", px->nlevels,
-               px->start_level, px->start_triangles, px->eps_start, px->build_s);
+        char when[48];
+        if (px->build_s > 0) snprintf(when, sizeof when, "built in %.2f s", px->build_s);
+        else snprintf(when, sizeof when, "from the bake cache");
+        printf("whole-model proxy: %d levels from level %d (%d triangles, bound %.3g m), %s:", px->nlevels,
+               px->start_level, px->start_triangles, px->eps_start, when);
         for (int l = 0; l < px->nlevels; l++) printf(" %d tris / %.3g m", px->levels[l].ntris, px->levels[l].err);
         printf("\n  copies drawn as a proxy per frame: 1 instance median %.0f, 100 instances median %.0f (max %.0f)\n",
                s_pa.p50, s_pb.p50, s_pb.max);

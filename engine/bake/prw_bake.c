@@ -10,6 +10,7 @@
 
 #include "prw_bake.h"
 #include "prw_iges.h"
+#include "prw_lod_orient.h"
 #include "prw_nurbs_json.h"
 
 static int g_builds;
@@ -66,6 +67,19 @@ bool prw_baked_lod_build(const prw_nurbs_model *m, const prw_bake_options *o, pr
     }
     say(progress, user, "culling data: %d patches, %d full normal cones, %.2f s", b->cull.npatches, b->cull.full_cones,
         prw_now() - t0);
+    /* whole-model proxy levels with the renderer's orientation (not fatal: a renderer builds its own) */
+    t0 = prw_now();
+    unsigned char *flip = prw_calloc((size_t)b->lod.npatches + 1, 1);
+    int conflicts = 0;
+    prw_lod_orient(&b->lod, m, flip, &conflicts);
+    prw_error pe;
+    b->have_proxy = prw_lod_proxy_build(&b->lod, flip, NULL, &b->proxy, &pe);
+    free(flip);
+    if (b->have_proxy)
+        say(progress, user, "proxy: %d levels from %d start triangles (%d orientation conflicts), %.2f s",
+            b->proxy.nlevels, b->proxy.start_triangles, conflicts, prw_now() - t0);
+    else
+        say(progress, user, "proxy: none (%.400s)", pe.msg);
     g_builds++;
     *out = b;
     return true;

@@ -178,6 +178,31 @@ void prw_lod_file_serialize(const prw_baked_lod *bk, uint8_t **data, size_t *siz
         w_f64(&b, c->half_angle[i]);
         w_u8(&b, c->single_sided[i]);
     }
+    /* proxy levels (version 3) */
+    const prw_lod_proxy *px = &bk->proxy;
+    w_u8(&b, bk->have_proxy);
+    if (bk->have_proxy) {
+        w_i32(&b, px->start_level);
+        w_f64(&b, px->eps_start);
+        w_i32(&b, px->start_triangles);
+        w_i32(&b, px->patch_floor_triangles);
+        w_i32(&b, px->border_edges);
+        w_i32(&b, px->nlevels);
+        for (int l = 0; l < px->nlevels; l++) {
+            const prw_lod_proxy_level *pl = &px->levels[l];
+            size_t nv = (size_t)pl->nverts, nt = (size_t)pl->ntris;
+            w_i32(&b, pl->stage);
+            w_f64(&b, pl->err);
+            w_f64(&b, pl->d_start);
+            w_i32(&b, pl->nverts);
+            w_i32(&b, pl->ntris);
+            w_f64s(&b, pl->pos, 3 * nv);
+            for (size_t i = 0; i < 3 * nt; i++) w_u32(&b, pl->tris[i]);
+            w_ints(&b, pl->corner_patch, 3 * nt);
+            w_f64s(&b, pl->corner_uv, 6 * nt);
+            w_ints(&b, pl->tri_patch, nt);
+        }
+    }
     /* header */
     size_t payload = b.n - PRW_LOD_HEADER_SIZE;
     uint64_t sum = prw_hash64(b.p + PRW_LOD_HEADER_SIZE, payload, 0);
@@ -572,6 +597,64 @@ static bool read_cull(rbuf *r, prw_baked_lod *b)
     return !r->bad;
 }
 
+/* The proxy section (version 3): see prw_bake.h for every check. */
+static bool read_proxy(rbuf *r, prw_baked_lod *b)
+{
+    prw_lod_proxy *px = &b->proxy;
+    bool have = r_bool(r, "proxy flag");
+    if (r->bad) return false;
+    if (!have) return true;
+    int np = b->lod.npatches, L = b->lod.levels;
+    px->start_level = r_i32(r, "proxy start level");
+    px->eps_start = r_fin(r, "proxy eps_start");
+    px->start_triangles = r_count(r, 0, 0, "proxy start triangles");
+    px->patch_floor_triangles = r_count(r, 0, 0, "proxy patch_floor_triangles");
+    px->border_edges = r_count(r, 0, 0, "proxy border_edges");
+    if (r->bad) return false;
+    if (px->start_level < 0 || px->start_level >= L)
+        return r_fail(r, "proxy start level %d outside the hierarchy's levels 0..%d", px->start_level, L - 1);
+    if (!(px->eps_start >= 0)) return r_fail(r, "proxy eps_start %g is negative", px->eps_start);
+    /* smallest level record: stage, err, d_start, nverts, ntris (28 bytes) + 3 vertices + 1 triangle */
+    int nl = r_count(r, 0, 28 + 72 + 76, "proxy level count");
+    if (r->bad) return false;
+    px->levels = prw_calloc((size_t)nl + 1, sizeof(prw_lod_proxy_level));
+    px->nlevels = nl; /* arrays NULL until read: prw_lod_proxy_free tolerates that */
+    b->have_proxy = true;
+    for (int l = 0; l < nl; l++) {
+        prw_lod_proxy_level *pl = &px->levels[l];
+        pl->stage = r_i32(r, "proxy level stage");
+        pl->err = r_fin(r, "proxy level err");
+        pl->d_start = r_fin(r, "proxy level d_start");
+        if (r->bad) return false;
+        if (pl->stage < 0 || pl->stage > PRW_PROXY_STEPS * PRW_LOD_MAX_LEVELS)
+            return r_fail(r, "proxy level %d: stage %d out of range", l, pl->stage);
+        if (!(pl->err >= 0) || !(pl->d_start >= 0))
+            return r_fail(r, "proxy level %d: negative err %g / d_start %g", l, pl->err, pl->d_start);
+        int nv = r_count(r, 3, 24, "proxy vertex count");
+        int nt = r_count(r, 1, 0, "proxy triangle count"); /* bytes checked below */
+        if (r->bad) return false;
+        if (l > 0 && nt >= px->levels[l - 1].ntris)
+            return r_fail(r, "proxy level %d: %d triangles, not fewer than level %d's %d (levels must strictly decrease)",
+                          l, nt, l - 1, px->levels[l - 1].ntris);
+        if ((size_t)nv > (r->n - r->at) / 24 || (size_t)nt > (r->n - r->at - 24 * (size_t)nv) / 76)
+            return r_fail(r, "truncated or corrupt: proxy level %d: %d vertices, %d triangles", l, nv, nt);
+        pl->pos = r_f64s(r, 3 * (size_t)nv, "proxy vertex position");
+        if (r->bad) return false;
+        int *tri = r_ints(r, 3 * (size_t)nt, 0, nv - 1, "proxy triangle index");
+        if (r->bad) return false;
+        pl->tris = prw_malloc(sizeof(uint32_t) * 3 * (size_t)nt + 1);
+        for (size_t i = 0; i < 3 * (size_t)nt; i++) pl->tris[i] = (uint32_t)tri[i];
+        free(tri);
+        pl->corner_patch = r_ints(r, 3 * (size_t)nt, 0, np - 1, "proxy corner_patch");
+        if (!r->bad) pl->corner_uv = r_f64s(r, 6 * (size_t)nt, "proxy corner uv");
+        if (!r->bad) pl->tri_patch = r_ints(r, (size_t)nt, 0, np - 1, "proxy tri_patch");
+        if (r->bad) return false;
+        pl->nverts = nv;
+        pl->ntris = nt;
+    }
+    return !r->bad;
+}
+
 void prw_baked_lod_destroy(prw_baked_lod *b)
 {
     if (!b) return;
@@ -582,6 +665,7 @@ void prw_baked_lod_destroy(prw_baked_lod *b)
     prw_lod_free(&b->lod);
     prw_seam_free(g);
     prw_lod_cull_free(&b->cull);
+    prw_lod_proxy_free(&b->proxy);
     free(b);
 }
 
@@ -615,7 +699,7 @@ bool prw_lod_file_parse(const void *data, size_t size, const char *name, prw_bak
             if (b->key[i] && !((b->key[i] >= '0' && b->key[i] <= '9') || (b->key[i] >= 'a' && b->key[i] <= 'f')))
                 r_fail(&r, "key is not hexadecimal");
     }
-    bool ok = !r.bad && read_graph(&r, b) && read_lod(&r, b) && read_cull(&r, b);
+    bool ok = !r.bad && read_graph(&r, b) && read_lod(&r, b) && read_cull(&r, b) && read_proxy(&r, b);
     if (ok && r.at != r.n) ok = r_fail(&r, "%zu unexplained bytes after the hierarchy", r.n - r.at);
     if (!ok) {
         prw_baked_lod_destroy(b);

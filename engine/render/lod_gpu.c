@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_lod_orient.h"
 #include "prw_lod_proxy.h"
 #include "prw_lod_render.h"
 
@@ -50,8 +51,9 @@ struct prw_lod_gpu {
     unsigned char *flip; /* per patch: emit with reversed winding and normals (consistent orientation) */
     int orient_conflicts;
     /* whole-model proxy levels (prw_lod_proxy.h), one shared buffer pair: per corner vertices */
-    prw_lod_proxy proxy;
-    bool have_proxy;
+    prw_lod_proxy proxy;     /* built at create when no prebuilt one was given */
+    const prw_lod_proxy *px; /* the levels used: &proxy or the borrowed o.proxy; NULL: none */
+    bool have_proxy, own_proxy;
     prw_buffer pvbuf, pibuf;
     uint32_t *pfirst;        /* per proxy level: first index */
     int *use_proxy;          /* per instance: proxy level drawn, or -1 (the patches) */
@@ -186,84 +188,12 @@ bool prw_lod_gpu_emit(prw_lod_gpu *g, int p, int level, const int *seg_level, co
     return true;
 }
 
-/* Consistent orientation (patches of one model need not agree: the procedural box's fillets and
- * corners face inward).  Across every shared segment whose two exact normals at its middle are
- * clearly parallel or antiparallel (|cos| > 0.3; G1 seams — creases near 90 degrees are skipped), the
- * two patches must agree: a breadth-first walk assigns flips (contradictions are counted).  Then per
- * connected component: closed (every segment shared) -> the orientation with positive enclosed
- * volume (outward); open -> the orientation most of its patches already had. */
-static void orient_patches(prw_lod_gpu *g, const double *volume)
-{
-    const prw_lod_model *lm = g->lm;
-    const prw_seam_graph *sg = lm->g;
-    int np = g->np;
-    g->flip = prw_calloc((size_t)np + 1, 1);
-    int *comp = prw_malloc(sizeof(int) * ((size_t)np + 1)), *queue = prw_malloc(sizeof(int) * ((size_t)np + 1));
-    /* adjacency from segments: per segment a relation (same = +1, opposite = -1, none = 0) */
-    signed char *rel = prw_calloc((size_t)sg->nsegs + 1, 1);
-    for (int si = 0; si < sg->nsegs; si++) {
-        const prw_seam_segment *sgm = &sg->segs[si];
-        int a = sgm->patch[0], b = sgm->patch[1];
-        if (a < 0 || b < 0 || a == b || sgm->npts < 2 || sgm->degenerate) continue;
-        int i0 = (sgm->npts - 1) / 2, i1 = sgm->npts / 2;
-        prw_dvec3 n[2];
-        for (int side = 0; side < 2; side++) {
-            const double *uv = sgm->uv[side];
-            double u = 0.5 * (uv[2 * i0] + uv[2 * i1]), v = 0.5 * (uv[2 * i0 + 1] + uv[2 * i1 + 1]);
-            prw_normal_kind kind;
-            n[side] = prw_nurbs_surface_normal(&g->m->surfaces[sgm->patch[side]].surface, u, v, &kind);
-        }
-        double c = prw_v3_dot(n[0], n[1]);
-        rel[si] = c > 0.3 ? 1 : c < -0.3 ? -1 : 0;
-    }
-    for (int p = 0; p < np; p++) comp[p] = -1;
-    int ncomp = 0;
-    for (int start = 0; start < np; start++) {
-        if (comp[start] >= 0) continue;
-        int head = 0, tail = 0, members = 0, flipped = 0;
-        bool closed = true;
-        double vol = 0;
-        comp[start] = ncomp;
-        queue[tail++] = start;
-        while (head < tail) {
-            int p = queue[head++];
-            members++;
-            flipped += g->flip[p];
-            vol += g->flip[p] ? -volume[p] : volume[p];
-            for (int j = g->pseg_start[p]; j < g->pseg_start[p + 1]; j++) {
-                const prw_seam_segment *sgm = &sg->segs[g->pseg[j]];
-                int q = sgm->patch[0] == p ? sgm->patch[1] : sgm->patch[0];
-                if (q < 0) {
-                    closed = closed && sgm->degenerate;
-                    continue;
-                }
-                if (!rel[g->pseg[j]] || q == p) continue;
-                unsigned char want = (unsigned char)(g->flip[p] ^ (rel[g->pseg[j]] < 0));
-                if (comp[q] < 0) {
-                    comp[q] = ncomp;
-                    g->flip[q] = want;
-                    queue[tail++] = q;
-                } else if (g->flip[q] != want) {
-                    g->orient_conflicts++;
-                }
-            }
-        }
-        bool invert = closed ? vol < 0 : 2 * flipped > members;
-        if (invert)
-            for (int k = 0; k < tail; k++) g->flip[queue[k]] ^= 1;
-        ncomp++;
-    }
-    free(rel);
-    free(comp);
-    free(queue);
-}
-
 /* The proxy levels as one vertex buffer of per-corner vertices (the slot vertex format; normal and
  * tangent from the exact surface at the corner's (patch, u, v), as prw_lod_gpu_emit writes them) and
  * one index buffer 0, 1, 2, ... so a level is one indexed range. */
 static bool upload_proxy(prw_lod_gpu *g, prw_error *e)
 {
-    const prw_lod_proxy *px = &g->proxy;
+    const prw_lod_proxy *px = g->px;
     size_t corners = 0;
     for (int l = 0; l < px->nlevels; l++) corners += 3 * (size_t)px->levels[l].ntris;
     if (!corners || corners > UINT32_MAX / 4) return true;
@@ -349,27 +279,13 @@ bool prw_lod_gpu_create(prw_gpu *gpu, const prw_lod_model *lm, const prw_nurbs_m
         }
     }
     g->pseg_start[np] = k;
-    /* the signed volume of the finest emission (orientation); capacities come later, per floor */
+    /* capacities come later, per floor */
     g->segtmp = prw_calloc((size_t)g->nsegs + 1, sizeof(int));
     g->capv = prw_calloc((size_t)np * (size_t)nl, sizeof(uint32_t));
     g->capi = prw_calloc((size_t)np * (size_t)nl, sizeof(uint32_t));
     g->cap_done = prw_calloc((size_t)nl, 1);
-    double *volume = prw_calloc((size_t)np + 1, sizeof(double));
-    for (int p = 0; p < np; p++) {
-        if (!lm->patches[p].ok) continue;
-        prw_lod_mesh_reset(&g->mesh);
-        prw_lod_emit(lm, p, 0, g->segtmp, &g->mesh);
-        for (size_t t = 0; t < g->mesh.ntris; t++) {
-            const double *P = g->mesh.pos;
-            const uint32_t *tr = g->mesh.tris + 3 * t;
-            prw_dvec3 a = prw_v3_sub(prw_v3(P[3 * tr[0]], P[3 * tr[0] + 1], P[3 * tr[0] + 2]), g->centre);
-            prw_dvec3 b = prw_v3_sub(prw_v3(P[3 * tr[1]], P[3 * tr[1] + 1], P[3 * tr[1] + 2]), g->centre);
-            prw_dvec3 c = prw_v3_sub(prw_v3(P[3 * tr[2]], P[3 * tr[2] + 1], P[3 * tr[2] + 2]), g->centre);
-            volume[p] += prw_v3_dot(a, prw_v3_cross(b, c)) / 6.0;
-        }
-    }
-    orient_patches(g, volume);
-    free(volume);
+    g->flip = prw_calloc((size_t)np + 1, 1);
+    prw_lod_orient(lm, m, g->flip, &g->orient_conflicts);
     size_t ni = (size_t)instances * (size_t)np, ns = (size_t)instances * (size_t)(g->nsegs + 1);
     g->lfloor = prw_malloc(sizeof(int) * instances);
     for (uint32_t i = 0; i < instances; i++) g->lfloor[i] = -1;
@@ -407,10 +323,17 @@ bool prw_lod_gpu_create(prw_gpu *gpu, const prw_lod_model *lm, const prw_nurbs_m
     for (uint32_t i = 0; i < instances; i++) g->use_proxy[i] = -1;
     g->prange = prw_calloc(instances, sizeof(prw_lod_range));
     if (ok && !g->o.no_proxy) {
-        ok = prw_lod_proxy_build(lm, g->flip, NULL, &g->proxy, e);
+        if (g->o.proxy) {
+            g->px = g->o.proxy;
+        } else {
+            ok = prw_lod_proxy_build(lm, g->flip, NULL, &g->proxy, e);
+            g->own_proxy = ok;
+            if (ok) g->px = &g->proxy;
+        }
         g->have_proxy = ok;
         ok = ok && upload_proxy(g, e);
     }
+    g->o.proxy = NULL; /* borrowed only for create */
     if (!ok) {
         prw_lod_gpu_destroy(g);
         return false;
@@ -427,7 +350,7 @@ void prw_lod_gpu_destroy(prw_lod_gpu *g)
         prw_buffer_destroy(g->gpu, &g->ibuf[i]);
     }
     if (g->have_cull) prw_lod_cull_free(&g->cull);
-    if (g->have_proxy) prw_lod_proxy_free(&g->proxy);
+    if (g->own_proxy) prw_lod_proxy_free(&g->proxy);
     prw_buffer_destroy(g->gpu, &g->pvbuf);
     prw_buffer_destroy(g->gpu, &g->pibuf);
     free(g->pfirst);
@@ -613,7 +536,7 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
      * they are (their levels and segments too), so going back to the patches uploads only what
      * changed since. */
     g->use_proxy[inst] = -1;
-    if (!g->o.force && !g->o.no_proxy && g->have_proxy && g->proxy.nlevels > 0) {
+    if (!g->o.force && !g->o.no_proxy && g->have_proxy && g->px->nlevels > 0) {
         prw_lod_view lv;
         prw_lod_gpu_model_view(g, world, views, count, &lv);
         double d = DBL_MAX;
@@ -627,14 +550,14 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
         int best = -1;
         bool any_drawn = false;
         for (int p = 0; p < np && !any_drawn; p++) any_drawn = drawn[p] != 0;
-        for (int l = 0; l < g->proxy.nlevels && any_drawn; l++) {
-            const prw_lod_proxy_level *pl = &g->proxy.levels[l];
+        for (int l = 0; l < g->px->nlevels && any_drawn; l++) {
+            const prw_lod_proxy_level *pl = &g->px->levels[l];
             if (pl->err <= eps && (uint64_t)pl->ntris < sr.triangles &&
-                (best < 0 || pl->ntris < g->proxy.levels[best].ntris))
+                (best < 0 || pl->ntris < g->px->levels[best].ntris))
                 best = l;
         }
         if (best >= 0) {
-            const prw_lod_proxy_level *pl = &g->proxy.levels[best];
+            const prw_lod_proxy_level *pl = &g->px->levels[best];
             g->use_proxy[inst] = best;
             g->prange[inst] = (prw_lod_range){g->pfirst[best], 3 * (uint32_t)pl->ntris, (uint32_t)pl->ntris, 0};
             free(newlev);
@@ -768,7 +691,7 @@ VkBuffer prw_lod_gpu_index_buffer(const prw_lod_gpu *g, uint32_t inst)
     return g->use_proxy[inst] >= 0 ? g->pibuf.buffer : g->ibuf[inst].buffer;
 }
 int prw_lod_gpu_proxy_level(const prw_lod_gpu *g, uint32_t inst) { return inst < g->ninst ? g->use_proxy[inst] : -1; }
-const prw_lod_proxy *prw_lod_gpu_proxy(const prw_lod_gpu *g) { return g->have_proxy ? &g->proxy : NULL; }
+const prw_lod_proxy *prw_lod_gpu_proxy(const prw_lod_gpu *g) { return g->have_proxy ? g->px : NULL; }
 
 const prw_lod_range *prw_lod_gpu_ranges(const prw_lod_gpu *g, uint32_t inst, bool all, uint32_t *count)
 {

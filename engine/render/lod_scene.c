@@ -41,6 +41,7 @@ bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, prw_lod_progress_fn 
         ok = prw_bake_scene_entry(&en->desc, &en->model, progress, user, &en->baked, e);
         en->instances = (uint32_t)(en->desc.grid[0] * en->desc.grid[1]);
         prw_lod_gpu_options go = {.tol_px = en->desc.tol_px, .single_sided = en->desc.single_sided};
+        if (ok && en->baked->have_proxy) go.proxy = &en->baked->proxy; /* baked: not rebuilt here */
         ok = ok && prw_lod_gpu_create(gpu, &en->baked->lod, &en->model, en->instances, &go, &en->gpu, e);
         if (!ok) prw_fail_wrap(e, "NURBS model '%s'", en->desc.name);
     }

@@ -46,7 +46,8 @@
  *    draws only the drawn patches' ranges, the shadow pass draws all patches (a patch outside the
  *    camera's frustum or facing away from it still casts shadows into the view).
  *  - Whole-model proxy levels (lod/prw_lod_proxy.h, built at create from the hierarchy with the
- *    patches' orientation; none with no_proxy): after the patch selection, an instance is drawn as ONE
+ *    patches' orientation (lod/prw_lod_orient.h) unless options.proxy gives prebuilt ones; none
+ *    with no_proxy): after the patch selection, an instance is drawn as ONE
  *    proxy level instead of its patches when some level's measured bound, projected from the nearer
  *    eye at the nearest point of the model's box (the same conservative distance and corner pixel
  *    angle as the patches), is within the tolerance and the level has fewer triangles than the
@@ -89,6 +90,10 @@ typedef struct prw_lod_gpu_options {
     bool force;          /* every patch at force_level (clamped), none culled: reference images */
     int force_level;
     bool no_proxy;       /* at create: no whole-model proxy levels (always the patches) */
+    /* at create: prebuilt proxy levels (the .lod file's, engine/bake), borrowed — must outlive the
+     * prw_lod_gpu and have been built from this hierarchy with prw_lod_orient's flips; NULL: built
+     * at create (~2 s for the car shell) */
+    const struct prw_lod_proxy *proxy;
 } prw_lod_gpu_options;
 
 typedef struct prw_lod_frame_report {

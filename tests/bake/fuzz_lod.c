@@ -1,7 +1,7 @@
 /* Fuzz target for the .lod reader (engine/bake): the input is parsed in memory; a failure must
  * leave one message "fuzz.lod: <reason>"; a success must give a hierarchy that selection and
  * extraction walk at every level (selection also with the file's culling data; ASan / UBSan catch
- * stray reads) with finite output positions.
+ * stray reads) with finite output positions, and proxy levels whose every index is in range.
  * Each input is tried twice: as given, and with its header's payload size and checksum rewritten
  * to match (so mutations reach the structural checks instead of stopping at the checksum).
  * Violations abort.  The seed corpus (corpus/) is written by bake_corpus_gen. */
@@ -66,6 +66,22 @@ static void one(const uint8_t *data, size_t size)
             if (m.tris[i] >= m.nverts) abort();
     }
     prw_lod_mesh_free(&m);
+    /* the proxy levels (format version 3): every index in range, every coordinate finite, the
+     * triangle counts strictly decreasing */
+    for (int l = 0; b->have_proxy && l < b->proxy.nlevels; l++) {
+        const prw_lod_proxy_level *pl = &b->proxy.levels[l];
+        if (l > 0 && pl->ntris >= b->proxy.levels[l - 1].ntris) abort();
+        for (int t = 0; t < pl->ntris; t++) {
+            if (pl->tri_patch[t] < 0 || pl->tri_patch[t] >= lm->npatches) abort();
+            for (int c = 0; c < 3; c++) {
+                uint32_t v = pl->tris[3 * t + c];
+                if (v >= (uint32_t)pl->nverts || !isfinite(pl->pos[3 * v] + pl->pos[3 * v + 1] + pl->pos[3 * v + 2]))
+                    abort();
+                if (pl->corner_patch[3 * t + c] < 0 || pl->corner_patch[3 * t + c] >= lm->npatches) abort();
+                if (!isfinite(pl->corner_uv[6 * t + 2 * c] + pl->corner_uv[6 * t + 2 * c + 1])) abort();
+            }
+        }
+    }
     free(lv);
     free(sl);
     prw_baked_lod_destroy(b);

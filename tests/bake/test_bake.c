@@ -9,6 +9,9 @@
  *  - the reader rejects every proper prefix of a small file — both as is and with the header
  *    patched to the prefix's size and checksum, so the structural checks (not only the checksum)
  *    are exercised — with a message naming the file, and never crashes;
+ *  - the proxy section (format version 3): round trip bit for bit (compare_baked, serialize(parse)
+ *    == bytes); a tri index = nverts, NaN / infinite coordinates, non-decreasing triangle counts,
+ *    patch indices out of range, bad counts are refused with a message naming the problem;
  *  - single-byte mutations with a recomputed checksum either fail cleanly or give a hierarchy that
  *    selection and extraction walk without leaving their arrays (ASan / UBSan builds catch any
  *    stray read). */
@@ -19,12 +22,40 @@
 
 #include "bake_models.h"
 #include "prw_bake.h"
+#include "prw_lod_orient.h"
 #include "prw_lod_select.h"
 #include "prw_nurbs_json.h"
 #include "prw_nurbs_procedural.h"
 #include "prw_test.h"
 
 #define SAME(a, b, n) (((n) == 0) || ((a) && (b) && memcmp((a), (b), (n)) == 0))
+
+/* Proxy levels (format version 3), bit for bit. */
+static int compare_proxy(const prw_lod_proxy *px, const prw_lod_proxy *py)
+{
+    int diff = 0;
+#define D(cond)                                                                 \
+    do {                                                                        \
+        if (!(cond)) {                                                          \
+            if (diff++ < 5) fprintf(stderr, "  differs: %s\n", #cond);          \
+        }                                                                       \
+    } while (0)
+    D(px->start_level == py->start_level && px->nlevels == py->nlevels &&
+      memcmp(&px->eps_start, &py->eps_start, 8) == 0 && px->start_triangles == py->start_triangles &&
+      px->patch_floor_triangles == py->patch_floor_triangles && px->border_edges == py->border_edges);
+    for (int l = 0; l < px->nlevels && l < py->nlevels; l++) {
+        const prw_lod_proxy_level *p = &px->levels[l], *q = &py->levels[l];
+        D(p->stage == q->stage && memcmp(&p->err, &q->err, 8) == 0 && memcmp(&p->d_start, &q->d_start, 8) == 0 &&
+          p->nverts == q->nverts && p->ntris == q->ntris);
+        if (p->nverts != q->nverts || p->ntris != q->ntris) continue;
+        size_t nv = (size_t)p->nverts, nt = (size_t)p->ntris;
+        D(SAME(p->pos, q->pos, sizeof(double) * 3 * nv) && SAME(p->tris, q->tris, sizeof(uint32_t) * 3 * nt));
+        D(SAME(p->corner_patch, q->corner_patch, sizeof(int) * 3 * nt) &&
+          SAME(p->corner_uv, q->corner_uv, sizeof(double) * 6 * nt) && SAME(p->tri_patch, q->tri_patch, sizeof(int) * nt));
+    }
+#undef D
+    return diff;
+}
 
 static int compare_baked(const prw_baked_lod *x, const prw_baked_lod *y)
 {
@@ -94,8 +125,20 @@ static int compare_baked(const prw_baked_lod *x, const prw_baked_lod *y)
         D(SAME(c->axis, d->axis, sizeof(prw_dvec3) * np) && SAME(c->half_angle, d->half_angle, sizeof(double) * np));
         D(SAME(c->single_sided, d->single_sided, np));
     }
+    D(x->have_proxy == y->have_proxy);
+    diff += compare_proxy(&x->proxy, &y->proxy);
 #undef D
     return diff;
+}
+
+/* Bytes of the proxy section (format version 3), the file's last section. */
+static size_t proxy_bytes(const prw_baked_lod *b)
+{
+    if (!b->have_proxy) return 1;
+    size_t n = 1 + 4 + 8 + 4 * 4;
+    for (int l = 0; l < b->proxy.nlevels; l++)
+        n += 28 + 24 * (size_t)b->proxy.levels[l].nverts + 76 * (size_t)b->proxy.levels[l].ntris;
+    return n;
 }
 
 /* Emits every patch at every uniform level and at `mixes` random per-patch mixes from both and
@@ -163,6 +206,19 @@ static void roundtrip(const char *name, bool (*make)(prw_nurbs_model *, prw_erro
     int de = compare_emit(&fresh->lod, &back->lod, 20, &tris);
     printf("  %s: %d patches, %d levels, %zu bytes; %d array differences, %d of %d meshes differ (%zu triangles compared)\n",
            name, fresh->lod.npatches, fresh->lod.levels, n, d, de, fresh->lod.levels + 20, tris);
+    printf("  %s: proxy %s, %d levels (%zu bytes of the file)\n", name, fresh->have_proxy ? "baked" : "none",
+           fresh->proxy.nlevels, proxy_bytes(fresh));
+    CHECK(fresh->have_proxy && back->have_proxy);
+    /* what a renderer would build from the file's hierarchy (prw_lod_orient's flips, then
+     * prw_lod_proxy_build) is bit for bit the baked proxy: lod_gpu may use it instead */
+    unsigned char *flip = prw_calloc((size_t)back->lod.npatches + 1, 1);
+    prw_lod_orient(&back->lod, &m, flip, NULL);
+    prw_baked_lod *rebuilt = prw_calloc(1, sizeof *rebuilt);
+    rebuilt->have_proxy = prw_lod_proxy_build(&back->lod, flip, NULL, &rebuilt->proxy, &e);
+    CHECK(rebuilt->have_proxy && compare_proxy(&back->proxy, &rebuilt->proxy) == 0);
+    prw_lod_proxy_free(&rebuilt->proxy);
+    free(rebuilt);
+    free(flip);
     CHECK(d == 0);
     CHECK(de == 0);
     CHECK(tris > 0);
@@ -494,7 +550,7 @@ static void test_bad_cull(void)
     tiny_file(&full, &n, &b);
     if (!full) return;
     CHECK(b->cull.npatches == 2 && b->cull.npatches == b->lod.npatches);
-    size_t rec = n - 2 * 113; /* patch 0: lo, hi, centre (3 x 24), radius (72), axis (80), half-angle (104), flag (112) */
+    size_t rec = n - proxy_bytes(b) - 2 * 113; /* patch 0: lo, hi, centre (3 x 24), radius (72), axis (80), half-angle (104), flag (112) */
     static const struct {
         size_t off;
         double v;
@@ -521,6 +577,84 @@ static void test_bad_cull(void)
     patch_header(c, n);
     CHECK(!prw_lod_file_parse(c, n, "c.lod", &x, &e) && strstr(e.msg, "culling"));
     printf("  culling patch count 3: %s\n", e.msg);
+    free(c);
+    free(full);
+    prw_baked_lod_destroy(b);
+}
+
+/* The proxy section (format version 3, the file's last) is validated like the rest: each mutation
+ * (checksum recomputed) is refused with a message naming the problem. */
+static void put_u32(uint8_t *d, uint32_t v)
+{
+    for (int i = 0; i < 4; i++) d[i] = (uint8_t)(v >> (8 * i));
+}
+
+static void test_bad_proxy(void)
+{
+    prw_nurbs_model m;
+    prw_nurbs_model_init(&m);
+    prw_error e;
+    prw_baked_lod *b, *x;
+    CHECK_OK(prw_procedural_plate(&m, &e), &e);
+    CHECK_OK(prw_baked_lod_build(&m, NULL, &b, NULL, NULL, &e), &e);
+    prw_nurbs_model_free(&m);
+    CHECK(b->have_proxy && b->proxy.nlevels >= 2);
+    if (!b->have_proxy || b->proxy.nlevels < 2) {
+        prw_baked_lod_destroy(b);
+        return;
+    }
+    uint8_t *full;
+    size_t n;
+    prw_lod_file_serialize(b, &full, &n);
+    CHECK_OK(prw_lod_file_parse(full, n, "p.lod", &x, &e), &e);
+    prw_baked_lod_destroy(x);
+    const prw_lod_proxy_level *l0 = &b->proxy.levels[0];
+    size_t sec = n - proxy_bytes(b), lv0 = sec + 29, tris0 = lv0 + 28 + 24 * (size_t)l0->nverts,
+           cp0 = tris0 + 12 * (size_t)l0->ntris, uv0 = cp0 + 12 * (size_t)l0->ntris, tp0 = uv0 + 48 * (size_t)l0->ntris,
+           lv1 = tp0 + 4 * (size_t)l0->ntris;
+    CHECK(full[sec] == 1);
+    enum { U8, U32, F64 };
+    const struct {
+        size_t at;
+        int kind;
+        double v;
+        const char *msg;
+    } cases[] = {
+        {tris0 + 4, U32, l0->nverts, "proxy triangle index"},   /* a tri index = nverts */
+        {lv0 + 28 + 8, F64, NAN, "proxy vertex position"},      /* a NaN position */
+        {lv1 + 24, U32, l0->ntris, "strictly decrease"},        /* level 1 not coarser than level 0 */
+        {cp0 + 8, U32, b->lod.npatches, "proxy corner_patch"},  /* corner patch out of range */
+        {tp0, U32, (uint32_t)-1, "proxy tri_patch"},            /* triangle patch -1 */
+        {uv0 + 16, F64, INFINITY, "proxy corner uv"},
+        {lv0 + 4, F64, -1, "negative err"},
+        {lv0 + 4, F64, NAN, "proxy level err"},
+        {sec + 1, U32, b->lod.levels, "start level"},
+        {sec + 5, F64, -1e-3, "eps_start"},
+        {sec + 25, U32, 1000000, "proxy level count"},          /* more levels than bytes */
+        {lv0 + 20, U32, 2, "proxy vertex count"},               /* fewer than 3 vertices */
+        {sec, U8, 2, "proxy flag"},
+    };
+    uint8_t *c = prw_malloc(n + 1);
+    for (size_t k = 0; k < PRW_ARRAY_LEN(cases); k++) {
+        memcpy(c, full, n);
+        if (cases[k].kind == U8) c[cases[k].at] = (uint8_t)cases[k].v;
+        else if (cases[k].kind == U32) put_u32(c + cases[k].at, (uint32_t)(int64_t)cases[k].v);
+        else put_f64(c + cases[k].at, cases[k].v);
+        patch_header(c, n);
+        bool ok = prw_lod_file_parse(c, n, "p.lod", &x, &e);
+        if (ok) prw_baked_lod_destroy(x);
+        CHECK(!ok && strncmp(e.msg, "p.lod: ", 7) == 0 && strstr(e.msg, cases[k].msg));
+        printf("  proxy mutation %zu: %s\n", k, ok ? "(parsed)" : e.msg);
+    }
+    /* the section cut short, and a version-2 file (no proxy section) */
+    memcpy(c, full, n);
+    patch_header(c, n - 5);
+    CHECK(!prw_lod_file_parse(c, n - 5, "p.lod", &x, &e) && strstr(e.msg, "truncated"));
+    printf("  proxy section cut short: %s\n", e.msg);
+    memcpy(c, full, n);
+    c[8] = 2;
+    CHECK(!prw_lod_file_parse(c, n, "p.lod", &x, &e) && strstr(e.msg, "version 2"));
+    printf("  version 2: %s\n", e.msg);
     free(c);
     free(full);
     prw_baked_lod_destroy(b);
@@ -555,6 +689,7 @@ int main(int argc, char **argv)
         {"mutations", test_mutations},
         {"bad_header", test_bad_header},
         {"bad_cull", test_bad_cull},
+        {"bad_proxy", test_bad_proxy},
         {"bad_model", test_bad_model},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
