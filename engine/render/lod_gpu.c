@@ -509,6 +509,7 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
     int *newlev = prw_malloc(sizeof(int) * (size_t)(np + 1));
     memcpy(newlev, lev, sizeof(int) * (size_t)np);
     prw_lod_select_report sr;
+    prw_lod_view lv; /* model-space view set (not when forced) */
     memset(&sr, 0, sizeof sr);
     if (g->o.force) {
         for (int p = 0; p < np; p++) {
@@ -516,7 +517,6 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
             drawn[p] = lm->patches[p].ok;
         }
     } else {
-        prw_lod_view lv;
         prw_lod_gpu_model_view(g, world, views, count, &lv);
         prw_lod_select_drawn(lm, &lv, newlev, drawn, &sr);
         /* Where the finest level binds (even level 0's bound exceeds the acceptable error) the
@@ -537,9 +537,7 @@ bool prw_lod_gpu_update(prw_lod_gpu *g, uint32_t inst, prw_dmat4 world, const pr
      * changed since. */
     g->use_proxy[inst] = -1;
     if (!g->o.force && !g->o.no_proxy && g->have_proxy && g->px->nlevels > 0) {
-        prw_lod_view lv;
-        prw_lod_gpu_model_view(g, world, views, count, &lv);
-        double d = DBL_MAX;
+        double d = DBL_MAX; /* lv: the selection's model-space view set */
         for (int k = 0; k < lv.neyes; k++) {
             prw_dvec3 x = lv.eye[k];
             double dx = fmax(0, fmax(g->mlo.x - x.x, x.x - g->mhi.x)), dy = fmax(0, fmax(g->mlo.y - x.y, x.y - g->mhi.y)),
