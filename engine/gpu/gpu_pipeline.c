@@ -52,6 +52,8 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
     *out = VK_NULL_HANDLE;
     if (d->color_count > PRW_ARRAY_LEN(d->color_formats))
         return prw_fail(e, "gpu: graphics pipeline with %u colour attachments (max 4)", d->color_count);
+    if (d->stencil_test && !has_stencil(d->depth_format))
+        return prw_fail(e, "gpu: graphics pipeline with a stencil test but no stencil in its depth format");
     if (d->view_mask && !gpu->features.multiview)
         return prw_fail(e, "gpu: graphics pipeline uses multiview (view mask 0x%x) but the device lacks it",
                         d->view_mask);
@@ -106,6 +108,9 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
         .depthWriteEnable = d->depth_write,
         /* Reversed Z: near = 1, far = 0, so nearer fragments have greater depth. */
         .depthCompareOp = d->depth_compare ? d->depth_compare : VK_COMPARE_OP_GREATER_OR_EQUAL,
+        .stencilTestEnable = d->stencil_test,
+        .front = d->stencil,
+        .back = d->stencil,
     };
     VkPipelineColorBlendAttachmentState blend[4];
     for (uint32_t i = 0; i < d->color_count; i++) {
@@ -117,8 +122,9 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
             .srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
             .dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
             .alphaBlendOp = VK_BLEND_OP_ADD,
-            .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                              VK_COLOR_COMPONENT_A_BIT,
+            .colorWriteMask = d->no_color_write ? 0
+                                                : VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT,
         };
     }
     VkPipelineColorBlendStateCreateInfo cb = {

@@ -58,33 +58,13 @@ struct prw_reproj_state {
 
 typedef enum rp_kind { RP_PRE = 0, RP_REPROJ, RP_HOLES } rp_kind;
 
-static bool make_module(prw_gpu *gpu, prw_spirv code, VkShaderModule *out, prw_error *e)
-{
-    VkShaderModuleCreateInfo ci = {
-        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO, .codeSize = code.size, .pCode = code.code};
-    return prw_vk_check(vkCreateShaderModule(prw_gpu_device(gpu), &ci, NULL, out), "reproject: vkCreateShaderModule", e);
-}
-
 /* The three pipelines of the right eye's scope (the base pass's vertex layout and cull variants). */
 static bool make_pipe(prw_renderer *r, rp_kind kind, int two, int mirror, VkPipeline *out, prw_error *e)
 {
     struct prw_reproj_state *s = r->rp;
-    VkDevice dev = prw_gpu_device(r->gpu);
-    VkShaderModule vs = VK_NULL_HANDLE, fs = VK_NULL_HANDLE;
     prw_spirv fcode = kind == RP_HOLES ? prw_shader_base_frag()
                       : r->samples != VK_SAMPLE_COUNT_1_BIT ? prw_shader_reproject_ms_frag()
                                                              : prw_shader_reproject_ss_frag();
-    if (!make_module(r->gpu, prw_shader_base_vert(), &vs, e)) return false;
-    if (kind != RP_PRE && !make_module(r->gpu, fcode, &fs, e)) {
-        vkDestroyShaderModule(dev, vs, NULL);
-        return false;
-    }
-    VkPipelineShaderStageCreateInfo stages[2] = {
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
-         .module = vs, .pName = "main"},
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
-         .module = fs, .pName = "main"},
-    };
     VkVertexInputBindingDescription vb = {0, 48, VK_VERTEX_INPUT_RATE_VERTEX};
     VkVertexInputAttributeDescription va[4] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
@@ -92,24 +72,6 @@ static bool make_pipe(prw_renderer *r, rp_kind kind, int two, int mirror, VkPipe
         {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
         {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
     };
-    VkPipelineVertexInputStateCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-                                               .vertexBindingDescriptionCount = 1,
-                                               .pVertexBindingDescriptions = &vb,
-                                               .vertexAttributeDescriptionCount = 4,
-                                               .pVertexAttributeDescriptions = va};
-    VkPipelineInputAssemblyStateCreateInfo ia = {.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
-                                                 .topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST};
-    VkPipelineViewportStateCreateInfo vp = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, .viewportCount = 1, .scissorCount = 1};
-    VkPipelineRasterizationStateCreateInfo rs = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
-        .polygonMode = VK_POLYGON_MODE_FILL,
-        .cullMode = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT,
-        .frontFace = mirror ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE,
-        .lineWidth = 1.0f,
-    };
-    VkPipelineMultisampleStateCreateInfo ms = {.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
-                                               .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT};
     VkStencilOpState st = {.failOp = VK_STENCIL_OP_KEEP, .passOp = VK_STENCIL_OP_KEEP,
                            .depthFailOp = VK_STENCIL_OP_KEEP, .compareOp = VK_COMPARE_OP_ALWAYS,
                            .compareMask = 1, .writeMask = 0, .reference = 0};
@@ -120,49 +82,28 @@ static bool make_pipe(prw_renderer *r, rp_kind kind, int two, int mirror, VkPipe
     } else if (kind == RP_HOLES) { /* only stencil 0 */
         st.compareOp = VK_COMPARE_OP_EQUAL;
     }
-    VkPipelineDepthStencilStateCreateInfo ds = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
-        .depthTestEnable = VK_TRUE,
-        .depthWriteEnable = kind == RP_PRE,
-        .depthCompareOp = VK_COMPARE_OP_GREATER_OR_EQUAL, /* reversed Z, as the base pass */
-        .stencilTestEnable = kind != RP_PRE,
-        .front = st,
-        .back = st,
-    };
-    VkPipelineColorBlendAttachmentState blend = {
-        .colorWriteMask = kind == RP_PRE ? 0
-                                         : VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT};
-    VkPipelineColorBlendStateCreateInfo cb = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO, .attachmentCount = 1, .pAttachments = &blend};
-    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dy = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, .dynamicStateCount = 2, .pDynamicStates = dyn};
-    VkFormat cf = HDR_FORMAT;
-    VkPipelineRenderingCreateInfo ri = {.sType = VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO,
-                                        .colorAttachmentCount = 1,
-                                        .pColorAttachmentFormats = &cf,
-                                        .depthAttachmentFormat = DS_FORMAT,
-                                        .stencilAttachmentFormat = DS_FORMAT};
-    VkGraphicsPipelineCreateInfo ci = {
-        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
-        .pNext = &ri,
-        .stageCount = fs ? 2 : 1,
-        .pStages = stages,
-        .pVertexInputState = &vi,
-        .pInputAssemblyState = &ia,
-        .pViewportState = &vp,
-        .pRasterizationState = &rs,
-        .pMultisampleState = &ms,
-        .pDepthStencilState = &ds,
-        .pColorBlendState = &cb,
-        .pDynamicState = &dy,
+    prw_graphics_desc d = {
+        .vs = prw_shader_base_vert(),
+        .fs = kind == RP_PRE ? (prw_spirv){0} : fcode,
         .layout = s->layout,
+        .vertex_bindings = &vb,
+        .vertex_binding_count = 1,
+        .vertex_attrs = va,
+        .vertex_attr_count = 4,
+        .color_formats = {HDR_FORMAT},
+        .color_count = 1,
+        .depth_format = DS_FORMAT,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .cull = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT,
+        .front_face = mirror ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE,
+        .depth_test = true,
+        .depth_write = kind == RP_PRE,
+        .depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL, /* reversed Z, as the base pass */
+        .no_color_write = kind == RP_PRE,
+        .stencil_test = kind != RP_PRE,
+        .stencil = st,
     };
-    VkResult res = vkCreateGraphicsPipelines(dev, prw_gpu_pipeline_cache(r->gpu), 1, &ci, NULL, out);
-    vkDestroyShaderModule(dev, vs, NULL);
-    if (fs) vkDestroyShaderModule(dev, fs, NULL);
-    return prw_vk_check(res, "reproject: vkCreateGraphicsPipelines", e);
+    return prw_pipeline_graphics(r->gpu, &d, out, e) || prw_fail_wrap(e, "reproject");
 }
 
 static prw_gpu_image *view_out(prw_renderer *r, uint32_t vi)
