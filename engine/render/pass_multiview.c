@@ -71,29 +71,10 @@ bool prw_mv_create(prw_renderer *r, prw_error *e)
     if (!prw_desc_layout_create(r->gpu, &b, 1, &m->set_layout, e)) return false;
     VkDescriptorSetLayout sets[3] = {r->globals_layout, r->material_layout, m->set_layout};
     if (!prw_pipeline_layout_create(r->gpu, sets, 3, 112, &m->layout, e)) return false;
-    VkVertexInputBindingDescription vb = {0, 48, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription va[4] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
-        {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
-        {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
-    };
-    prw_graphics_desc d = {
-        .vs = prw_shader_mv_base_vert(),
-        .fs = prw_shader_mv_base_frag(),
-        .layout = m->layout,
-        .vertex_bindings = &vb,
-        .vertex_binding_count = 1,
-        .vertex_attrs = va,
-        .vertex_attr_count = 4,
-        .color_formats = {HDR_FORMAT},
-        .color_count = 1,
-        .depth_format = DEPTH_FORMAT,
-        .samples = r->samples,
-        .depth_test = true,
-        .depth_write = true,
-        .view_mask = 0x3,
-    };
+    prw_graphics_desc d = prw_base_graphics_desc(r, m->layout);
+    d.vs = prw_shader_mv_base_vert();
+    d.fs = prw_shader_mv_base_frag();
+    d.view_mask = 0x3;
     for (int two = 0; two < 2; two++)
         for (int mirror = 0; mirror < 2; mirror++) {
             d.cull = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;

@@ -65,13 +65,6 @@ static bool make_pipe(prw_renderer *r, rp_kind kind, int two, int mirror, VkPipe
     prw_spirv fcode = kind == RP_HOLES ? prw_shader_base_frag()
                       : r->samples != VK_SAMPLE_COUNT_1_BIT ? prw_shader_reproject_ms_frag()
                                                              : prw_shader_reproject_ss_frag();
-    VkVertexInputBindingDescription vb = {0, 48, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription va[4] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
-        {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
-        {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
-    };
     VkStencilOpState st = {.failOp = VK_STENCIL_OP_KEEP, .passOp = VK_STENCIL_OP_KEEP,
                            .depthFailOp = VK_STENCIL_OP_KEEP, .compareOp = VK_COMPARE_OP_ALWAYS,
                            .compareMask = 1, .writeMask = 0, .reference = 0};
@@ -82,27 +75,16 @@ static bool make_pipe(prw_renderer *r, rp_kind kind, int two, int mirror, VkPipe
     } else if (kind == RP_HOLES) { /* only stencil 0 */
         st.compareOp = VK_COMPARE_OP_EQUAL;
     }
-    prw_graphics_desc d = {
-        .vs = prw_shader_base_vert(),
-        .fs = kind == RP_PRE ? (prw_spirv){0} : fcode,
-        .layout = s->layout,
-        .vertex_bindings = &vb,
-        .vertex_binding_count = 1,
-        .vertex_attrs = va,
-        .vertex_attr_count = 4,
-        .color_formats = {HDR_FORMAT},
-        .color_count = 1,
-        .depth_format = DS_FORMAT,
-        .samples = VK_SAMPLE_COUNT_1_BIT,
-        .cull = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT,
-        .front_face = mirror ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE,
-        .depth_test = true,
-        .depth_write = kind == RP_PRE,
-        .depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL, /* reversed Z, as the base pass */
-        .no_color_write = kind == RP_PRE,
-        .stencil_test = kind != RP_PRE,
-        .stencil = st,
-    };
+    prw_graphics_desc d = prw_base_graphics_desc(r, s->layout); /* reversed Z, as the base pass */
+    d.fs = kind == RP_PRE ? (prw_spirv){0} : fcode;
+    d.depth_format = DS_FORMAT;
+    d.samples = VK_SAMPLE_COUNT_1_BIT; /* the right eye is supersampled instead (see the header) */
+    d.cull = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
+    d.front_face = mirror ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    d.depth_write = kind == RP_PRE;
+    d.no_color_write = kind == RP_PRE;
+    d.stencil_test = kind != RP_PRE;
+    d.stencil = st;
     return prw_pipeline_graphics(r->gpu, &d, out, e) || prw_fail_wrap(e, "reproject");
 }
 

@@ -157,6 +157,9 @@ void prw_lod_record_base(prw_frame_ctx *ctx, uint32_t vi, VkCommandBuffer cmd, V
 void prw_lod_record_shadow(prw_renderer *r, uint32_t shadow_view, VkCommandBuffer cmd);
 /* The base pass's push constants (112 bytes: model matrix relative to origin, normal matrix, mirror flag). */
 void prw_base_push_constants(prw_dmat4 world, prw_dvec3 origin, float out[28]);
+/* The base pass's pipeline description (vertex layout, HDR colour, depth, the renderer's samples,
+ * back-face culling, depth test and write) for a pipeline layout; callers change what differs. */
+prw_graphics_desc prw_base_graphics_desc(const prw_renderer *r, VkPipelineLayout layout);
 /* View vi's globals (pass_base.c), relative to prw_render_view_origin(ctx, vi). */
 void prw_base_fill_globals(const prw_frame_ctx *ctx, uint32_t vi, prw_gpu_globals *g);
 

@@ -60,22 +60,24 @@ static bool create_layouts(prw_renderer *r, prw_error *e)
            prw_pipeline_layout_create(r->gpu, &r->tonemap_layout, 1, 12, &r->storage2_layout_pl, e);
 }
 
-static bool create_pipelines(prw_renderer *r, prw_error *e)
+/* The base pass's vertex layout (12 floats: position, normal, uv, tangent; lod_gpu.c writes the same). */
+static const VkVertexInputBindingDescription k_base_binding = {0, 48, VK_VERTEX_INPUT_RATE_VERTEX};
+static const VkVertexInputAttributeDescription k_base_attrs[4] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
+};
+
+prw_graphics_desc prw_base_graphics_desc(const prw_renderer *r, VkPipelineLayout layout)
 {
-    VkVertexInputBindingDescription vb = {0, 48, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription va[4] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
-        {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
-        {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
-    };
-    prw_graphics_desc base = {
+    return (prw_graphics_desc){
         .vs = prw_shader_base_vert(),
         .fs = prw_shader_base_frag(),
-        .layout = r->base_layout,
-        .vertex_bindings = &vb,
+        .layout = layout,
+        .vertex_bindings = &k_base_binding,
         .vertex_binding_count = 1,
-        .vertex_attrs = va,
+        .vertex_attrs = k_base_attrs,
         .vertex_attr_count = 4,
         .color_formats = {HDR_FORMAT},
         .color_count = 1,
@@ -85,6 +87,11 @@ static bool create_pipelines(prw_renderer *r, prw_error *e)
         .depth_test = true,
         .depth_write = true,
     };
+}
+
+static bool create_pipelines(prw_renderer *r, prw_error *e)
+{
+    prw_graphics_desc base = prw_base_graphics_desc(r, r->base_layout);
     for (int two = 0; two < 2; two++)
         for (int mirror = 0; mirror < 2; mirror++) {
             base.cull = two ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
@@ -94,9 +101,9 @@ static bool create_pipelines(prw_renderer *r, prw_error *e)
     prw_graphics_desc shadow = {
         .vs = prw_shader_shadow_vert(),
         .layout = r->shadow_layout,
-        .vertex_bindings = &vb,
+        .vertex_bindings = &k_base_binding,
         .vertex_binding_count = 1,
-        .vertex_attrs = va,
+        .vertex_attrs = k_base_attrs,
         .vertex_attr_count = 1,
         .depth_format = DEPTH_FORMAT,
         .cull = VK_CULL_MODE_NONE,
