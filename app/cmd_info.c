@@ -1,9 +1,12 @@
-/* prw info — what a scene holds and which passes it needs. */
+/* prw info — what a scene holds and the render graph it gets: the passes (from the pass table, with
+ * what each uses and why one is not in the graph or skipped this frame), the graph's images, and the
+ * barrier and render-pass-begin counts of one recorded frame (a small renderer on the GPU). */
 #include <stdio.h>
 #include <string.h>
 
 #include "app.h"
 #include "prw_render.h"
+#include "prw_stereo.h"
 
 static const char *light_type_name(prw_light_type t)
 {
@@ -21,18 +24,65 @@ static const char *light_unit(prw_light_type t)
     return t == PRW_LIGHT_DIRECTIONAL ? "lux" : t == PRW_LIGHT_RECT ? "cd/m^2" : "cd";
 }
 
+/* The graph of a renderer for this scene, and one recorded frame from the first camera. */
+static bool print_graph(const prw_scene *s, uint32_t views, uint32_t w, uint32_t h, prw_error *e)
+{
+    prw_gpu *gpu = NULL;
+    prw_renderer *r = NULL;
+    bool ok = prw_app_create_gpu(false, &gpu, e);
+    prw_render_desc rd = {.width = w, .height = h, .max_views = views};
+    ok = ok && prw_renderer_create(gpu, s, &rd, &r, e);
+    if (ok) {
+        char buf[16384] = "";
+        prw_renderer_describe(r, buf, sizeof buf);
+        printf("render graph (%ux%u, %u view%s, 4x MSAA, per-view loop):\n%s", w, h, views, views > 1 ? "s" : "", buf);
+    }
+    prw_view v[2];
+    if (ok && s->camera_count) {
+        ok = prw_view_from_camera(s, 0, w, h, &v[0], e) &&
+             (views < 2 || prw_stereo_desktop(&v[0], PRW_STEREO_DEFAULT_IPD_M, PRW_STEREO_DEFAULT_SCREEN_DISTANCE_M,
+                                              v, e));
+        prw_frame_stats st;
+        ok = ok && prw_renderer_render(r, v, views, &st, e);
+        if (ok) {
+            printf("frame from camera '%s':\n", s->cameras[0].name);
+            for (uint32_t i = 0; i < st.pass_count; i++)
+                printf("  %-14s %s%s\n", st.passes[i].name, st.passes[i].skipped ? "skipped: " : "ran",
+                       st.passes[i].skipped ? st.passes[i].reason : "");
+            printf("  %u barrier commands, %u render-pass begins, %llu triangles, %u draws\n", st.barriers, st.begins,
+                   (unsigned long long)st.triangles, st.draws);
+        }
+    } else if (ok) {
+        printf("no camera: no frame recorded\n");
+    }
+    prw_renderer_destroy(r);
+    prw_gpu_destroy(gpu);
+    return ok;
+}
+
 int prw_cmd_info(int argc, char **argv)
 {
     prw_args a;
     prw_error e = {{0}};
     prw_args_init(&a, argc, argv, &e);
     if (prw_args_flag(&a, "help")) {
-        printf("usage: prw info [SCENE]\n  prints meshes, materials, lights (physical units), cameras, bounds and\n"
-               "  the render passes the scene needs (mono view)\n");
+        printf("usage: prw info [SCENE] [--views N] [--size WxH]\n"
+               "  prints meshes, materials, lights (physical units), cameras, bounds, and the render graph the\n"
+               "  scene gets: passes in order with the resources each uses (or why a pass is not in the graph),\n"
+               "  the graph's images, and for one frame from the first camera which passes ran or were skipped\n"
+               "  (and why) with the frame's barrier and render-pass-begin counts\n"
+               "  --views N   1 (default) or 2 (a desktop stereo pair)\n"
+               "  --size WxH  render size of that frame (default 128x72)\n");
         prw_args_free(&a);
         return 0;
     }
-    if (!prw_args_finish(&a, &e)) {
+    long views = 1;
+    uint32_t w = 128, h = 72;
+    bool bad = false;
+    const char *v;
+    if ((v = prw_args_value(&a, "views", &e, &bad)) && !prw_parse_int(v, "--views", 1, 2, &views, &e)) bad = true;
+    if ((v = prw_args_value(&a, "size", &e, &bad)) && !prw_parse_size(v, &w, &h, &e)) bad = true;
+    if (bad || !prw_args_finish(&a, &e)) {
         fprintf(stderr, "prw info: error: %s\n", e.msg);
         prw_args_free(&a);
         return 2;
@@ -71,10 +121,9 @@ int prw_cmd_info(int argc, char **argv)
     for (uint32_t i = 0; i < s->camera_count; i++)
         printf("  camera %-16s yfov %.1f deg, EV100 %.2f\n", s->cameras[i].name, s->cameras[i].yfov * 180.0 / PRW_PI,
                s->cameras[i].ev100);
-    char passes[256];
-    prw_renderer_describe_passes(s, 1, passes, sizeof passes);
-    printf("  passes: %s\n", passes);
+    int rc = print_graph(s, (uint32_t)views, w, h, &e) ? 0 : 1;
+    if (rc) fprintf(stderr, "prw: error: %s\n", e.msg);
     prw_scene_destroy(s);
     prw_args_free(&a);
-    return 0;
+    return rc;
 }

@@ -266,8 +266,10 @@ static int prw_render_job_run(const render_job *job)
            median, job->frames, job->width, job->height, job->msaa, job->supersample, job->supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));
     for (uint32_t i = 0; i < st.pass_count; i++) {
-        if (st.passes[i].skipped) printf("  pass %-10s skipped\n", st.passes[i].name);
-        else if (st.passes[i].gpu_ms >= 0) printf("  pass %-10s %8.3f ms (GPU timestamps)\n", st.passes[i].name, st.passes[i].gpu_ms);
+        if (st.passes[i].skipped) printf("  pass %-10s skipped (%s)\n", st.passes[i].name, st.passes[i].reason);
+        else if (st.passes[i].gpu_ms >= 0)
+            printf("  pass %-10s %8.3f ms (%s)\n", st.passes[i].name, st.passes[i].gpu_ms,
+                   st.passes[i].host_clock ? "host clock, own submit" : "GPU timestamps");
         else printf("  pass %-10s ran\n", st.passes[i].name);
     }
     rc = 0;

@@ -1,5 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#ifdef PRW_MULTIVIEW
+#extension GL_EXT_multiview : require
+layout(std140, set = 2, binding = 0) uniform prw_mv_block { mat4 view_proj[2]; vec4 eye_rel[2]; } prw_mv;
+#endif
 #include "common.glsl"
 #include "prw_brdf.h"
 
@@ -28,6 +32,10 @@ layout(location = 2) in vec2 v_uv;
 layout(location = 3) in vec4 v_tangent;
 
 layout(location = 0) out vec4 o_color;
+#ifdef PRW_GBUFFER
+layout(location = 1) out vec4 o_normal; // camera-relative shading normal, roughness
+layout(location = 2) out uint o_id;     // material slot + 1
+#endif
 
 const float PI = 3.14159265358979323846;
 
@@ -44,7 +52,7 @@ float shadow_factor(prw_gpu_light L, vec3 p, vec3 n)
         else layer += d.z > 0.0 ? 4 : 5;
     }
     int type = int(L.pos_type.w);
-    float texel = L.shadow.x * (type == PRW_LIGHT_DIRECTIONAL ? 1.0 : length(d));
+    float texel = L.shadow.x * (type == PRW_GPU_LIGHT_DIRECTIONAL ? 1.0 : length(d));
     vec3 po = p + n * (1.5 * texel);
     vec4 c = g.shadow_mats[layer] * vec4(po, 1.0);
     if (c.w <= 0.0) return 1.0;
@@ -180,7 +188,11 @@ void main()
             n = normalize(t * tn.x + b * tn.y + n * tn.z);
         }
     }
+#ifdef PRW_MULTIVIEW
+    vec3 v = normalize(prw_mv.eye_rel[gl_ViewIndex].xyz - v_pos);
+#else
     vec3 v = normalize(g.eye_rel.xyz - v_pos);
+#endif
     // Shading normals facing away from the eye (interpolation, normal maps) are bent back so the
     // BRDF sees a valid configuration.
     float nv = dot(n, v);
@@ -192,7 +204,7 @@ void main()
         prw_gpu_light L = g.lights[i];
         int type = int(L.pos_type.w);
         vec3 rgb = L.radiance.rgb;
-        if (type == PRW_LIGHT_RECT) {
+        if (type == PRW_GPU_LIGHT_RECT) {
             vec3 c = L.pos_type.xyz;
             if (dot(v_pos - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
             vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
@@ -216,7 +228,7 @@ void main()
         }
         vec3 l;
         float E;
-        if (type == PRW_LIGHT_DIRECTIONAL) {
+        if (type == PRW_GPU_LIGHT_DIRECTIONAL) {
             l = -L.dir_range.xyz;
             E = 1.0;
         } else {
@@ -228,7 +240,7 @@ void main()
                 float q = d2 / (L.dir_range.w * L.dir_range.w);
                 E *= clamp(1.0 - q * q, 0.0, 1.0);
             }
-            if (type == PRW_LIGHT_SPOT) {
+            if (type == PRW_GPU_LIGHT_SPOT) {
                 float cd = dot(-l, L.dir_range.xyz);
                 float s = clamp((cd - L.cone_shadow.y) / max(L.cone_shadow.x - L.cone_shadow.y, 1e-4), 0.0, 1.0);
                 E *= s * s;
@@ -239,4 +251,8 @@ void main()
         radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, v_pos, n);
     }
     o_color = vec4(radiance, 1.0);
+#ifdef PRW_GBUFFER
+    o_normal = vec4(n, roughness);
+    o_id = uint(mat.extra.y);
+#endif
 }

@@ -239,12 +239,14 @@ static bool create_device(prw_gpu *gpu, prw_error *e)
     e2.features.fillModeNonSolid = f2.features.fillModeNonSolid;
     e2.features.independentBlend = f2.features.independentBlend;
     e2.features.shaderFloat64 = f2.features.shaderFloat64;
+    e2.features.shaderClipDistance = f2.features.shaderClipDistance;
     e2.features.samplerAnisotropy = VK_FALSE; /* lavapipe has none; the samplers never use it */
     gpu->features.multiview = f11.multiview;
     gpu->features.shader_draw_parameters = f11.shaderDrawParameters;
     gpu->features.fill_mode_non_solid = f2.features.fillModeNonSolid;
     gpu->features.independent_blend = f2.features.independentBlend;
     gpu->features.shader_float64 = f2.features.shaderFloat64;
+    gpu->features.clip_distance = f2.features.shaderClipDistance;
 
     const char *exts[1];
     uint32_t ext_count = 0;

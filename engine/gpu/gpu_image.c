@@ -240,6 +240,15 @@ static layout_use use_of(VkImageLayout layout, VkImageAspectFlags aspect)
     }
 }
 
+void prw_layout_access(VkImageLayout layout, VkImageAspectFlags aspect, VkPipelineStageFlags2 *stages,
+                       VkAccessFlags2 *reads, VkAccessFlags2 *writes)
+{
+    layout_use u = use_of(layout, aspect);
+    *stages = u.stages;
+    *reads = u.reads;
+    *writes = u.writes;
+}
+
 void prw_cmd_transition(VkCommandBuffer cmd, prw_gpu_image *img, VkImageLayout new_layout)
 {
     layout_use src = use_of(img->layout, img->aspect), dst = use_of(new_layout, img->aspect);

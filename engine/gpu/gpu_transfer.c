@@ -194,3 +194,54 @@ bool prw_image_readback(prw_gpu *gpu, prw_gpu_image *img, float *rgba, prw_error
     prw_buffer_destroy(gpu, &rb);
     return true;
 }
+
+bool prw_image_readback_r32(prw_gpu *gpu, prw_gpu_image *img, void *out, prw_error *e)
+{
+    VkImageAspectFlags aspect;
+    switch (img->format) {
+    case VK_FORMAT_D32_SFLOAT: aspect = VK_IMAGE_ASPECT_DEPTH_BIT; break;
+    case VK_FORMAT_R32_UINT:
+    case VK_FORMAT_R32_SFLOAT: aspect = VK_IMAGE_ASPECT_COLOR_BIT; break;
+    default: return prw_fail(e, "gpu: 32-bit readback: unsupported format %d", (int)img->format);
+    }
+    if (img->samples != VK_SAMPLE_COUNT_1_BIT) return prw_fail(e, "gpu: 32-bit readback of a multisampled image");
+    if (!(img->usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT))
+        return prw_fail(e, "gpu: 32-bit readback needs VK_IMAGE_USAGE_TRANSFER_SRC_BIT");
+    if (img->layout == VK_IMAGE_LAYOUT_UNDEFINED)
+        return prw_fail(e, "gpu: 32-bit readback of an image that was never written (layout UNDEFINED)");
+    size_t n = (size_t)img->width * img->height;
+    prw_buffer rb;
+    if (!prw_buffer_create(gpu, n * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_READBACK, &rb, e))
+        return prw_fail_wrap(e, "gpu: 32-bit readback buffer");
+    VkCommandBuffer cmd;
+    if (!prw_cmd_begin(gpu, &cmd, e)) {
+        prw_buffer_destroy(gpu, &rb);
+        return false;
+    }
+    VkImageLayout restore = img->layout;
+    prw_cmd_transition(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkBufferImageCopy region = {
+        .imageSubresource = {aspect, 0, 0, 1},
+        .imageExtent = {img->width, img->height, 1},
+    };
+    vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer, 1, &region);
+    VkMemoryBarrier2 mb = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+        .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+        .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+        .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
+        .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT,
+    };
+    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
+                            .pMemoryBarriers = &mb};
+    vkCmdPipelineBarrier2(cmd, &dep);
+    prw_cmd_transition(cmd, img, restore);
+    uint32_t orphans = gpu->orphan_count;
+    if (!prw_cmd_submit_wait(gpu, cmd, e)) {
+        if (gpu->orphan_count == orphans) prw_buffer_destroy(gpu, &rb);
+        return false;
+    }
+    memcpy(out, rb.mapped, n * 4);
+    prw_buffer_destroy(gpu, &rb);
+    return true;
+}

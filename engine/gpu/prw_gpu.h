@@ -55,7 +55,7 @@ bool prw_gpu_list_devices(char *buf, size_t cap, prw_error *e);
 
 /* Optional features, enabled at create when the device supports them. */
 typedef struct prw_gpu_features {
-    bool multiview, fill_mode_non_solid, independent_blend, shader_float64, shader_draw_parameters;
+    bool multiview, fill_mode_non_solid, independent_blend, shader_float64, shader_draw_parameters, clip_distance;
 } prw_gpu_features;
 const prw_gpu_features *prw_gpu_features_enabled(const prw_gpu *gpu);
 
@@ -150,7 +150,14 @@ bool prw_image_upload(prw_gpu *gpu, prw_gpu_image *img, uint32_t layer, const vo
  * or R8G8B8A8_(UNORM|SRGB) into float RGBA (8-bit values are returned as stored / 255). */
 bool prw_image_readback(prw_gpu *gpu, prw_gpu_image *img, float *rgba, prw_error *e);
 
+/* Reads mip 0 / layer 0 of a single-sample D32_SFLOAT image (depth aspect) or an R32_UINT / R32_SFLOAT
+ * colour image into width*height 32-bit values (floats; R32_UINT values stored as their uint bits). */
+bool prw_image_readback_r32(prw_gpu *gpu, prw_gpu_image *img, void *out, prw_error *e);
+
 void prw_cmd_transition(VkCommandBuffer cmd, prw_gpu_image *img, VkImageLayout new_layout);
+/* The stages and accesses an image in `layout` may be used with (what prw_cmd_transition assumes). */
+void prw_layout_access(VkImageLayout layout, VkImageAspectFlags aspect, VkPipelineStageFlags2 *stages,
+                       VkAccessFlags2 *reads, VkAccessFlags2 *writes);
 
 /* ---- samplers ---- */
 typedef enum prw_sampler_kind {
@@ -225,6 +232,20 @@ typedef struct prw_graphics_desc {
 /* Viewport and scissor are dynamic state. */
 bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *desc, VkPipeline *out, prw_error *e);
 bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, VkPipeline *out, prw_error *e);
+
+/* Pipelines by key (a byte string of at most PRW_PIPELINE_KEY_MAX bytes; zero padding is part of the
+ * key, so keys should be memset before they are filled).  The table owns its pipelines. */
+#define PRW_PIPELINE_KEY_MAX 64
+typedef struct prw_pipeline_table prw_pipeline_table;
+bool prw_pipeline_table_create(prw_gpu *gpu, prw_pipeline_table **out, prw_error *e);
+void prw_pipeline_table_destroy(prw_pipeline_table *t);
+VkPipeline prw_pipeline_table_find(const prw_pipeline_table *t, const void *key, size_t size);
+/* Takes ownership of pipe (destroyed on failure too). */
+bool prw_pipeline_table_add(prw_pipeline_table *t, const void *key, size_t size, VkPipeline pipe, prw_error *e);
+/* Destroys the pipelines whose key matches. */
+void prw_pipeline_table_remove(prw_pipeline_table *t, bool (*match)(const void *key, size_t size, void *user),
+                               void *user);
+uint32_t prw_pipeline_table_count(const prw_pipeline_table *t);
 
 /* ---- commands ---- */
 /* Begins a one-time primary command buffer from the gpu's pool. */

@@ -134,6 +134,19 @@ void prw_ref_destroy(prw_ref_renderer *r);
 bool prw_ref_render(prw_ref_renderer *r, const prw_view *view, const prw_ref_desc *d, prw_ref_acc *acc,
                     prw_ref_stats *stats, prw_error *e);
 
+/* The camera ray through image point (x, y) (pixels; pixel (i, j) spans [i, i+1) x [j, j+1), y down)
+ * and what it hits first, with the same rules as a path's first vertex (back faces of single-sided
+ * materials are passed through, as the rasterizer culls them): the world position (absolute), the
+ * shading normal the BSDF sees (interpolated, double-sided flip, normal map, bent towards the viewer
+ * below 1e-4) and the material index (-1: a rect light's surface).  false: nothing hit. */
+typedef struct prw_ref_hit {
+    prw_dvec3 position;
+    prw_dvec3 normal;
+    int material;
+    double t; /* ray distance, metres */
+} prw_ref_hit;
+bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *view, double x, double y, prw_ref_hit *out);
+
 /* ---- accumulation files ("PRWACC01", little-endian, version 1; see ref_acc.c) ---- */
 bool prw_ref_acc_write(const char *path, const prw_ref_acc *a, prw_error *e);
 bool prw_ref_acc_read(const char *path, prw_ref_acc *out, prw_error *e);

@@ -605,3 +605,43 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
     }
     for (int c = 0; c < 3; c++) out[c] = pa.L[c];
 }
+
+bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *v, double x, double y, prw_ref_hit *out)
+{
+    prw_dvec3 dd = prw_view_ray_dir(v, x, y);
+    double o[3] = {v->eye.x - r->origin.x, v->eye.y - r->origin.y, v->eye.z - r->origin.z};
+    double d[3] = {dd.x, dd.y, dd.z};
+    const double *m = v->view.m;
+    double fwd[3] = {-m[2], -m[6], -m[10]};
+    double tnear = v->znear > 0 ? v->znear / fmax(dot3(d, fwd), 1e-6) : 0;
+    struct RTCRayHit rh;
+    surf s;
+    bool hit = false;
+    for (int guard = 0; guard < 256 && !hit; guard++) {
+        if (!isect(r, o, d, tnear, &rh)) break;
+        fill_surf(r, &rh, d, &s);
+        if (s.front || s.in->mat->double_sided || s.in->two_sided) hit = true;
+        else tnear = s.t + s.eps;
+    }
+    double t_rect;
+    int ri = rect_hit(r, o, d, tnear, hit ? s.t : INFINITY, &t_rect, -1);
+    if (ri >= 0) {
+        const ref_rect *q = &r->rects[ri];
+        out->t = t_rect;
+        out->position = prw_v3(o[0] + d[0] * t_rect + r->origin.x, o[1] + d[1] * t_rect + r->origin.y,
+                               o[2] + d[2] * t_rect + r->origin.z);
+        out->normal = prw_v3(-q->emit[0], -q->emit[1], -q->emit[2]);
+        out->material = -1;
+        return true;
+    }
+    if (!hit) return false;
+    shade sh;
+    setup_shade(r, &s, d, &sh);
+    out->t = s.t;
+    out->position = prw_v3(s.p[0] + r->origin.x, s.p[1] + r->origin.y, s.p[2] + r->origin.z);
+    out->normal = prw_v3(sh.n[0], sh.n[1], sh.n[2]);
+    out->material = -2;
+    for (uint32_t i = 0; i < r->scene->material_count; i++)
+        if (s.in->mat == &r->scene->materials[i]) out->material = (int)i;
+    return true;
+}

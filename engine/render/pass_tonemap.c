@@ -1,680 +1,97 @@
-/* pass_tonemap — display-aware tone mapping on the GPU (issue 6), two passes:
- *   "tm_stats" (once for all views: partials per 64 x 64 region and view -> one reduction: log-average
- *              and largest luminance, and zeroed classification counters); needed when the operator
- *              uses frame statistics (reinhard, adaptive, local, selective) or pixels are classified
- *              (absolute, overlay, report).  Selective: the same pass also classifies
- *              (tonemap_classify.comp: the Sobel of the log luminance it already computes gives each
- *              16 x 16 block's largest gradient), so the classification is not a pass of its own;
- *   "tonemap"  (per view: operator -> gamut mapping -> inverse display model; writes the signal V as
- *              RGBA32F before quantisation and as RGBA8 for PNGs and presenting).
- *            local: instead of tonemap_apply.comp, full-image separable passes (tonemap_sep_lum.comp:
- *            scaled luminance; tonemap_sep_blur.comp: 9 levels x horizontal + vertical into layers of a
- *            scratch r32f array; tonemap_sep_final.comp: scale selection, Ld, encoding), or with
- *            settings.local_tiled tonemap_local.comp on every 16 x 16 block;
- *            selective: tonemap_compact.comp (tile marks from the block gradients; the 16 x 16 blocks
- *            within one tile of a marked tile: flags, lists in raster order, counts) ->
- *            tonemap_apply.comp (global curve on the other blocks) and the separable passes on the
- *            lists, dispatched indirectly (a blur level's horizontal pass runs on the blocks within its
- *            radius above or below a needed block and there only on the rows the vertical pass reads;
- *            the vertical pass and the final step on the needed blocks only).
- * Profiling (prw_tm_session_profile): the dispatches are recorded through tm_dispatch*, which leave out
- * every scope from prof_limit on, so a scope's time is the difference of two runs' wall times.
- * The C reference is tonemap_ops.c; shaders/tonemap_*.comp mirror it. */
-#include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
+/* pass_tonemap — display-aware tone mapping as two graph passes (the work is in tonemap_gpu.c):
+ *   "tm_stats" (once for all views: log-average and largest luminance, classification counters and,
+ *              for the selective operator, block gradients; only when the settings use them);
+ *   "tonemap"  (every view: operator -> gamut mapping -> inverse display model into the display signal
+ *              "signal" (RGBA32F) and "ldr" (RGBA8), both exported).
+ * The statistics and tile buffers belong to the tone-mapping service; both passes import them, so the
+ * graph orders them between the passes and for the host's report. */
+#include "pipes.h"
+#include "prw_pass.h"
+#include "tonemap_gpu.h"
 
-#include "prw_shaders.h"
-#include "render_internal.h"
-
-#define TILE 16
-#define SIG_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
-
-typedef struct tm_pc {
-    uint32_t width, height, base, total;
-} tm_pc;
-
-/* std140 mirror of shaders/tonemap_apply.comp's prw_tm_params */
-typedef struct tm_ubo {
-    int32_t mode[4];
-    float range[4], disp[4], enc[4], op1[4], op2[4];
-    float m[3][4];
-    float adapt[4];
-} tm_ubo;
-
-/* std430 header of the stats buffer; partial slots (vec4) follow */
-typedef struct tm_stats_hdr {
-    float final_stats[4];
-    uint32_t counts[4];
-} tm_stats_hdr;
-
-typedef struct prw_tm_gpu prw_tm_gpu;
-struct prw_tm_gpu {
-    prw_display display;
-    prw_tonemap_settings settings;
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout layout;
-    VkPipeline stats_pipe, reduce_pipe, apply_pipe, classify_pipe, compact_pipe, local_pipe;
-    /* separable local: set 1 = the scratch image (layers: L, horizontal, 9 levels), made on first use */
-    VkDescriptorSetLayout sep_set_layout;
-    VkPipelineLayout sep_layout;
-    VkPipeline sep_lum_pipe, sep_blur_pipe, sep_final_pipe;
-    prw_gpu_image sep_img;
-    VkDescriptorSet sep_set;
-    uint32_t sep_w, sep_h;
-    prw_buffer params; /* UPLOAD uniform */
-    prw_buffer stats;  /* READBACK storage: header + partials */
-    prw_buffer tiles;  /* READBACK storage + indirect: per view a header + marks, needs, block list */
-    VkDeviceSize tile_stride; /* bytes per view in `tiles` */
-    VkDeviceSize last_tile_off; /* the region of the last view tone-mapped (report) */
-    uint32_t tiles_per_view;
-    prw_gpu_image signal[PRW_MAX_VIEWS];
-    VkDescriptorSet sets[PRW_MAX_VIEWS];
-    bool counted; /* the last frame classified pixels */
-    /* temporal adaptation (render path only): La, whether it has a value, the previous frame's
-     * statistics were computed, the frame time for the next step (< 0: measured) and the clock */
-    double la;
-    bool la_valid, prev_stats;
-    double dt_next, last_time;
-    /* profiling (prw_tm_session_profile): named scopes; with prof_limit >= 0 the dispatches of scopes
-     * from prof_limit on are not recorded (prefix timing: GPU timestamps are not usable on lavapipe,
-     * whose compute dispatches run synchronously outside its timestamp queries) */
-    int prof_limit, prof_count;
-    char prof_names[64][24];
-};
-
-/* starts the profiling scope `name` (the dispatches up to the next scope belong to it) */
-static void tb(prw_tm_gpu *tm, const char *name)
+static void import_buffers(prw_setup *s)
 {
-    if (tm->prof_count < 64) snprintf(tm->prof_names[tm->prof_count], sizeof tm->prof_names[0], "%s", name);
-    tm->prof_count++;
-}
-static bool tm_on(const prw_tm_gpu *tm) { return tm->prof_limit < 0 || tm->prof_count <= tm->prof_limit; }
-static void tm_dispatch(prw_tm_gpu *tm, VkCommandBuffer cmd, uint32_t x, uint32_t y, uint32_t z)
-{
-    if (tm_on(tm)) vkCmdDispatch(cmd, x, y, z);
-}
-static void tm_dispatch_indirect(prw_tm_gpu *tm, VkCommandBuffer cmd, VkBuffer b, VkDeviceSize off)
-{
-    if (tm_on(tm)) vkCmdDispatchIndirect(cmd, b, off);
+    const prw_render_env *env = prw_setup_env(s);
+    prw_setup_import_buffer(s, "tm_stats", prw_tm_gpu_stats_buffer(env->tm));
+    prw_setup_import_buffer(s, "tm_tiles", prw_tm_gpu_tiles_buffer(env->tm));
 }
 
-static bool op_needs_stats(prw_tm_op op)
+static void stats_setup(prw_setup *s)
 {
-    return op == PRW_TM_REINHARD || op == PRW_TM_ADAPTIVE || op == PRW_TM_LOCAL || op == PRW_TM_SELECTIVE;
+    import_buffers(s);
+    prw_setup_use(s, "hdr", PRW_USE_SAMPLED);
+    prw_setup_use(s, "tm_stats", PRW_USE_STORAGE_WRITE);
+    prw_setup_use(s, "tm_tiles", PRW_USE_STORAGE_WRITE);
 }
 
-/* bytes of the selective tile region for a w x h view (tiles of 16 at most as many as blocks) */
-static VkDeviceSize tile_bytes(uint32_t w, uint32_t h)
+static bool stats_needed(const prw_pass_ctx *c, const char **why)
 {
-    VkDeviceSize nb = (VkDeviceSize)((w + 15) / 16) * ((h + 15) / 16);
-    return (20 + 8 * nb) * 4; /* header, marks, needs, 5 lists, block gradients (tonemap_compact.comp) */
-}
-static bool tm_counts(const prw_tonemap_settings *s)
-{
-    return s->report || s->overlay || s->op == PRW_TM_ABSOLUTE;
-}
-
-static uint32_t tiles_for(uint32_t w, uint32_t h) { return ((w + TILE - 1) / TILE) * ((h + TILE - 1) / TILE); }
-/* workgroups (partial slots) of the stats pass: 64 x 64 pixel regions (tonemap_stats.glsl) */
-static uint32_t stats_groups(uint32_t w, uint32_t h) { return ((w + 63) / 64) * ((h + 63) / 64); }
-
-static void fill_ubo(const prw_tm_params *p, bool count, tm_ubo *u)
-{
-    memset(u, 0, sizeof *u);
-    u->mode[0] = (int32_t)p->op;
-    u->mode[1] = (int32_t)p->eotf;
-    u->mode[2] = p->overlay ? 1 : 0;
-    u->mode[3] = count ? 1 : 0;
-    float range[4] = {(float)p->exposure, (float)p->lmin, (float)p->lmax, (float)p->dl};
-    float disp[4] = {(float)p->black, (float)p->peak, (float)p->refl, (float)p->gamma};
-    float enc[4] = {(float)p->enc_scale, (float)p->bt_a, (float)p->bt_b, (float)p->white_cd};
-    float op1[4] = {(float)p->gain, (float)p->key, (float)p->white, (float)p->knee};
-    float op2[4] = {(float)p->toe_p, (float)PRW_TM_SHOULDER_LAMBDA, (float)p->sel_threshold, (float)p->sel_tile};
-    memcpy(u->range, range, sizeof range);
-    memcpy(u->disp, disp, sizeof disp);
-    memcpy(u->enc, enc, sizeof enc);
-    memcpy(u->op1, op1, sizeof op1);
-    memcpy(u->op2, op2, sizeof op2);
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) u->m[r][c] = (float)p->m[3 * r + c];
-    u->adapt[0] = (float)p->adapt_la;
-    u->adapt[1] = p->adapt_la > 0 ? 1.0f : 0.0f;
-}
-
-static void write_set(prw_renderer *r, VkDescriptorSet set, VkImageView src, VkImageView ldr, VkImageView sig,
-                      VkDeviceSize tile_off, VkDeviceSize tile_range)
-{
-    prw_tm_gpu *tm = r->tm;
-    prw_desc_write_image(r->gpu, set, 0, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, src,
-                         prw_gpu_sampler(r->gpu, PRW_SAMPLER_NEAREST_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    prw_desc_write_image(r->gpu, set, 1, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, ldr, VK_NULL_HANDLE,
-                         VK_IMAGE_LAYOUT_GENERAL);
-    prw_desc_write_image(r->gpu, set, 2, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, sig, VK_NULL_HANDLE,
-                         VK_IMAGE_LAYOUT_GENERAL);
-    prw_desc_write_buffer(r->gpu, set, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tm->stats, 0, 0);
-    prw_desc_write_buffer(r->gpu, set, 4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &tm->params, 0, sizeof(tm_ubo));
-    prw_desc_write_buffer(r->gpu, set, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tm->tiles, tile_off, tile_range);
-}
-
-bool prw_tm_gpu_create(prw_renderer *r, prw_error *e)
-{
-    prw_tm_gpu *tm = prw_calloc(1, sizeof *tm);
-    r->tm = tm;
-    prw_display_builtin("srgb", &tm->display);
-    tm->dt_next = -1;
-    tm->prof_limit = -1;
-    tm->settings.op = (unsigned)r->desc.tonemap < PRW_TM_OP_COUNT ? r->desc.tonemap : PRW_TM_EXPOSURE;
-    VkDescriptorSetLayoutBinding b[6] = {
-        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-    };
-    if (!prw_desc_layout_create(r->gpu, b, 6, &tm->set_layout, e) ||
-        !prw_pipeline_layout_create(r->gpu, &tm->set_layout, 1, sizeof(tm_pc), &tm->layout, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_stats_comp(), tm->layout, &tm->stats_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_reduce_comp(), tm->layout, &tm->reduce_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_apply_comp(), tm->layout, &tm->apply_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_classify_comp(), tm->layout, &tm->classify_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_compact_comp(), tm->layout, &tm->compact_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_local_comp(), tm->layout, &tm->local_pipe, e))
-        return false;
-    VkDescriptorSetLayoutBinding sb = {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL};
-    VkDescriptorSetLayout two[2];
-    if (!prw_desc_layout_create(r->gpu, &sb, 1, &tm->sep_set_layout, e)) return false;
-    two[0] = tm->set_layout;
-    two[1] = tm->sep_set_layout;
-    if (!prw_pipeline_layout_create(r->gpu, two, 2, sizeof(tm_pc), &tm->sep_layout, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_sep_lum_comp(), tm->sep_layout, &tm->sep_lum_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_sep_blur_comp(), tm->sep_layout, &tm->sep_blur_pipe, e) ||
-        !prw_pipeline_compute(r->gpu, prw_shader_tonemap_sep_final_comp(), tm->sep_layout, &tm->sep_final_pipe, e))
-        return false;
-    tm->tile_stride = (tile_bytes(r->desc.width, r->desc.height) + 255) & ~(VkDeviceSize)255;
-    if (!prw_buffer_create(r->gpu, tm->tile_stride * r->desc.max_views,
-                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, PRW_MEM_READBACK,
-                           &tm->tiles, e))
-        return false;
-    memset(tm->tiles.mapped, 0, (size_t)(tm->tile_stride * r->desc.max_views));
-    tm->tiles_per_view = tiles_for(r->desc.width, r->desc.height);
-    VkDeviceSize stats_size = sizeof(tm_stats_hdr) + (VkDeviceSize)tm->tiles_per_view * r->desc.max_views * 16;
-    if (!prw_buffer_create(r->gpu, sizeof(tm_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD, &tm->params,
-                           e) ||
-        !prw_buffer_create(r->gpu, stats_size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_READBACK, &tm->stats, e))
-        return false;
-    memset(tm->stats.mapped, 0, (size_t)stats_size);
-    for (uint32_t v = 0; v < r->desc.max_views; v++) {
-        prw_image_desc d = {.width = r->desc.width, .height = r->desc.height, .format = SIG_FORMAT,
-                            .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
-        if (!prw_image_create(r->gpu, &d, &tm->signal[v], e) ||
-            !prw_desc_alloc(r->gpu, r->pool, tm->set_layout, &tm->sets[v], e))
-            return false;
-        write_set(r, tm->sets[v], r->views[v].hdr.view, r->views[v].ldr.view, tm->signal[v].view,
-                  v * tm->tile_stride, tm->tile_stride);
-    }
+    if (!c->frame->view_count) return (*why = "no views"), false;
+    if (!prw_tm_gpu_stats_needed(c->env->tm)) return (*why = "the tone map uses no frame statistics"), false;
     return true;
 }
 
-void prw_tm_gpu_destroy(prw_renderer *r)
-{
-    prw_tm_gpu *tm = r->tm;
-    if (!tm) return;
-    VkDevice dev = prw_gpu_device(r->gpu);
-    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_image_destroy(r->gpu, &tm->signal[v]);
-    prw_buffer_destroy(r->gpu, &tm->params);
-    prw_buffer_destroy(r->gpu, &tm->stats);
-    prw_buffer_destroy(r->gpu, &tm->tiles);
-    prw_image_destroy(r->gpu, &tm->sep_img);
-    VkPipeline pipes[9] = {tm->stats_pipe,    tm->reduce_pipe,  tm->apply_pipe,   tm->classify_pipe, tm->compact_pipe,
-                           tm->local_pipe,    tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
-    for (int i = 0; i < 9; i++)
-        if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
-    if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
-    if (tm->sep_set_layout) vkDestroyDescriptorSetLayout(dev, tm->sep_set_layout, NULL);
-    if (tm->layout) vkDestroyPipelineLayout(dev, tm->layout, NULL);
-    if (tm->set_layout) vkDestroyDescriptorSetLayout(dev, tm->set_layout, NULL);
-    free(tm);
-    r->tm = NULL;
-}
-
-static void compute_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 src_access,
-                            VkPipelineStageFlags2 dst, VkAccessFlags2 dst_access)
-{
-    VkMemoryBarrier2 mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-                           .srcStageMask = src,
-                           .srcAccessMask = src_access,
-                           .dstStageMask = dst,
-                           .dstAccessMask = dst_access};
-    VkDependencyInfo di = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1, .pMemoryBarriers = &mb};
-    vkCmdPipelineBarrier2(cmd, &di);
-}
-
-#define CS VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT
-#define RW (VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT)
-
-/* The chain on `count` inputs (all already in SHADER_READ_ONLY_OPTIMAL, outputs in GENERAL). */
-static void record_stats(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptorSet *sets, const uint32_t *w,
-                         const uint32_t *h, uint32_t count)
-{
-    compute_barrier(cmd, CS | VK_PIPELINE_STAGE_2_HOST_BIT, RW | VK_ACCESS_2_HOST_READ_BIT, CS, RW);
-    bool sel = tm->settings.op == PRW_TM_SELECTIVE; /* fused with the classification */
-    tb(tm, sel ? "stats+classify" : "stats");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sel ? tm->classify_pipe : tm->stats_pipe);
-    uint32_t base = 0;
-    for (uint32_t v = 0; v < count; v++) {
-        tm_pc pc = {w[v], h[v], base, 0};
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
-        vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-        tm_dispatch(tm, cmd, (w[v] + 63) / 64, (h[v] + 63) / 64, 1);
-        base += stats_groups(w[v], h[v]);
-    }
-    compute_barrier(cmd, CS, RW, CS, RW);
-    tb(tm, "reduce");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->reduce_pipe);
-    tm_pc pc = {0, 0, 0, base};
-    vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-    tm_dispatch(tm, cmd, 1, 1, 1);
-    compute_barrier(cmd, CS, RW, CS, RW);
-}
-
-/* The scratch image of the separable local operator, at least w x h (recreated larger when needed). */
-static bool ensure_sep(prw_renderer *r, uint32_t w, uint32_t h, prw_error *e)
-{
-    prw_tm_gpu *tm = r->tm;
-    bool sep = (tm->settings.op == PRW_TM_LOCAL && !tm->settings.local_tiled) || tm->settings.op == PRW_TM_SELECTIVE;
-    if (!sep) return true;
-    if (tm->sep_img.image && tm->sep_w >= w && tm->sep_h >= h) return true;
-    prw_image_destroy(r->gpu, &tm->sep_img);
-    tm->sep_w = PRW_MAX(w, tm->sep_w);
-    tm->sep_h = PRW_MAX(h, tm->sep_h);
-    prw_image_desc d = {.width = tm->sep_w, .height = tm->sep_h, .layers = 11, .format = VK_FORMAT_R32_SFLOAT,
-                        .usage = VK_IMAGE_USAGE_STORAGE_BIT, .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
-    if (!prw_image_create(r->gpu, &d, &tm->sep_img, e)) return false;
-    if (!tm->sep_set && !prw_desc_alloc(r->gpu, r->pool, tm->sep_set_layout, &tm->sep_set, e)) return false;
-    prw_desc_write_image(r->gpu, tm->sep_set, 0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, tm->sep_img.view, VK_NULL_HANDLE,
-                         VK_IMAGE_LAYOUT_GENERAL);
-    return true;
-}
-
-/* Selective: dispatches list k of the view's tile region (indirect); local: the block grid. */
-static void sep_dispatch(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDeviceSize tile_off, uint32_t gx, uint32_t gy, int list)
-{
-    if (tm->settings.op == PRW_TM_SELECTIVE) tm_dispatch_indirect(tm, cmd, tm->tiles.buffer, tile_off + 12 * (VkDeviceSize)list);
-    else tm_dispatch(tm, cmd, gx, gy, 1);
-}
-
-static int sep_rows(uint32_t lev) /* list of a level's horizontal pass: ceil(radius / 16) */
-{
-    return (prw_tm_local_radius((int)lev) + 15) / 16;
-}
-
-static void record_local_sep(prw_tm_gpu *tm, VkCommandBuffer cmd, VkDescriptorSet set, uint32_t w, uint32_t h,
-                             VkDeviceSize tile_off)
-{
-    VkDescriptorSet sets[2] = {set, tm->sep_set};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_layout, 0, 2, sets, 0, NULL);
-    prw_cmd_transition(cmd, &tm->sep_img, VK_IMAGE_LAYOUT_GENERAL);
-    compute_barrier(cmd, CS, RW, CS, RW); /* an earlier view's use of the scratch image */
-    uint32_t gx = (w + 15) / 16, gy = (h + 15) / 16;
-    tm_pc pc = {w, h, 0, 0};
-    tb(tm, "sep_lum");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_lum_pipe);
-    vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-    sep_dispatch(tm, cmd, tile_off, gx, gy, 4);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_blur_pipe);
-    for (uint32_t lev = 0; lev <= PRW_TM_LOCAL_SCALES; lev++)
-        for (uint32_t dir = 0; dir < 2; dir++) {
-            compute_barrier(cmd, CS, RW, CS, RW);
-            char nm[24];
-            snprintf(nm, sizeof nm, "blur%u%c", lev, dir ? 'v' : 'h');
-            tb(tm, nm);
-            tm_pc bp = {w, h, lev, dir};
-            vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof bp, &bp);
-            sep_dispatch(tm, cmd, tile_off, gx, gy, dir ? 0 : sep_rows(lev));
-        }
-    compute_barrier(cmd, CS, RW, CS, RW);
-    tb(tm, "sep_final");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_final_pipe);
-    vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-    sep_dispatch(tm, cmd, tile_off, gx, gy, 0);
-    compute_barrier(cmd, CS, RW, CS, RW);
-}
-
-static void record_apply(prw_tm_gpu *tm, VkCommandBuffer cmd, const VkDescriptorSet *sets, const uint32_t *w,
-                         const uint32_t *h, const VkDeviceSize *tile_off, uint32_t count)
-{
-    prw_tm_op op = tm->settings.op;
-    for (uint32_t v = 0; v < count; v++) {
-        tm_pc pc = {w[v], h[v], 0, 0};
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
-        vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-        if (op == PRW_TM_LOCAL && !tm->settings.local_tiled) {
-            record_local_sep(tm, cmd, sets[v], w[v], h[v], tile_off[v]);
-            continue;
-        }
-        if (op == PRW_TM_LOCAL) {
-            tb(tm, "local_tiled");
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->local_pipe);
-            tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
-            compute_barrier(cmd, CS, RW, CS, RW);
-            continue;
-        }
-        if (op == PRW_TM_SELECTIVE) { /* the stats pass left each block's largest gradient */
-            tb(tm, "compact");
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->compact_pipe);
-            tm_dispatch(tm, cmd, 1, 1, 1);
-            compute_barrier(cmd, CS, RW, CS | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                            RW | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-        }
-        tb(tm, "apply");
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
-        tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
-        compute_barrier(cmd, CS, RW, CS, RW);
-        if (op == PRW_TM_SELECTIVE) record_local_sep(tm, cmd, sets[v], w[v], h[v], tile_off[v]); /* pixels disjoint from apply's */
-    }
-    if (count) tm->last_tile_off = tile_off[count - 1];
-    /* the stats and tile buffers are read by the host after the frame */
-    compute_barrier(cmd, CS, RW, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-}
-
-/* Render path, before recording a frame: steps La towards the previous frame's log-average. */
-static void adapt_frame(prw_tm_gpu *tm)
-{
-    const prw_tonemap_settings *s = &tm->settings;
-    double now = prw_now();
-    double dt = tm->dt_next >= 0 ? tm->dt_next : (tm->last_time > 0 ? now - tm->last_time : 0.0);
-    tm->last_time = now;
-    tm->dt_next = -1;
-    if (!s->adapt || s->op == PRW_TM_ABSOLUTE) {
-        tm->la_valid = false;
-        return;
-    }
-    if (!tm->prev_stats) return; /* nothing measured yet: this frame keys on its own statistics */
-    double target = ((const tm_stats_hdr *)tm->stats.mapped)->final_stats[0];
-    if (!(target > 0) || !isfinite(target)) return;
-    if (!tm->la_valid) {
-        tm->la = target;
-        tm->la_valid = true;
-    }
-    tm->la = prw_tm_adapt_step(tm->la, target, dt, s->tau_bright > 0 ? s->tau_bright : PRW_TM_TAU_BRIGHT,
-                               s->tau_dark > 0 ? s->tau_dark : PRW_TM_TAU_DARK);
-}
-
-static void upload_params(prw_renderer *r, double ev100, bool adapted)
-{
-    prw_tm_gpu *tm = r->tm;
-    prw_tm_params p;
-    prw_tm_prepare(&tm->settings, &tm->display, prw_exposure_scale(ev100), &p);
-    if (adapted && tm->la_valid) prw_tm_set_adaptation(&p, tm->la);
-    tm_ubo u;
-    tm->counted = tm_counts(&tm->settings);
-    fill_ubo(&p, tm->counted, &u);
-    memcpy(tm->params.mapped, &u, sizeof u);
-}
-
-static bool stats_needed(const prw_frame_ctx *ctx)
-{
-    const prw_tm_gpu *tm = ctx->r->tm;
-    return ctx->view_count > 0 && tm &&
-           (op_needs_stats(tm->settings.op) || tm_counts(&tm->settings) ||
-            (tm->settings.adapt && tm->settings.op != PRW_TM_ABSOLUTE));
-}
-
-static bool stats_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
+static bool stats_record(prw_pass_ctx *c, prw_error *e)
 {
     (void)e;
-    prw_renderer *r = ctx->r;
-    uint32_t w[PRW_MAX_VIEWS], h[PRW_MAX_VIEWS];
-    for (uint32_t vi = 0; vi < ctx->view_count; vi++) {
-        prw_cmd_transition(cmd, &r->views[vi].hdr, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        w[vi] = ctx->views[vi].width;
-        h[vi] = ctx->views[vi].height;
-    }
-    r->tm->prof_count = 0; /* profiling is for sessions; keep the counter bounded */
-    record_stats(r->tm, cmd, r->tm->sets, w, h, ctx->view_count);
-    return true;
-}
-
-static bool tonemap_needed(const prw_frame_ctx *ctx) { return ctx->view_count > 0; }
-
-static bool tonemap_record(prw_frame_ctx *ctx, VkCommandBuffer cmd, prw_error *e)
-{
-    (void)e;
-    prw_renderer *r = ctx->r;
-    prw_tm_gpu *tm = r->tm;
-    if (!ensure_sep(r, r->desc.width, r->desc.height, e)) return false;
-    adapt_frame(tm);
-    upload_params(r, ctx->views[0].ev100, true); /* both eyes share one exposure and La (DESIGN.md §6) */
-    tm->prev_stats = stats_needed(ctx);
-    if (!stats_needed(ctx)) tm->counted = false;
-    if (!tm->counted) { /* keep the UBO consistent with the graph: no counting without the stats pass */
-        tm_ubo *u = tm->params.mapped;
-        u->mode[3] = 0;
-    }
-    uint32_t w[PRW_MAX_VIEWS], h[PRW_MAX_VIEWS];
-    VkDeviceSize off[PRW_MAX_VIEWS];
-    for (uint32_t vi = 0; vi < ctx->view_count; vi++) {
-        prw_view_targets *t = &r->views[vi];
-        off[vi] = vi * tm->tile_stride;
-        prw_cmd_transition(cmd, &t->hdr, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        prw_cmd_transition(cmd, &t->ldr, VK_IMAGE_LAYOUT_GENERAL);
-        prw_cmd_transition(cmd, &tm->signal[vi], VK_IMAGE_LAYOUT_GENERAL);
-        w[vi] = ctx->views[vi].width;
-        h[vi] = ctx->views[vi].height;
-    }
-    tm->prof_count = 0;
-    record_apply(tm, cmd, tm->sets, w, h, off, ctx->view_count);
+    prw_tm_gpu_record_stats(c->env->tm, c);
     return true;
 }
 
 const prw_pass prw_pass_tm_stats = {
     .name = "tm_stats",
-    .reads = PRW_RES_HDR,
-    .writes = PRW_RES_TM_STATS,
+    .scope = PRW_SCOPE_FRAME,
+    .queue = PRW_QUEUE_COMPUTE,
+    .setup = stats_setup,
     .needed = stats_needed,
     .record = stats_record,
 };
 
+static void tonemap_setup(prw_setup *s)
+{
+    import_buffers(s);
+    prw_image_decl ldr = {.format = VK_FORMAT_R8G8B8A8_UNORM, .size = PRW_SIZE_VIEW};
+    prw_image_decl sig = {.format = VK_FORMAT_R32G32B32A32_SFLOAT, .size = PRW_SIZE_VIEW};
+    prw_setup_image(s, "ldr", &ldr);
+    prw_setup_image(s, "signal", &sig);
+    prw_setup_export(s, "ldr");
+    prw_setup_export(s, "signal");
+    prw_setup_export(s, "tm_stats");
+    prw_setup_export(s, "tm_tiles");
+    prw_setup_use(s, "hdr", PRW_USE_SAMPLED);
+    prw_setup_use(s, "ldr", PRW_USE_STORAGE_WRITE);
+    prw_setup_use(s, "signal", PRW_USE_STORAGE_WRITE);
+    prw_setup_use(s, "tm_stats", PRW_USE_STORAGE_WRITE);
+    prw_setup_use(s, "tm_tiles", PRW_USE_STORAGE_WRITE);
+}
+
+static bool tonemap_create(const prw_pass_init *in, void **state, prw_error *e)
+{
+    (void)e;
+    *state = NULL;
+    for (uint32_t v = 0; v < in->env->desc->max_views; v++)
+        prw_tm_gpu_bind_view(in->env->tm, v, prw_graph_image(in->graph, "hdr", v), prw_graph_image(in->graph, "ldr", v),
+                             prw_graph_image(in->graph, "signal", v));
+    return true;
+}
+
+static bool tonemap_needed(const prw_pass_ctx *c, const char **why)
+{
+    if (!c->frame->view_count) return (*why = "no views"), false;
+    return true;
+}
+
+static bool tonemap_record(prw_pass_ctx *c, prw_error *e)
+{
+    return prw_tm_gpu_record_apply(c->env->tm, c, prw_graph_written(c->graph, "tm_stats"), e);
+}
+
 const prw_pass prw_pass_tonemap = {
     .name = "tonemap",
-    .reads = PRW_RES_HDR | PRW_RES_TM_STATS,
-    .writes = PRW_RES_LDR,
+    .scope = PRW_SCOPE_FRAME,
+    .queue = PRW_QUEUE_COMPUTE,
+    .setup = tonemap_setup,
+    .create = tonemap_create,
     .needed = tonemap_needed,
     .record = tonemap_record,
 };
-
-/* ---- public entry points (prw_render.h) ---- */
-
-bool prw_renderer_set_tonemap(prw_renderer *r, const prw_display *d, const prw_tonemap_settings *s, prw_error *e)
-{
-    if (d && !prw_display_validate(d, d->name, e)) return false;
-    if (s && (unsigned)s->op >= PRW_TM_OP_COUNT) return prw_fail(e, "render: tone-mapping operator %d unknown", s->op);
-    if (s && (s->sel_tile % 16 != 0 || s->sel_tile > 256))
-        return prw_fail(e, "render: selective tile size %u is not 0 or a multiple of 16 up to 256", s->sel_tile);
-    if (s && !(s->sel_threshold >= 0 && s->tau_bright >= 0 && s->tau_dark >= 0 && isfinite(s->sel_threshold) &&
-               isfinite(s->tau_bright) && isfinite(s->tau_dark)))
-        return prw_fail(e, "render: selective threshold and adaptation time constants must be finite and >= 0");
-    if (d) r->tm->display = *d;
-    if (s) {
-        const prw_tonemap_settings *o = &r->tm->settings;
-        if (s->op != o->op || s->adapt != o->adapt || s->tau_bright != o->tau_bright || s->tau_dark != o->tau_dark)
-            r->tm->la_valid = r->tm->prev_stats = false; /* a new adaptation state */
-        r->tm->settings = *s;
-    }
-    return true;
-}
-
-void prw_renderer_get_tonemap(const prw_renderer *r, prw_display *d, prw_tonemap_settings *s)
-{
-    if (d) *d = r->tm->display;
-    if (s) *s = r->tm->settings;
-}
-
-bool prw_renderer_read_signal(prw_renderer *r, uint32_t v, prw_image *out, prw_error *e)
-{
-    if (v >= r->desc.max_views) return prw_fail(e, "render: no view %u", v);
-    if (!prw_image_alloc(out, (int)r->desc.width, (int)r->desc.height, e)) return false;
-    if (!prw_image_readback(r->gpu, &r->tm->signal[v], out->rgba, e)) {
-        prw_image_free(out);
-        return false;
-    }
-    return true;
-}
-
-static void read_report(const prw_tm_gpu *tm, prw_tm_stats *st, prw_tm_report *rep)
-{
-    const tm_stats_hdr *h = tm->stats.mapped;
-    if (st) {
-        st->log_avg = h->final_stats[0];
-        st->max_lum = h->final_stats[1];
-        st->count = (uint64_t)h->final_stats[2];
-    }
-    if (rep) {
-        memset(rep, 0, sizeof *rep);
-        if (tm->counted) {
-            rep->below_black = h->counts[0];
-            rep->above_peak = h->counts[1];
-            rep->out_of_gamut = h->counts[2];
-            rep->pixels = h->counts[3];
-        }
-        if (tm->settings.op == PRW_TM_SELECTIVE) {
-            const uint32_t *t = (const uint32_t *)((const char *)tm->tiles.mapped + tm->last_tile_off);
-            rep->tiles_marked = t[15];
-            rep->tiles = t[16];
-            rep->blocks_local = t[17];
-            rep->blocks = t[18];
-        }
-    }
-}
-
-void prw_renderer_tonemap_advance(prw_renderer *r, double dt) { r->tm->dt_next = dt >= 0 && isfinite(dt) ? dt : -1; }
-
-bool prw_renderer_tonemap_adaptation(const prw_renderer *r, double *la)
-{
-    if (la) *la = r->tm->la_valid ? r->tm->la : 0.0;
-    return r->tm->la_valid;
-}
-
-bool prw_renderer_tonemap_report(prw_renderer *r, prw_tm_stats *stats, prw_tm_report *rep)
-{
-    read_report(r->tm, stats, rep);
-    return r->tm->counted;
-}
-
-struct prw_tm_session {
-    prw_renderer *r;
-    uint32_t w, h;
-    prw_gpu_image in, ldr, sig;
-    prw_desc_pool *pool; /* the session's own: its set goes with it (the renderer's pool only grows) */
-    VkDescriptorSet set;
-};
-
-
-void prw_tm_session_destroy(prw_tm_session *s)
-{
-    if (!s) return;
-    prw_image_destroy(s->r->gpu, &s->in);
-    prw_image_destroy(s->r->gpu, &s->ldr);
-    prw_image_destroy(s->r->gpu, &s->sig);
-    if (s->pool) prw_desc_pool_destroy(s->r->gpu, s->pool);
-    free(s);
-}
-
-bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e)
-{
-    prw_tm_gpu *tm = r->tm;
-    uint32_t w = (uint32_t)hdr->width, h = (uint32_t)hdr->height;
-    *out = NULL;
-    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views ||
-        tile_bytes(w, h) > tm->tile_stride * r->desc.max_views)
-        return prw_fail(e, "tonemap: %ux%u image larger than the renderer's stats buffer allows", w, h);
-    prw_tm_session *s = prw_calloc(1, sizeof *s);
-    s->r = r;
-    s->w = w;
-    s->h = h;
-    prw_image_desc din = {.width = w, .height = h, .format = SIG_FORMAT,
-                          .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
-    prw_image_desc dldr = {.width = w, .height = h, .format = VK_FORMAT_R8G8B8A8_UNORM,
-                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
-    prw_image_desc dsig = {.width = w, .height = h, .format = SIG_FORMAT,
-                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
-    bool ok = prw_image_create(r->gpu, &din, &s->in, e) && prw_image_create(r->gpu, &dldr, &s->ldr, e) &&
-              prw_image_create(r->gpu, &dsig, &s->sig, e) &&
-              prw_image_upload(r->gpu, &s->in, 0, hdr->rgba, (size_t)w * h * 16, e) &&
-              prw_desc_pool_create(r->gpu, &s->pool, e) && prw_desc_alloc(r->gpu, s->pool, tm->set_layout, &s->set, e);
-    if (!ok) {
-        prw_tm_session_destroy(s);
-        return false;
-    }
-    write_set(r, s->set, s->in.view, s->ldr.view, s->sig.view, 0, tm->tile_stride * r->desc.max_views);
-    *out = s;
-    return true;
-}
-
-bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *signal, prw_tm_stats *stats,
-                        prw_tm_report *rep, prw_error *e)
-{
-    prw_renderer *r = s->r;
-    prw_tm_gpu *tm = r->tm;
-    VkCommandBuffer cmd;
-    if (!ensure_sep(r, s->w, s->h, e)) return false;
-    upload_params(r, ev100, false);
-    tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
-    if (!prw_cmd_begin(r->gpu, &cmd, e)) return false;
-    tm->prof_count = 0;
-    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
-    prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
-    bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
-    if (!need) {
-        tm->counted = false;
-        ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
-    }
-    VkDeviceSize off = 0;
-    if (need) record_stats(tm, cmd, &s->set, &s->w, &s->h, 1);
-    record_apply(tm, cmd, &s->set, &s->w, &s->h, &off, 1);
-    double t0 = prw_now();
-    if (!prw_cmd_submit_wait(r->gpu, cmd, e)) return false;
-    if (ms) *ms = 1e3 * (prw_now() - t0);
-    if (signal && !(prw_image_alloc(signal, (int)s->w, (int)s->h, e) &&
-                    prw_image_readback(r->gpu, &s->sig, signal->rgba, e)))
-        return false;
-    read_report(tm, stats, rep);
-    return true;
-}
-
-bool prw_renderer_tonemap_image(prw_renderer *r, const prw_image *hdr, double ev100, prw_image *signal,
-                                prw_tm_stats *stats, prw_tm_report *rep, prw_error *e)
-{
-    prw_tm_session *s;
-    if (!prw_tm_session_create(r, hdr, &s, e)) return false;
-    bool ok = prw_tm_session_run(s, ev100, NULL, signal, stats, rep, e);
-    prw_tm_session_destroy(s);
-    return ok;
-}
-
-bool prw_tm_session_profile(prw_tm_session *s, double ev100, int reps, prw_tm_profile *out, prw_error *e)
-{
-    prw_tm_gpu *tm = s->r->tm;
-    memset(out, 0, sizeof *out);
-    bool ok = prw_tm_session_run(s, ev100, NULL, NULL, NULL, NULL, e);
-    int n = PRW_MIN(tm->prof_count, 64);
-    double prev = 0;
-    for (int k = 0; ok && k <= n; k++) {
-        double best = 1e30, ms;
-        tm->prof_limit = k < n ? k : -1; /* scopes 0..k-1 recorded */
-        for (int i = 0; ok && i < PRW_MAX(reps, 1); i++)
-            if ((ok = prw_tm_session_run(s, ev100, &ms, NULL, NULL, NULL, e))) best = PRW_MIN(best, ms);
-        if (k > 0) {
-            snprintf(out->names[k - 1], sizeof out->names[0], "%s", tm->prof_names[k - 1]);
-            out->ms[k - 1] = best - prev;
-        } else out->base_ms = best;
-        prev = best;
-    }
-    tm->prof_limit = -1;
-    out->count = ok ? n : 0;
-    return ok;
-}

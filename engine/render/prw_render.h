@@ -20,12 +20,15 @@
  *    relative to each view's own eye, so a scene 1e5 m from the origin renders like one at it, and
  *    each eye of a view set is bit-identical to a mono render from that eye (issue 5; shadow maps
  *    are built from absolute double matrices, so they do not depend on the views at all).
- *  - The renderer uploads the scene at create; call prw_renderer_sync_scene() after editing it.
+ *  - The renderer uploads the scene at create; after editing the scene call prw_renderer_sync_scene(),
+ *    which uploads it again and rebuilds the pass graph (so a pass that depends on the scene's features
+ *    joins or leaves the graph).
+ *  - The pass graph (graph.h, prw_pass.h) orders the passes, allocates their images, derives every
+ *    barrier and culls what no one reads; prw_renderer_describe prints it.
  */
 #ifndef PRW_RENDER_H
 #define PRW_RENDER_H
 
-#include "pass_graph.h"
 #include "prw_gpu.h"
 #include "prw_image.h"
 #include "prw_scene.h"
@@ -37,6 +40,16 @@ extern "C" {
 #endif
 
 #define PRW_MAX_VIEWS 6
+#define PRW_MAX_PASSES 32
+
+struct prw_pass;
+
+/* Test-only switches (never set by the app's commands). */
+typedef struct prw_render_debug {
+    const struct prw_pass *const *passes; /* NULL-terminated pass table; NULL: the standard one (passes.c) */
+    const char *const *exports;           /* NULL-terminated names of graph images to keep for
+                                             prw_renderer_read_image (e.g. "depth", "gbuf_normal") */
+} prw_render_debug;
 
 typedef struct prw_renderer prw_renderer;
 
@@ -71,7 +84,18 @@ typedef struct prw_render_desc {
     bool reproject_mark;           /* reproject, tests: reused samples get alpha 0 in the right eye's HDR image
                                       and the clear alpha is 0 (resolved alpha = fraction of the pixel's samples
                                       shaded by the right eye) */
+    const prw_render_debug *debug; /* NULL: none */
 } prw_render_desc;
+
+typedef struct prw_pass_stat {
+    const char *name;
+    bool skipped;
+    char reason[96];       /* skipped: why (not needed this frame, or culled) */
+    double gpu_ms;         /* < 0 when not timed: GPU timestamps (graphics passes) or the host clock around
+                              the pass's own submission (compute passes) */
+    bool host_clock;       /* gpu_ms is the host clock around the pass's own submission */
+    uint32_t timer_scope;  /* internal */
+} prw_pass_stat;
 
 typedef struct prw_frame_stats {
     uint32_t pass_count;
@@ -79,6 +103,8 @@ typedef struct prw_frame_stats {
     double cpu_ms;       /* recording + submit + wait, measured on the CPU */
     uint64_t triangles;  /* drawn in the base pass, all views */
     uint32_t draws;
+    uint32_t barriers;   /* barrier commands recorded (each flushes on lavapipe) */
+    uint32_t begins;     /* render-pass begins recorded */
 } prw_frame_stats;
 
 bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_desc *desc, prw_renderer **out,
@@ -148,7 +174,7 @@ typedef struct prw_tm_profile {
 } prw_tm_profile;
 bool prw_tm_session_profile(prw_tm_session *s, double ev100, int reps, prw_tm_profile *out, prw_error *e);
 
-/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto = prw_views_backend_choose (pass_multiview.c) */
+/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto = prw_views_backend_choose (views_choice.c) */
 bool prw_views_backend_resolve(prw_gpu *gpu, const char *name, prw_views_backend *out, prw_error *e);
 
 /* The auto choice, measured once per device + driver and cached (views_choice.c): multiview only when
@@ -165,8 +191,19 @@ typedef struct prw_views_choice {
 bool prw_views_backend_choose(prw_gpu *gpu, prw_views_choice *out, prw_error *e);
 const char *prw_views_backend_name(prw_views_backend b);
 
-/* Names of the passes this scene needs for `count` views, for `prw info` (writes a comma list). */
-void prw_renderer_describe_passes(const prw_scene *scene, uint32_t count, char *buf, size_t cap);
+/* The graph as built for this renderer's scene and settings: passes in order with their resources and
+ * why a pass is not in the graph, then the resources (graph.h prw_graph_describe).  Appends to buf. */
+void prw_renderer_describe(const prw_renderer *r, char *buf, size_t cap);
+/* Re-uploads the scene (edited since create or the last sync) and rebuilds the pass graph. */
+bool prw_renderer_sync_scene(prw_renderer *r, prw_error *e);
+/* Reads back view v's instance of the graph image `name` ("hdr", "depth", "gbuf_normal", "gbuf_id", ...):
+ * RGBA16F/32F/8 images as float RGBA (width*height*4), D32F / R32 images as width*height 32-bit values.
+ * *w, *h receive the size.  Fails for multisampled or absent images. */
+bool prw_renderer_read_image(prw_renderer *r, const char *name, uint32_t v, void **out, uint32_t *w, uint32_t *h,
+                             prw_error *e);
+struct prw_graph;
+/* The renderer's pass graph (graph.h; tests). */
+struct prw_graph *prw_renderer_graph(prw_renderer *r);
 
 #ifdef __cplusplus
 }

@@ -213,3 +213,29 @@ bool prw_views_backend_choose(prw_gpu *gpu, prw_views_choice *out, prw_error *e)
     if (have_dir) cache_write(path, out);
     return true;
 }
+
+/* ---- names and the --views-backend choice ---- */
+
+const char *prw_views_backend_name(prw_views_backend b) { return b == PRW_VIEWS_MULTIVIEW ? "multiview" : "loop"; }
+
+bool prw_views_backend_resolve(prw_gpu *gpu, const char *name, prw_views_backend *out, prw_error *e)
+{
+    bool has_mv = prw_gpu_features_enabled(gpu)->multiview;
+    const char *dev = prw_gpu_device_name(gpu);
+    if (!name || strcmp(name, "auto") == 0) {
+        prw_views_choice c;
+        if (!prw_views_backend_choose(gpu, &c, e)) return false;
+        *out = c.backend;
+        return true;
+    }
+    if (strcmp(name, "loop") == 0) {
+        *out = PRW_VIEWS_LOOP;
+        return true;
+    }
+    if (strcmp(name, "multiview") == 0) {
+        if (!has_mv) return prw_fail(e, "views backend multiview: device '%s' lacks the multiview feature", dev);
+        *out = PRW_VIEWS_MULTIVIEW;
+        return true;
+    }
+    return prw_fail(e, "views backend '%s': expected loop, multiview or auto", name);
+}

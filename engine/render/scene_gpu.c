@@ -1,17 +1,16 @@
-/* render_upload — scene data to GPU memory: one interleaved vertex buffer, one index buffer,
- * textures with mip chains, and one uniform block + descriptor set per material. */
+/* scene_gpu — the GPU copy of a scene (scene_gpu.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "render_internal.h"
+#include "gpu_types.h"
+#include "scene_gpu.h"
 
-#define VERTEX_FLOATS 12 /* position 3, normal 3, uv 2, tangent 4 */
+#define VERTEX_FLOATS PRW_VERTEX_FLOATS
 
-bool prw_render_upload_geometry(prw_renderer *r, prw_error *e)
+static bool upload_geometry(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, prw_error *e)
 {
-    const prw_scene *s = r->scene;
     uint64_t nv = 4, ni = 6; /* starts with the rect-light quad */
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         nv += s->meshes[i].vertex_count;
@@ -32,7 +31,7 @@ bool prw_render_upload_geometry(prw_renderer *r, prw_error *e)
         memcpy(d, q, sizeof q);
     }
     memcpy(idata, quad_idx, sizeof quad_idx);
-    r->light_quad = (prw_draw_mesh){.first_index = 0, .index_count = 6, .vertex_offset = 0, .material = -1};
+    r->light_quad = (prw_gpu_mesh){.first_index = 0, .index_count = 6, .vertex_offset = 0, .material = -1};
     uint64_t vo = 4, io = 6;
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         const prw_mesh *m = &s->meshes[i];
@@ -57,14 +56,14 @@ bool prw_render_upload_geometry(prw_renderer *r, prw_error *e)
         vo += m->vertex_count;
         io += m->index_count;
     }
-    bool ok = prw_buffer_create(r->gpu, (nv ? nv : 1) * VERTEX_FLOATS * sizeof(float),
+    bool ok = prw_buffer_create(gpu, (nv ? nv : 1) * VERTEX_FLOATS * sizeof(float),
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_GPU,
                                 &r->vertices, e) &&
-              prw_buffer_create(r->gpu, (ni ? ni : 1) * sizeof(uint32_t),
+              prw_buffer_create(gpu, (ni ? ni : 1) * sizeof(uint32_t),
                                 VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_GPU,
                                 &r->indices, e);
-    if (ok && nv) ok = prw_buffer_upload(r->gpu, &r->vertices, 0, vdata, nv * VERTEX_FLOATS * sizeof(float), e);
-    if (ok && ni) ok = prw_buffer_upload(r->gpu, &r->indices, 0, idata, ni * sizeof(uint32_t), e);
+    if (ok && nv) ok = prw_buffer_upload(gpu, &r->vertices, 0, vdata, nv * VERTEX_FLOATS * sizeof(float), e);
+    if (ok && ni) ok = prw_buffer_upload(gpu, &r->indices, 0, idata, ni * sizeof(uint32_t), e);
     free(vdata);
     free(idata);
     return ok;
@@ -80,7 +79,7 @@ static uint32_t mip_count(uint32_t w, uint32_t h)
     return n;
 }
 
-static bool make_texture(prw_renderer *r, uint32_t w, uint32_t h, bool srgb, bool mips, const uint8_t *rgba,
+static bool make_texture(prw_gpu *gpu, uint32_t w, uint32_t h, bool srgb, bool mips, const uint8_t *rgba,
                          prw_gpu_image *out, prw_error *e)
 {
     prw_image_desc d = {
@@ -90,45 +89,44 @@ static bool make_texture(prw_renderer *r, uint32_t w, uint32_t h, bool srgb, boo
         .format = srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
     };
-    return prw_image_create(r->gpu, &d, out, e) && prw_image_upload(r->gpu, out, 0, rgba, (size_t)w * h * 4, e);
+    return prw_image_create(gpu, &d, out, e) && prw_image_upload(gpu, out, 0, rgba, (size_t)w * h * 4, e);
 }
 
-bool prw_render_upload_textures(prw_renderer *r, prw_error *e)
+static bool upload_textures(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, prw_error *e)
 {
-    const prw_scene *s = r->scene;
     static const uint8_t white[4] = {255, 255, 255, 255}, flat[4] = {128, 128, 255, 255};
-    if (!make_texture(r, 1, 1, true, false, white, &r->white_srgb, e) ||
-        !make_texture(r, 1, 1, false, false, white, &r->white_linear, e) ||
-        !make_texture(r, 1, 1, false, false, flat, &r->flat_normal, e))
+    if (!make_texture(gpu, 1, 1, true, false, white, &r->white_srgb, e) ||
+        !make_texture(gpu, 1, 1, false, false, white, &r->white_linear, e) ||
+        !make_texture(gpu, 1, 1, false, false, flat, &r->flat_normal, e))
         return false;
     r->texture_count = s->texture_count;
     r->textures = prw_calloc(s->texture_count ? s->texture_count : 1, sizeof *r->textures);
     for (uint32_t i = 0; i < s->texture_count; i++) {
         const prw_texture *t = &s->textures[i];
-        if (!make_texture(r, (uint32_t)t->width, (uint32_t)t->height, t->srgb, true, t->rgba8, &r->textures[i], e))
+        if (!make_texture(gpu, (uint32_t)t->width, (uint32_t)t->height, t->srgb, true, t->rgba8, &r->textures[i], e))
             return prw_fail_wrap(e, "%s: texture %u '%s'", s->source, i, t->name);
     }
     return true;
 }
 
-static VkImageView tex_view(const prw_renderer *r, int index, const prw_gpu_image *fallback)
+static VkImageView tex_view(const prw_scene_gpu *r, int index, const prw_gpu_image *fallback)
 {
     if (index >= 0 && (uint32_t)index < r->texture_count) return r->textures[index].view;
     return fallback->view;
 }
 
-bool prw_render_upload_materials(prw_renderer *r, prw_error *e)
+static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout layout, prw_desc_pool *pool,
+                             prw_scene_gpu *r, prw_error *e)
 {
-    const prw_scene *s = r->scene;
     r->scene_material_slots = s->material_count ? s->material_count : 1;
     uint32_t n = r->scene_material_slots + s->light_count; /* a slot per light; used by rect lights */
-    VkDeviceSize align = prw_gpu_properties(r->gpu)->limits.minUniformBufferOffsetAlignment;
+    VkDeviceSize align = prw_gpu_properties(gpu)->limits.minUniformBufferOffsetAlignment;
     r->material_stride = (sizeof(prw_gpu_material) + align - 1) / align * align;
-    if (!prw_buffer_create(r->gpu, r->material_stride * n, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
+    if (!prw_buffer_create(gpu, r->material_stride * n, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
                            &r->material_ubo, e))
         return false;
     r->material_sets = prw_calloc(n, sizeof *r->material_sets);
-    VkSampler lin = prw_gpu_sampler(r->gpu, PRW_SAMPLER_LINEAR_REPEAT);
+    VkSampler lin = prw_gpu_sampler(gpu, PRW_SAMPLER_LINEAR_REPEAT);
     for (uint32_t i = 0; i < n; i++) {
         prw_material m = i < s->material_count ? s->materials[i] : prw_material_default();
         if (i >= r->scene_material_slots) { /* a light's visible surface: emission only */
@@ -142,19 +140,54 @@ bool prw_render_upload_materials(prw_renderer *r, prw_error *e)
             .base_color = {m.base_color[0], m.base_color[1], m.base_color[2], m.base_color[3]},
             .emission = {m.emission[0], m.emission[1], m.emission[2], m.normal_scale},
             .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f, m.normal_tex >= 0 ? 1.0f : 0.0f},
-            .extra = {m.specular, 0.0f, 0.0f, 0.0f},
+            .extra = {m.specular, (float)(i + 1), 0.0f, 0.0f},
         };
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
-        if (!prw_desc_alloc(r->gpu, r->pool, r->material_layout, &r->material_sets[i], e)) return false;
+        if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) return false;
         VkDescriptorSet set = r->material_sets[i];
         VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
         VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        prw_desc_write_buffer(r->gpu, set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &r->material_ubo,
+        prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &r->material_ubo,
                               i * r->material_stride, sizeof g);
-        prw_desc_write_image(r->gpu, set, 1, 0, cis, tex_view(r, m.base_color_tex, &r->white_srgb), lin, ro);
-        prw_desc_write_image(r->gpu, set, 2, 0, cis, tex_view(r, m.metal_rough_tex, &r->white_linear), lin, ro);
-        prw_desc_write_image(r->gpu, set, 3, 0, cis, tex_view(r, m.normal_tex, &r->flat_normal), lin, ro);
-        prw_desc_write_image(r->gpu, set, 4, 0, cis, tex_view(r, m.emissive_tex, &r->white_srgb), lin, ro);
+        prw_desc_write_image(gpu, set, 1, 0, cis, tex_view(r, m.base_color_tex, &r->white_srgb), lin, ro);
+        prw_desc_write_image(gpu, set, 2, 0, cis, tex_view(r, m.metal_rough_tex, &r->white_linear), lin, ro);
+        prw_desc_write_image(gpu, set, 3, 0, cis, tex_view(r, m.normal_tex, &r->flat_normal), lin, ro);
+        prw_desc_write_image(gpu, set, 4, 0, cis, tex_view(r, m.emissive_tex, &r->white_srgb), lin, ro);
     }
     return true;
+}
+
+uint32_t prw_scene_gpu_slot(const prw_scene *s, int m)
+{
+    return m >= 0 && (uint32_t)m < s->material_count ? (uint32_t)m : 0;
+}
+
+bool prw_scene_gpu_create(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout material_layout,
+                          prw_desc_pool *pool, prw_scene_gpu **out, prw_error *e)
+{
+    prw_scene_gpu *g = prw_calloc(1, sizeof *g);
+    if (!upload_geometry(gpu, s, g, e) || !upload_textures(gpu, s, g, e) ||
+        !upload_materials(gpu, s, material_layout, pool, g, e)) {
+        prw_scene_gpu_destroy(gpu, g);
+        *out = NULL;
+        return false;
+    }
+    *out = g;
+    return true;
+}
+
+void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g)
+{
+    if (!g) return;
+    for (uint32_t i = 0; i < g->texture_count; i++) prw_image_destroy(gpu, &g->textures[i]);
+    free(g->textures);
+    prw_image_destroy(gpu, &g->white_srgb);
+    prw_image_destroy(gpu, &g->white_linear);
+    prw_image_destroy(gpu, &g->flat_normal);
+    prw_buffer_destroy(gpu, &g->material_ubo);
+    free(g->material_sets); /* the sets live in the renderer's pool */
+    prw_buffer_destroy(gpu, &g->vertices);
+    prw_buffer_destroy(gpu, &g->indices);
+    free(g->meshes);
+    free(g);
 }

@@ -1,0 +1,116 @@
+/* draw — the draw context and the drawable list (prw_draw.h). */
+#include <string.h>
+
+#include "pipes.h"
+#include "prw_constants.h"
+#include "prw_pass.h"
+
+typedef struct draw_pc {
+    prw_mat4 model;
+    float normal_m[12];
+} draw_pc;
+_Static_assert(sizeof(draw_pc) == PRW_DRAW_PUSH_BYTES, "draw push constants");
+
+bool prw_draw_mirrors(prw_dmat4 world)
+{
+    const double *m = world.m;
+    double det = m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+                 m[8] * (m[1] * m[6] - m[5] * m[2]);
+    return det < 0;
+}
+
+void prw_draw_push_model(prw_dmat4 world, prw_dvec3 origin, float out[28])
+{
+    draw_pc pc;
+    prw_dmat4 rel = world;
+    rel.m[12] -= origin.x;
+    rel.m[13] -= origin.y;
+    rel.m[14] -= origin.z;
+    pc.model = prw_m4_from_d(rel);
+    prw_dmat4 inv;
+    if (!prw_dm4_inverse(world, &inv)) inv = prw_dm4_identity();
+    /* normal matrix = inverse-transpose: column c of it is row c of the inverse */
+    for (int c = 0; c < 3; c++) {
+        pc.normal_m[c * 4 + 0] = (float)inv.m[0 * 4 + c];
+        pc.normal_m[c * 4 + 1] = (float)inv.m[1 * 4 + c];
+        pc.normal_m[c * 4 + 2] = (float)inv.m[2 * 4 + c];
+        pc.normal_m[c * 4 + 3] = 0.0f;
+    }
+    pc.normal_m[3] = prw_draw_mirrors(world) ? -1.0f : 1.0f; /* mirrored nodes flip the bitangent */
+    memcpy(out, &pc, sizeof pc);
+}
+
+bool prw_draw_bind(prw_draw_ctx *c, uint32_t material_kind, bool two_sided, bool node_mirrored)
+{
+    if (c->failed) return false;
+    prw_pipe_key k = {
+        .recipe = c->recipe,
+        .material_kind = material_kind,
+        .two_sided = two_sided,
+        .mirrored = node_mirrored != c->view->mirrored,
+        .clip = c->view->clip,
+        .view_mask = c->view_mask,
+        .variant = c->variant,
+    };
+    VkPipeline p;
+    if (!prw_pipes_get(c->pipes, &k, &p, &c->err)) {
+        c->failed = true;
+        return false;
+    }
+    if (p != c->bound) {
+        vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p);
+        if (c->kind != PRW_DRAW_SHADOW)
+            vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 0, 1, &c->view->globals, 0,
+                                    NULL);
+        c->bound = p;
+    }
+    return true;
+}
+
+bool prw_drawables_create(prw_drawables *d, const prw_drawable *const *table, const prw_render_env *env,
+                          prw_error *e)
+{
+    memset(d, 0, sizeof *d);
+    for (uint32_t i = 0; table[i]; i++) {
+        if (d->count == PRW_MAX_DRAWABLES) return prw_fail(e, "render: more than %d drawables", PRW_MAX_DRAWABLES);
+        d->kind[d->count] = table[i];
+        d->count++;
+        if (table[i]->create && !table[i]->create(env, &d->state[d->count - 1], e))
+            return prw_fail_wrap(e, "drawable '%s'", table[i]->name);
+    }
+    return true;
+}
+
+void prw_drawables_destroy(prw_drawables *d, const prw_render_env *env)
+{
+    for (uint32_t i = d->count; i-- > 0;)
+        if (d->kind[i]->destroy) d->kind[i]->destroy(env, d->state[i]);
+    memset(d, 0, sizeof *d);
+}
+
+bool prw_drawables_update(prw_drawables *d, const prw_render_env *env, const prw_view *views, uint32_t count,
+                          prw_error *e)
+{
+    for (uint32_t i = 0; i < d->count; i++)
+        if (d->kind[i]->update && !d->kind[i]->update(d->state[i], env, views, count, e)) return false;
+    return true;
+}
+
+void prw_drawables_record(const prw_drawables *d, const prw_render_env *env, prw_draw_ctx *c)
+{
+    for (uint32_t i = 0; i < d->count && !c->failed; i++) d->kind[i]->record(d->state[i], env, c);
+}
+
+bool prw_drawables_have(const prw_drawables *d, const prw_render_env *env, prw_draw_kind kind)
+{
+    for (uint32_t i = 0; i < d->count; i++)
+        if (!d->kind[i]->has || d->kind[i]->has(d->state[i], env, kind)) return true;
+    return false;
+}
+
+void *prw_drawables_state(const prw_drawables *d, const char *name)
+{
+    for (uint32_t i = 0; i < d->count; i++)
+        if (strcmp(d->kind[i]->name, name) == 0) return d->state[i];
+    return NULL;
+}

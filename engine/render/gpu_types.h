@@ -1,0 +1,54 @@
+/* gpu_types — the C mirrors of the shaders' uniform blocks (std140), checked against the GLSL layout
+ * rules and the shared constants (shaders/prw_constants.h) at compile time. */
+#ifndef PRW_GPU_TYPES_H
+#define PRW_GPU_TYPES_H
+
+#include <stddef.h>
+
+#include "prw_constants.h"
+#include "prw_math.h"
+#include "prw_scene.h"
+
+/* shaders/common.glsl: struct prw_gpu_light */
+typedef struct prw_gpu_light {
+    float pos_type[4];
+    float dir_range[4];
+    float radiance[4];
+    float cone_shadow[4];
+    float axis_u[4];
+    float axis_v[4];
+    float shadow[4];
+} prw_gpu_light;
+
+/* shaders/common.glsl: uniform prw_globals (set 0, binding 0) */
+typedef struct prw_gpu_globals {
+    prw_mat4 view_proj;
+    float eye_rel[4];
+    float params[4];
+    prw_gpu_light lights[PRW_MAX_LIGHTS];
+    prw_mat4 shadow_mats[PRW_MAX_SHADOW_VIEWS];
+} prw_gpu_globals;
+
+/* shaders/base.frag: uniform prw_material_block (set 1, binding 0) */
+typedef struct prw_gpu_material {
+    float base_color[4];
+    float emission[4]; /* w: normal scale */
+    float mr[4];       /* metallic, roughness, double sided, has normal map */
+    float extra[4];    /* x: specular, y: material slot + 1 (G-buffer id) */
+} prw_gpu_material;
+
+/* std140: vec4 members 16-byte aligned, arrays of structs padded to 16, mat4 = 64 bytes */
+_Static_assert(sizeof(prw_mat4) == 64, "mat4 is 64 bytes");
+_Static_assert(sizeof(prw_gpu_light) == 7 * 16, "prw_gpu_light: 7 vec4");
+_Static_assert(offsetof(prw_gpu_globals, eye_rel) == 64, "globals.eye_rel");
+_Static_assert(offsetof(prw_gpu_globals, params) == 80, "globals.params");
+_Static_assert(offsetof(prw_gpu_globals, lights) == 96, "globals.lights");
+_Static_assert(offsetof(prw_gpu_globals, shadow_mats) == 96 + PRW_MAX_LIGHTS * 7 * 16, "globals.shadow_mats");
+_Static_assert(sizeof(prw_gpu_globals) == 96 + PRW_MAX_LIGHTS * 7 * 16 + PRW_MAX_SHADOW_VIEWS * 64, "globals size");
+_Static_assert(sizeof(prw_gpu_material) == 64, "material block: 4 vec4");
+_Static_assert(PRW_GPU_LIGHT_POINT == PRW_LIGHT_POINT && PRW_GPU_LIGHT_SPOT == PRW_LIGHT_SPOT &&
+                   PRW_GPU_LIGHT_DIRECTIONAL == PRW_LIGHT_DIRECTIONAL && PRW_GPU_LIGHT_RECT == PRW_LIGHT_RECT,
+               "light types: shaders/prw_constants.h and prw_light_type agree");
+_Static_assert(PRW_VERTEX_FLOATS == 12, "vertex layout: position, normal, uv, tangent");
+
+#endif

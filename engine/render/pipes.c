@@ -1,0 +1,166 @@
+/* pipes — layouts, the standard recipes and the keyed pipeline cache (pipes.h). */
+#include "pipes.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "prw_constants.h"
+#include "prw_shaders.h"
+
+/* The vertex layout of every drawable (PRW_VERTEX_FLOATS floats: position, normal, uv, tangent). */
+static const VkVertexInputBindingDescription k_binding = {0, PRW_VERTEX_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX};
+static const VkVertexInputAttributeDescription k_attrs[4] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
+};
+
+bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
+                             prw_graphics_desc *d, prw_error *e)
+{
+    if (k->material_kind != 0) return prw_fail(e, "render: material kind %u has no shader", k->material_kind);
+    bool mv = k->view_mask != 0;
+    if (mv && k->clip) return prw_fail(e, "render: multiview with a clip plane has no shader variant");
+    if (k->clip && !prw_gpu_features_enabled(env->gpu)->clip_distance)
+        return prw_fail(e, "render: a clip plane needs the shaderClipDistance feature");
+    if (k->clip && layout != env->pipes->base_layout)
+        return prw_fail(e, "render: the clip-plane variant needs the base layout (its push constants)");
+    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER;
+    if (mv && gbuf) return prw_fail(e, "render: multiview with G-buffer outputs has no shader variant");
+    *d = (prw_graphics_desc){
+        .vs = mv ? prw_shader_mv_base_vert() : k->clip ? prw_shader_clip_base_vert() : prw_shader_base_vert(),
+        .fs = mv ? prw_shader_mv_base_frag() : gbuf ? prw_shader_gbuf_base_frag() : prw_shader_base_frag(),
+        .layout = layout,
+        .vertex_bindings = &k_binding,
+        .vertex_binding_count = 1,
+        .vertex_attrs = k_attrs,
+        .vertex_attr_count = 4,
+        .color_formats = {PRW_HDR_FORMAT, PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
+        .color_count = gbuf ? 3 : 1,
+        .depth_format = PRW_DEPTH_FORMAT,
+        .samples = env->samples,
+        .cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT,
+        .front_face = k->mirrored ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE,
+        .depth_test = true,
+        .depth_write = true,
+        .view_mask = k->view_mask,
+    };
+    return true;
+}
+
+static bool describe_base(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
+                          prw_graphics_desc *d, prw_error *e)
+{
+    return prw_pipes_describe_base(env, k, r->layout, d, e);
+}
+
+static bool describe_shadow(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
+                            prw_graphics_desc *d, prw_error *e)
+{
+    (void)env, (void)k, (void)e;
+    *d = (prw_graphics_desc){
+        .vs = prw_shader_shadow_vert(),
+        .layout = r->layout,
+        .vertex_bindings = &k_binding,
+        .vertex_binding_count = 1,
+        .vertex_attrs = k_attrs,
+        .vertex_attr_count = 1,
+        .depth_format = PRW_DEPTH_FORMAT,
+        .cull = VK_CULL_MODE_NONE,
+        .depth_test = true,
+        .depth_write = true,
+        .depth_bias = true,
+    };
+    return true;
+}
+
+bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
+{
+    prw_pipes *p = prw_calloc(1, sizeof *p);
+    *out = p;
+    p->gpu = env->gpu;
+    p->env = env;
+    VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkDescriptorSetLayoutBinding globals[2] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    };
+    VkDescriptorSetLayoutBinding material[5] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    };
+    VkDescriptorSetLayoutBinding storage2[2] = {
+        {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+    };
+    if (!prw_desc_layout_create(p->gpu, globals, 2, &p->globals_layout, e) ||
+        !prw_desc_layout_create(p->gpu, material, 5, &p->material_layout, e) ||
+        !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
+        return false;
+    VkDescriptorSetLayout base_sets[2] = {p->globals_layout, p->material_layout};
+    if (!prw_pipeline_layout_create(p->gpu, base_sets, 2, PRW_BASE_PUSH_BYTES, &p->base_layout, e) ||
+        !prw_pipeline_layout_create(p->gpu, NULL, 0, 64, &p->shadow_layout, e) ||
+        !prw_pipeline_layout_create(p->gpu, &p->storage2_layout, 1, 12, &p->storage2_pl, e) ||
+        !prw_pipeline_compute(p->gpu, prw_shader_downsample_comp(), p->storage2_pl, &p->downsample, e) ||
+        !prw_pipeline_table_create(p->gpu, &p->table, e))
+        return false;
+    p->base = (prw_pipe_recipe){.name = "base", .layout = p->base_layout, .describe = describe_base};
+    p->shadow = (prw_pipe_recipe){.name = "shadow", .layout = p->shadow_layout, .describe = describe_shadow};
+    return true;
+}
+
+void prw_pipes_destroy(prw_pipes *p)
+{
+    if (!p) return;
+    VkDevice dev = prw_gpu_device(p->gpu);
+    prw_pipeline_table_destroy(p->table);
+    if (p->downsample) vkDestroyPipeline(dev, p->downsample, NULL);
+    VkPipelineLayout pls[3] = {p->base_layout, p->shadow_layout, p->storage2_pl};
+    for (int i = 0; i < 3; i++)
+        if (pls[i]) vkDestroyPipelineLayout(dev, pls[i], NULL);
+    VkDescriptorSetLayout dls[3] = {p->globals_layout, p->material_layout, p->storage2_layout};
+    for (int i = 0; i < 3; i++)
+        if (dls[i]) vkDestroyDescriptorSetLayout(dev, dls[i], NULL);
+    free(p);
+}
+
+bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_error *e)
+{
+    prw_pipe_key key;
+    memset(&key, 0, sizeof key); /* the padding is part of the table key */
+    key.recipe = k->recipe;
+    key.material_kind = k->material_kind;
+    key.two_sided = k->two_sided != 0;
+    key.mirrored = k->mirrored != 0;
+    key.clip = k->clip != 0;
+    key.view_mask = k->view_mask;
+    key.variant = k->variant;
+    *out = prw_pipeline_table_find(p->table, &key, sizeof key);
+    if (*out) return true;
+    prw_graphics_desc d;
+    memset(&d, 0, sizeof d);
+    if (!key.recipe->describe(key.recipe, p->env, &key, &d, e) || !prw_pipeline_graphics(p->gpu, &d, out, e))
+        return prw_fail_wrap(e, "render: pipeline '%s'", key.recipe->name);
+    if (!prw_pipeline_table_add(p->table, &key, sizeof key, *out, e)) {
+        *out = VK_NULL_HANDLE;
+        return false;
+    }
+    return true;
+}
+
+static bool same_recipe(const void *key, size_t size, void *user)
+{
+    prw_pipe_key k;
+    if (size != sizeof k) return false;
+    memcpy(&k, key, sizeof k);
+    return k.recipe == user;
+}
+
+void prw_pipes_forget(prw_pipes *p, const prw_pipe_recipe *r)
+{
+    if (p && p->table) prw_pipeline_table_remove(p->table, same_recipe, (void *)r);
+}

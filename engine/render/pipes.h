@@ -1,0 +1,71 @@
+/* pipes — the renderer's descriptor-set and pipeline layouts and its keyed pipeline cache.
+ *
+ * Promises:
+ *  - One cache for every graphics pipeline a pass or drawable binds, keyed by (recipe, material kind,
+ *    two-sided, mirrored, clip plane, view mask, variant); a pipeline is built on first use from its
+ *    recipe and kept until the renderer is destroyed or its recipe is forgotten (a pass's destroy).
+ *  - A recipe is a named description function plus its pipeline layout; the base recipe's description
+ *    (vertex layout, HDR colour target, reversed-Z D32 depth, the renderer's samples, back-face
+ *    culling) is the starting point of every recipe that draws the scene's drawables
+ *    (prw_pipes_describe_base).
+ *  - Layouts: set 0 = per-view globals (uniform block + shadow atlas), set 1 = material (uniform block
+ *    + four textures); the base layout has 128 bytes of push constants (112 per draw:
+ *    prw_draw_push_model; then the clip plane of PRW_CLIP_PLANE pipelines, pushed by the pass), the
+ *    shadow layout 64 (the light clip matrix).  The storage2 layout (two storage images, 12 bytes of
+ *    push constants) serves the box-filter downsample.
+ */
+#ifndef PRW_PIPES_H
+#define PRW_PIPES_H
+
+#include "prw_pass.h"
+
+typedef struct prw_pipe_key {
+    const struct prw_pipe_recipe *recipe;
+    uint32_t material_kind;
+    uint32_t two_sided, mirrored, clip;
+    uint32_t view_mask;
+    uint32_t variant;
+} prw_pipe_key;
+
+typedef struct prw_pipe_recipe {
+    const char *name;
+    VkPipelineLayout layout;
+    /* Fills d for key k (d arrives zeroed); false with e set when the key is impossible. */
+    bool (*describe)(const struct prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
+                     prw_graphics_desc *d, prw_error *e);
+    const void *user;
+} prw_pipe_recipe;
+
+typedef struct prw_pipes {
+    prw_gpu *gpu;
+    const prw_render_env *env;
+    VkDescriptorSetLayout globals_layout, material_layout, storage2_layout;
+    VkPipelineLayout base_layout, shadow_layout, storage2_pl;
+    prw_pipe_recipe base, shadow; /* the standard recipes */
+    VkPipeline downsample;        /* compute: N x N box filter (storage2 layout) */
+    prw_pipeline_table *table;
+} prw_pipes;
+
+bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e);
+void prw_pipes_destroy(prw_pipes *p);
+/* The pipeline for k (built on first use). */
+bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_error *e);
+/* Destroys every pipeline built from recipe r. */
+void prw_pipes_forget(prw_pipes *p, const prw_pipe_recipe *r);
+/* The base recipe's description for key k with another layout (recipes derived from it). */
+bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
+                             prw_graphics_desc *d, prw_error *e);
+
+/* Formats of the graph images every pass agrees on. */
+#define PRW_HDR_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT
+#define PRW_DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
+#define PRW_NORMAL_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT /* G-buffer: camera-relative normal, roughness */
+#define PRW_MATID_FORMAT VK_FORMAT_R32_UINT            /* G-buffer: material slot + 1 (0: nothing drawn) */
+
+/* Recipe variants of the base recipe. */
+enum {
+    PRW_BASE_VARIANT_PLAIN = 0,
+    PRW_BASE_VARIANT_GBUFFER = 1, /* + normal/roughness and material-id colour outputs */
+};
+
+#endif

@@ -1,0 +1,64 @@
+/* shadow_plan — shadow views of the scene's lights (shadow_plan.h). */
+#include "shadow_plan.h"
+
+#include <math.h>
+
+static prw_dvec3 pick_up(prw_dvec3 dir)
+{
+    return fabs(dir.y) < 0.99 ? prw_v3(0, 1, 0) : prw_v3(1, 0, 0);
+}
+
+static prw_dmat4 persp(prw_dvec3 pos, prw_dvec3 dir, prw_dvec3 up, double half_fov)
+{
+    double t = tan(half_fov);
+    prw_dmat4 v = prw_dm4_look_at(pos, prw_v3_add(pos, dir), up);
+    return prw_dm4_mul(prw_dm4_frustum_rev_inf(-t, t, -t, t, 0.02), v);
+}
+
+void prw_shadow_plan_make(const prw_scene *s, prw_shadow_plan *plan)
+{
+    prw_shadow_view *out = plan->views;
+    int *light_first = plan->light_first;
+    uint32_t n = 0;
+    for (int i = 0; i < PRW_MAX_LIGHTS; i++) light_first[i] = -1;
+    prw_dvec3 bmin = s->has_bounds ? s->bounds_min : prw_v3(-1, -1, -1);
+    prw_dvec3 bmax = s->has_bounds ? s->bounds_max : prw_v3(1, 1, 1);
+    prw_dvec3 centre = prw_v3_scale(prw_v3_add(bmin, bmax), 0.5);
+    double radius = 0.5 * prw_v3_len(prw_v3_sub(bmax, bmin)) + 1e-3;
+    for (uint32_t i = 0; i < s->light_count && i < PRW_MAX_LIGHTS; i++) {
+        const prw_light *l = &s->lights[i];
+        light_first[i] = -1;
+        uint32_t need = l->type == PRW_LIGHT_POINT ? 6 : 1;
+        if (!l->cast_shadows || n + need > PRW_MAX_SHADOW_VIEWS) continue;
+        const double *m = s->nodes[l->node].world.m;
+        prw_dvec3 pos = prw_v3(m[12], m[13], m[14]);
+        prw_dvec3 dir = prw_v3_norm(prw_v3(-m[8], -m[9], -m[10]));
+        light_first[i] = (int)n;
+        if (l->type == PRW_LIGHT_POINT) {
+            static const double axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+            for (int f = 0; f < 6; f++) {
+                prw_dvec3 d = prw_v3(axes[f][0], axes[f][1], axes[f][2]);
+                out[n].light = (int)i;
+                out[n].view_proj = persp(pos, d, pick_up(d), 0.25 * PRW_PI);
+                out[n].texel_per_unit = 2.0;
+                n++;
+            }
+        } else if (l->type == PRW_LIGHT_DIRECTIONAL) {
+            prw_dvec3 eye = prw_v3_sub(centre, prw_v3_scale(dir, 2.0 * radius));
+            prw_dmat4 v = prw_dm4_look_at(eye, centre, pick_up(dir));
+            out[n].light = (int)i;
+            out[n].view_proj = prw_dm4_mul(prw_dm4_ortho_rev(-radius, radius, -radius, radius, 0.0, 4.0 * radius), v);
+            out[n].texel_per_unit = 2.0 * radius;
+            n++;
+        } else {
+            /* spot: its outer cone; rect: 150 degrees of its hemisphere (grazing directions unshadowed) */
+            double half = l->type == PRW_LIGHT_SPOT ? fmin(l->outer_cone + 0.05, 1.45) : 75.0 * PRW_PI / 180.0;
+            out[n].light = (int)i;
+            out[n].view_proj = persp(pos, dir, pick_up(dir), half);
+            out[n].texel_per_unit = 2.0 * tan(half);
+            n++;
+        }
+    }
+    plan->count = n;
+}
+

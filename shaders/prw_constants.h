@@ -1,0 +1,25 @@
+/* prw_constants.h — constants shared by the shaders (GLSL) and the C code that fills their inputs.
+ * Only #defines of integer literals: the file is included by GLSL 4.50 and C17 alike.  The C mirrors
+ * of the uniform blocks (engine/render/gpu_types.h) check their std140 layout with _Static_assert
+ * against these numbers, and the light types against prw_light_type (engine/scene/prw_scene.h). */
+#ifndef PRW_CONSTANTS_H
+#define PRW_CONSTANTS_H
+
+#define PRW_MAX_LIGHTS 16       /* lights in the per-view globals block */
+#define PRW_MAX_SHADOW_VIEWS 32 /* layers of the shadow atlas (a point light takes 6) */
+
+#define PRW_GPU_LIGHT_POINT 0
+#define PRW_GPU_LIGHT_SPOT 1
+#define PRW_GPU_LIGHT_DIRECTIONAL 2
+#define PRW_GPU_LIGHT_RECT 3
+
+/* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
+#define PRW_VERTEX_FLOATS 12
+
+/* Push constants of the base pass's draws, bytes: model (mat4) + normal matrix (3 x vec4); the clip-plane
+ * variant (PRW_CLIP_PLANE) reads a vec4 plane right after them, pushed once per pass. */
+#define PRW_DRAW_PUSH_BYTES 112
+#define PRW_CLIP_PUSH_OFFSET 112
+#define PRW_BASE_PUSH_BYTES 128
+
+#endif
