@@ -45,7 +45,7 @@ static bool calibrate_extra(bench_ctx *c, prw_gpu *gpu, const prw_render_desc *d
     prw_render_desc ta = *da, tb = *db;
     ta.timestamps = tb.timestamps = true;
     prw_renderer *ra = NULL, *rb = NULL;
-    double target = db->extra_gpu_work;
+    double target = db->quality.extra_gpu_work;
     *fraction = target;
     *share = 0;
     bool ok = prw_renderer_create(gpu, c->scene, &ta, &ra, e) && prw_renderer_create(gpu, c->scene, &tb, &rb, e);
@@ -117,15 +117,15 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
     prw_quality_format(a, ka, sizeof ka);
     prw_quality_format(b, kb, sizeof kb);
     bench_machine_meta(&c->res.meta, gpu);
-    prw_render_desc da = prw_quality_render_desc(a, c->o.width, c->o.height);
-    prw_render_desc db = prw_quality_render_desc(b, c->o.width, c->o.height);
+    prw_render_desc da = bench_desc(a, c->o.width, c->o.height);
+    prw_render_desc db = bench_desc(b, c->o.width, c->o.height);
     prw_renderer *ra = NULL, *rb = NULL;
     uint32_t n = c->nframes > AB_MIN_PAIRS ? c->nframes : AB_MIN_PAIRS;
     double *ta = prw_calloc(n, sizeof *ta), *tb = prw_calloc(n, sizeof *tb);
     uint32_t *fr = prw_calloc(n, sizeof *fr);
     bool ok = true;
     double calib_fraction = 0, calib_share = 0;
-    bool calib = db.extra_gpu_work > 0 && !(da.extra_gpu_work > 0);
+    bool calib = db.quality.extra_gpu_work > 0 && !(da.quality.extra_gpu_work > 0);
     if (calib) ok = calibrate_extra(c, gpu, &da, &db, &calib_fraction, &calib_share, e);
     ok = ok && prw_renderer_create(gpu, c->scene, &da, &ra, e) && prw_renderer_create(gpu, c->scene, &db, &rb, e);
     if (ok && calib) ok = prw_renderer_set_extra_work(rb, calib_fraction, e);
@@ -158,7 +158,7 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
     if (ok && calib)
         printf("A/B: known slowdown: B's extra pass calibrated to %.1f %% of A's GPU frame time (timestamps, %d frames; "
                "replay fraction %.4f): expected B/A = %.3f\n",
-               100.0 * calib_share, CALIB_FRAMES, calib_fraction, 1.0 + db.extra_gpu_work);
+               100.0 * calib_share, CALIB_FRAMES, calib_fraction, 1.0 + db.quality.extra_gpu_work);
     free(ta);
     free(tb);
     free(fr);

@@ -156,4 +156,10 @@ bool bench_merge_dirs(const char *const *dirs, int n, const char *out, prw_error
 /* bench_plot.c: frame_time.png, error.png, and pareto.png for more than one config. */
 void bench_plots(const bench_result *r, const char *dir);
 
+/* The renderer description of a config at the bench's size (one view, timestamps off). */
+static inline prw_render_desc bench_desc(const prw_quality *q, uint32_t width, uint32_t height)
+{
+    return (prw_render_desc){.width = width, .height = height, .quality = *q};
+}
+
 #endif

@@ -61,6 +61,15 @@ static void lod_usage(void)
 }
 
 /* One scene: floor, light, the model (grid x grid copies at 1/grid scale over the footprint). */
+/* The renderer's knobs of this bench: the default with its own MSAA. */
+static prw_quality bench_lod_quality(const lod_bench_opts *o)
+{
+    prw_quality q = prw_quality_default();
+    q.msaa = (uint32_t)o->msaa;
+    q.shadow_size = 1024;
+    return q;
+}
+
 static bool make_scene(const lod_bench_opts *o, int grid, prw_scene **out, prw_dvec3 *centre, double *radius,
                        prw_error *e)
 {
@@ -201,7 +210,7 @@ static int run(const lod_bench_opts *o, prw_error *e)
            "diagonal\n",
            o->model, o->width, o->height, n, o->tol_px, o->centre_pixel ? "centre" : "corner", o->chord_rel);
     for (int i = 0; i < meta.count; i++) printf("  %-8s %s\n", meta.key[i], meta.value[i]);
-    prw_render_desc rd = {.width = o->width, .height = o->height, .msaa = (uint32_t)o->msaa, .shadow_size = 1024,
+    prw_render_desc rd = {.width = o->width, .height = o->height, .quality = bench_lod_quality(o),
                           .timestamps = o->profile};
     if (o->profile) {
         prof_a = prw_calloc((size_t)n, sizeof *prof_a);

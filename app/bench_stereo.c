@@ -88,13 +88,14 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
     prw_views_backend backend;
     /* the reprojection exists for the per-view loop only: auto means loop then */
     if (!prw_views_backend_resolve(gpu, reuse && !views_backend ? "loop" : views_backend, &backend, e)) return false;
-    prw_render_desc d1 = prw_quality_render_desc(q, c->o.width, c->o.height);
+    prw_render_desc d1 = bench_desc(q, c->o.width, c->o.height);
     d1.max_views = 1;
     prw_render_desc d2 = d1;
     d2.max_views = 2;
     d2.views_backend = backend;
-    d2.stereo_reuse = (prw_stereo_reuse)sr;
-    d2.reproject_mark = reuse; /* alpha only: counts the shaded share, colour unchanged */
+    d2.quality.stereo_reuse = (uint32_t)sr;
+    prw_render_debug mark = {.reproject_mark = reuse}; /* alpha only: counts the shaded share, colour unchanged */
+    d2.debug = &mark;
     prw_render_desc dts = d1;
     dts.timestamps = true;
     prw_renderer *mono = NULL, *shared = NULL, *ts = NULL;

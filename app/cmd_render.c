@@ -12,6 +12,7 @@
 #include "prw_image.h"
 #include "prw_render.h"
 #include "prw_view.h"
+#include "quality_args.h"
 #include "render_stereo.h"
 #ifdef PRW_HAVE_GLARE
 #include "prw_glare.h"
@@ -26,11 +27,9 @@ static void render_usage(void)
            "  --png FILE.png     display-encoded output (default: --out with .png)\n"
            "  --size WxH         image size (default 1280x720)\n"
            "  --camera NAME      scene camera (default: the first)\n"
-           "  --msaa 1|4         samples per pixel, resolved in linear HDR (default 4)\n"
            "  --ev100 X          exposure override (default: the camera's)\n"
            "  --frames N         render N timed frames after one warm-up and report the median (default 1)\n"
-           "  --shadow-size N    shadow-map resolution (default 1024)\n"
-           "  --ss N             N x N supersampling for stills, box-filtered in linear HDR (default 1)\n"
+           "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
            "  --tonemap OP       exposure, reinhard, neutral, adaptive, absolute, local or selective (default\n"
@@ -56,7 +55,8 @@ static void render_usage(void)
            "  --sbs              with --hmd: the side-by-side debug view (no distortion)\n"
            "  --views-backend B  loop, multiview or auto (default auto: loop on lavapipe)\n"
            "  --stereo-reuse R   off (default) or reproject: the right eye reuses the left eye's colour where\n"
-           "                     both see the same surface (changes pixels; per-view loop backend)\n");
+           "                     both see the same surface (changes pixels; per-view loop backend)\n",
+           prw_quality_args_help());
 }
 
 typedef struct render_job render_job;
@@ -72,7 +72,8 @@ struct render_job {
     double tm_threshold; /* 0: default */
     const char *display_exr; /* display-referred EXR (NULL: none) */
     long tm_tile;        /* 0: default */
-    uint32_t width, height, msaa, shadow_size, supersample;
+    uint32_t width, height;
+    prw_quality q; /* the knobs (--preset and shorthands) */
     long frames;
     bool has_ev, pass_times;
     double ev100;
@@ -208,12 +209,11 @@ static int prw_render_job_run(const render_job *job)
     if (!prw_view_from_camera(scene, cam, job->width, job->height, &view, &e)) goto done;
     if (job->has_ev) view.ev100 = job->ev100;
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
-    prw_render_desc rd = {.width = job->width, .height = job->height, .msaa = job->msaa,
-                          .shadow_size = job->shadow_size, .supersample = job->supersample,
+    prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,
                           .timestamps = job->pass_times};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
-    prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE, .overlay = job->tm_overlay,
+    prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap, .overlay = job->tm_overlay,
                                 .sel_threshold = job->tm_threshold, .sel_tile = (uint32_t)job->tm_tile};
     if (!prw_display_resolve(job->display ? job->display : "srgb", &disp, &e) ||
         (job->tonemap && !prw_tm_op_parse(job->tonemap, &tms.op, &e)) || !prw_renderer_set_tonemap(r, &disp, &tms, &e))
@@ -232,7 +232,7 @@ static int prw_render_job_run(const render_job *job)
     if (!prw_renderer_read_ldr(r, 0, ldr, &e)) goto done;
     char ev[32], spp[16];
     snprintf(ev, sizeof ev, "%.4f", view.ev100);
-    snprintf(spp, sizeof spp, "%u", job->msaa);
+    snprintf(spp, sizeof spp, "%u", job->q.msaa);
     prw_kv attrs[] = {
         {"prw:git", prw_build_git_hash()}, {"prw:scene", scene->source}, {"prw:camera", scene->cameras[cam].name},
         {"prw:ev100", ev},         {"prw:msaa", spp},            {"prw:units", "cd/m^2, linear Rec.709"},
@@ -263,7 +263,7 @@ static int prw_render_job_run(const render_job *job)
                (unsigned long long)rep.tiles_marked, (unsigned long long)rep.tiles,
                (unsigned long long)rep.blocks_local, (unsigned long long)rep.blocks);
     printf("frame time %.2f ms (median of %ld, %ux%u, %ux MSAA, %ux%u supersampling, %llu triangles, device %s)\n",
-           median, job->frames, job->width, job->height, job->msaa, job->supersample, job->supersample,
+           median, job->frames, job->width, job->height, job->q.msaa, job->q.supersample, job->q.supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));
     for (uint32_t i = 0; i < st.pass_count; i++) {
         if (st.passes[i].skipped) printf("  pass %-10s skipped (%s)\n", st.passes[i].name, st.passes[i].reason);
@@ -311,35 +311,20 @@ int prw_cmd_render(int argc, char **argv)
         prw_args_free(&a);
         return 0;
     }
-    render_job job = {.out = "prw-out/render.exr", .width = 1280, .height = 720, .msaa = 4, .frames = 1};
+    render_job job = {.out = "prw-out/render.exr", .width = 1280, .height = 720, .frames = 1};
     const char *v;
-    long n;
     if ((v = prw_args_value(&a, "out", &e, &bad))) job.out = v;
     job.png = prw_args_value(&a, "png", &e, &bad);
     job.camera = prw_args_value(&a, "camera", &e, &bad);
     if ((v = prw_args_value(&a, "size", &e, &bad)) && !prw_parse_size(v, &job.width, &job.height, &e)) bad = true;
-    if ((v = prw_args_value(&a, "msaa", &e, &bad))) {
-        if (!prw_parse_int(v, "--msaa", 1, 4, &n, &e) || (n != 1 && n != 4))
-            bad = true, prw_fail(&e, "--msaa '%s': lavapipe offers 1 or 4", v);
-        job.msaa = (uint32_t)n;
-    }
+    prw_quality_args_read(&a, &job.q, &bad, &e);
     if ((v = prw_args_value(&a, "ev100", &e, &bad))) {
         job.has_ev = prw_parse_double(v, "--ev100", -20, 40, &job.ev100, &e);
         bad = bad || !job.has_ev;
     }
     if ((v = prw_args_value(&a, "frames", &e, &bad)) && !prw_parse_int(v, "--frames", 1, 100000, &job.frames, &e))
         bad = true;
-    job.shadow_size = 1024;
-    if ((v = prw_args_value(&a, "shadow-size", &e, &bad))) {
-        if (!prw_parse_int(v, "--shadow-size", 16, 8192, &n, &e)) bad = true;
-        job.shadow_size = (uint32_t)n;
-    }
     job.pass_times = prw_args_flag(&a, "pass-times");
-    job.supersample = 1;
-    if ((v = prw_args_value(&a, "ss", &e, &bad))) {
-        if (!prw_parse_int(v, "--ss", 1, 8, &n, &e)) bad = true;
-        job.supersample = (uint32_t)n;
-    }
     job.display = prw_args_value(&a, "display", &e, &bad);
     job.tonemap = prw_args_value(&a, "tonemap", &e, &bad);
     job.tm_overlay = prw_args_flag(&a, "tm-overlay");
@@ -358,6 +343,7 @@ int prw_cmd_render(int argc, char **argv)
         if (!bad && ((job.display && !prw_display_resolve(job.display, &d, &e)) ||
                      (job.tonemap && !prw_tm_op_parse(job.tonemap, &op, &e))))
             bad = true;
+        if (!bad && job.tonemap) job.q.tonemap = op; /* --tonemap is the knob tonemap too */
     }
     /* stereo (issue 5) */
     prw_stereo_job sj = {.ipd = -1};
@@ -367,11 +353,7 @@ int prw_cmd_render(int argc, char **argv)
     sj.hmd = prw_args_value(&a, "hmd", &e, &bad);
     sj.sbs_debug = prw_args_flag(&a, "sbs");
     sj.views_backend = prw_args_value(&a, "views-backend", &e, &bad);
-    const char *reuse = prw_args_value(&a, "stereo-reuse", &e, &bad);
-    double reuse_v = 0;
-    if (!bad && reuse && !prw_stereo_reuse_parse(reuse, &reuse_v))
-        bad = true, prw_fail(&e, "--stereo-reuse '%s': expected off or reproject", reuse);
-    sj.stereo_reuse = (uint32_t)reuse_v;
+    bool reuse = job.q.stereo_reuse != PRW_STEREO_REUSE_OFF;
     if ((v = prw_args_value(&a, "ipd", &e, &bad)) && !prw_parse_double(v, "--ipd", 0, 0.2, &sj.ipd, &e)) bad = true;
     if ((v = prw_args_value(&a, "screen-distance", &e, &bad)) &&
         !prw_parse_double(v, "--screen-distance", 0.06, 1e4, &sj.screen_distance, &e))
@@ -386,7 +368,7 @@ int prw_cmd_render(int argc, char **argv)
     if (!bad && sj.views_backend && strcmp(sj.views_backend, "loop") && strcmp(sj.views_backend, "multiview") &&
         strcmp(sj.views_backend, "auto"))
         bad = true, prw_fail(&e, "--views-backend '%s': expected loop, multiview or auto", sj.views_backend);
-    if (!bad && (stereo || sj.hmd) && (job.supersample > 1 || job.frames > 1 || job.pass_times || job.png ||
+    if (!bad && (stereo || sj.hmd) && (job.q.supersample > 1 || job.frames > 1 || job.pass_times || job.png ||
                                         job.tm_overlay))
         bad = true, prw_fail(&e, "--ss, --frames, --pass-times, --png and --tm-overlay are not available with --stereo/--hmd");
     if (!bad && sj.hmd && size_given && job.width % 2)
@@ -407,8 +389,7 @@ int prw_cmd_render(int argc, char **argv)
         sj.tonemap = job.tonemap;
         sj.width = sj.hmd && !size_given ? 0 : job.width;
         sj.height = sj.hmd && !size_given ? 0 : job.height;
-        sj.msaa = job.msaa;
-        sj.shadow_size = job.shadow_size;
+        sj.q = job.q;
         sj.has_ev = job.has_ev;
         sj.ev100 = job.ev100;
         int rc = prw_stereo_job_run(&sj);
@@ -433,6 +414,6 @@ int prw_run_demo(void)
     }
     printf("prw: no display: rendering the demo headless\n");
     render_job job = {.out = "prw-out/demo.exr", .png = "prw-out/demo.png", .width = 1280, .height = 720,
-                      .msaa = 4, .frames = 5, .shadow_size = 1024, .supersample = 1};
+                      .frames = 5, .q = prw_quality_default()};
     return prw_render_job_run(&job);
 }

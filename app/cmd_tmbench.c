@@ -165,7 +165,8 @@ static int run(const tmb_opts *o)
     prw_display disp;
     if (!prw_display_resolve(o->display ? o->display : "srgb", &disp, &e)) goto done;
     if (!prw_app_load_scene(NULL, &scene, &e) || !prw_app_create_gpu(false, &gpu, &e)) goto done;
-    prw_render_desc rd = {.width = o->w, .height = o->h, .msaa = 1, .shadow_size = 1024, .max_views = 1};
+    prw_render_desc rd = {.width = o->w, .height = o->h, .max_views = 1, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     if (!prw_demo_path_build(&path, prw_v3(0, 0, 0), &e)) goto done;
     have_path = true;

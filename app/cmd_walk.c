@@ -23,6 +23,7 @@
 #include <GLFW/glfw3.h>
 
 #include "app.h"
+#include "quality_args.h"
 #include "prw_build_info.h"
 #include "prw_camera_path.h"
 #include "prw_image.h"
@@ -48,8 +49,7 @@ static void walk_usage(void)
            "  --size WxH          render size at scale 1 (default 1280x720; the window scales it)\n"
            "  --camera NAME       start camera (default: the first)\n"
            "  --frames N          exit after N frames (0 = run until closed; default 0)\n"
-           "  --msaa 1|4          (default 4)\n"
-           "  --shadow-size N     shadow-map resolution (default 1024)\n"
+           "%s"
            "  --display PROFILE   display profile: built-in name or .json file (default srgb)\n"
            "  --tonemap OP        exposure, reinhard, neutral, adaptive or absolute (default exposure)\n"
            "  --mode fly|walk     start mode (default fly); walk follows the ground at 1.7 m eye height\n"
@@ -69,12 +69,14 @@ static void walk_usage(void)
            "  --measure-spp N     reference samples per pixel for [R] (default 32)\n"
            "  controls: WASD move, Q/E down/up, right mouse drag to look, +/- or wheel speed, F fly/walk,\n"
            "            H HUD, F12 screenshot (EXR + PNG), R measure the error of the current view against\n"
-           "            the reference path tracer (blocking; shown on the HUD and printed), Esc quits\n");
+           "            the reference path tracer (blocking; shown on the HUD and printed), Esc quits\n",
+           prw_quality_args_help());
 }
 
 typedef struct walk_opts {
     const char *scene, *camera, *display, *tonemap, *script, *record, *replay, *shot_dir;
-    uint32_t w, h, msaa, shadow_size, measure_width, measure_spp;
+    uint32_t w, h, measure_width, measure_spp;
+    prw_quality q; /* the knobs (--preset and shorthands) */
     long frames;
     double fps, target_ms, speed, adapt_up_s, adapt_down_s;
     bool walk_mode, hud, pass_times, adapt;
@@ -101,8 +103,7 @@ static bool get_renderer(walk_ctx *c, int lv, prw_renderer **out, bool *created,
     if (!c->level[lv]) {
         prw_render_desc rd = {.width = prw_dynres_size(c->o->w, level_scale[lv]),
                               .height = prw_dynres_size(c->o->h, level_scale[lv]),
-                              .msaa = c->o->msaa,
-                              .shadow_size = c->o->shadow_size,
+                              .quality = c->o->q,
                               .timestamps = c->o->pass_times};
         if (!prw_renderer_create(c->gpu, c->scene, &rd, &c->level[lv], e)) return false;
         if (!prw_renderer_set_tonemap(c->level[lv], &c->disp, &c->tms, e)) return false;
@@ -286,7 +287,7 @@ static int walk_run(const walk_opts *o)
         prw_fail(&e, "%s: no camera named '%s'", c.scene->source, o->camera ? o->camera : "(first)");
         goto done;
     }
-    c.tms.op = PRW_TM_EXPOSURE;
+    c.tms.op = (prw_tm_op)o->q.tonemap;
     c.tms.adapt = o->adapt;
     c.tms.tau_bright = o->adapt_up_s;
     c.tms.tau_dark = o->adapt_down_s;
@@ -421,7 +422,7 @@ static int walk_run(const walk_opts *o)
             c.in.measure = false;
             prw_view full = v;
             if (o->replay) full = prw_camera_sample_view(&sample, o->w, o->h, znear, ev100, 0);
-            prw_render_desc md = {.msaa = o->msaa, .shadow_size = o->shadow_size};
+            prw_render_desc md = {.quality = o->q};
             fprintf(stderr, "walk: measuring the error against the reference (%u px wide, %u spp)...\n", o->measure_width,
                     o->measure_spp);
             if (!walk_measure_run(c.gpu, c.scene, &full, &md, o->measure_width, o->measure_spp, 0, &c.measure, &e))
@@ -518,7 +519,7 @@ int prw_cmd_walk(int argc, char **argv)
         prw_args_free(&a);
         return 0;
     }
-    walk_opts o = {.w = 1280, .h = 720, .msaa = 4, .speed = 1.5, .shot_dir = "prw-out", .hud = true, .pass_times = true,
+    walk_opts o = {.w = 1280, .h = 720, .speed = 1.5, .shot_dir = "prw-out", .hud = true, .pass_times = true,
                   .measure_width = 160, .measure_spp = 32};
     long n;
     const char *v;
@@ -532,15 +533,7 @@ int prw_cmd_walk(int argc, char **argv)
     if ((v = prw_args_value(&a, "size", &e, &bad)) && !prw_parse_size(v, &o.w, &o.h, &e)) bad = true;
     if ((v = prw_args_value(&a, "frames", &e, &bad)) && !prw_parse_int(v, "--frames", 0, 100000000, &o.frames, &e))
         bad = true;
-    if ((v = prw_args_value(&a, "msaa", &e, &bad))) {
-        if (!prw_parse_int(v, "--msaa", 1, 4, &n, &e) || (n != 1 && n != 4))
-            bad = true, prw_fail(&e, "--msaa '%s': lavapipe offers 1 or 4", v);
-        o.msaa = (uint32_t)n;
-    }
-    if ((v = prw_args_value(&a, "shadow-size", &e, &bad))) {
-        if (!prw_parse_int(v, "--shadow-size", 16, 8192, &n, &e)) bad = true;
-        else o.shadow_size = (uint32_t)n;
-    }
+    prw_quality_args_read(&a, &o.q, &bad, &e);
     if ((v = prw_args_value(&a, "fps", &e, &bad)) && !prw_parse_double(v, "--fps", 1, 1000, &o.fps, &e)) bad = true;
     if ((v = prw_args_value(&a, "target-ms", &e, &bad)) && !prw_parse_double(v, "--target-ms", 1, 10000, &o.target_ms, &e))
         bad = true;

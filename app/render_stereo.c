@@ -73,14 +73,13 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_views_backend backend;
     /* stereo_reuse=reproject exists for the per-view loop only: auto means loop then */
-    const char *vb = job->stereo_reuse && !job->views_backend ? "loop" : job->views_backend;
+    const char *vb = job->q.stereo_reuse && !job->views_backend ? "loop" : job->views_backend;
     if (!prw_views_backend_resolve(gpu, vb, &backend, &e)) goto done;
-    prw_render_desc rd = {.width = st.eye_w, .height = st.eye_h, .msaa = job->msaa, .shadow_size = job->shadow_size,
-                          .max_views = 2, .views_backend = backend,
-                          .stereo_reuse = (prw_stereo_reuse)job->stereo_reuse};
+    prw_render_desc rd = {.width = st.eye_w, .height = st.eye_h, .quality = job->q, .max_views = 2,
+                          .views_backend = backend};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
-    prw_tonemap_settings tms = {.op = PRW_TM_EXPOSURE};
+    prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap};
     if (job->display) {
         if (!prw_display_resolve(job->display, &disp, &e)) goto done;
     } else if (job->hmd) {
@@ -148,7 +147,7 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     printf("stereo: %s, IPD %s m, eyes %ux%u, composed %ux%u, display %s, tone map %s, EV100 %.2f, views backend %s\n",
            mode, ipd, st.eye_w, st.eye_h, st.compose.out_w, st.compose.out_h, disp.name, prw_tm_op_name(tms.op),
            centre.ev100, prw_views_backend_name(backend));
-    printf("frame time %.2f ms (both eyes, %ux MSAA, %llu triangles, device %s)\n", fs.cpu_ms, job->msaa,
+    printf("frame time %.2f ms (both eyes, %ux MSAA, %llu triangles, device %s)\n", fs.cpu_ms, job->q.msaa,
            (unsigned long long)fs.triangles, prw_gpu_device_name(gpu));
     for (uint32_t i = 0; i < fs.pass_count; i++)
         printf("  pass %-10s %s\n", fs.passes[i].name, fs.passes[i].skipped ? "skipped" : "ran");

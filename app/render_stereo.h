@@ -6,16 +6,16 @@
 #define PRW_APP_RENDER_STEREO_H
 
 #include "prw_core.h"
+#include "prw_quality.h"
 
 typedef struct prw_stereo_job {
     const char *scene_path, *out, *camera; /* out: FILE.exr -> FILE-left.exr, -right, -composed.{exr,png} */
     const char *hmd;                       /* NULL: desktop stereo */
     const char *display, *tonemap;         /* NULL: srgb (desktop) / hmd-lcd with the profile's peak, exposure */
     const char *views_backend;             /* loop | multiview | auto (NULL = auto) */
-    uint32_t stereo_reuse;                 /* prw_stereo_reuse: 0 off, 1 reproject (the right eye reuses the left's colour) */
     bool sbs_debug;                        /* --hmd: compose side by side without distortion */
     uint32_t width, height;                /* desktop: per eye; --hmd: panel (0 = the profile's) */
-    uint32_t msaa, shadow_size;
+    prw_quality q;                         /* the knobs (stereo_reuse: the right eye reuses the left's colour) */
     double ipd, screen_distance;           /* desktop; ipd < 0: default */
     bool has_ev;
     double ev100;

@@ -33,7 +33,7 @@ bool walk_measure_run(prw_gpu *gpu, const prw_scene *scene, const prw_view *v, c
     d.width = sv.width;
     d.height = sv.height;
     d.max_views = 1;
-    d.supersample = 0;
+    if (d.quality.supersample) d.quality.supersample = 1; /* (all-zero quality means the default) */
     d.timestamps = false;
     prw_renderer *r = NULL;
     prw_ref_renderer *rr = NULL;

@@ -11,6 +11,7 @@
 
 #include "prw_brdf.h"
 #include "prw_bsdf.h"
+#include "prw_shading.h"
 #include "ref_internal.h"
 
 #define RR_START 3
@@ -280,8 +281,8 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
     if (tm) {
         double tx[4];
         tex_sample(r, tm, s->uv, tx);
-        rough *= tx[1];
-        metallic *= tx[2];
+        rough = prw_roughness_from(rough, tx[1]);
+        metallic = prw_metallic_from(metallic, tx[2]);
     }
     for (int c = 0; c < 3; c++) sh->b.base[c] = base[c];
     sh->b.metallic = metallic;
@@ -290,7 +291,8 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
 
     double n[3];
     memcpy(n, s->ns, sizeof n);
-    if (!s->front) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2]; /* double-sided back face (base.frag) */
+    /* single-sided back faces never get here (passed through or black) */
+    if (prw_normal_flips(mt->double_sided || s->in->two_sided, s->front)) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
     const prw_texture *tn = tex_of(r, mt->normal_tex);
     if (tn) {
         const prw_mesh *m = s->in->mesh;
@@ -315,16 +317,17 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
             if (sign < 0) bw[0] = -bw[0], bw[1] = -bw[1], bw[2] = -bw[2];
             double tx[4];
             tex_sample(r, tn, s->uv, tx);
-            double x = (tx[0] * 2 - 1) * mt->normal_scale, y = (tx[1] * 2 - 1) * mt->normal_scale, z = tx[2] * 2 - 1;
+            double x = prw_normal_texel(tx[0], mt->normal_scale), y = prw_normal_texel(tx[1], mt->normal_scale),
+                   z = prw_normal_texel(tx[2], 1.0);
             for (int c = 0; c < 3; c++) n[c] = tw[c] * x + bw[c] * y + n[c] * z;
             norm3(n);
         }
     }
-    /* bend a shading normal facing away from the viewer back (base.frag) */
+    /* bend a shading normal facing away from the viewer back (prw_shading.h) */
     double wo[3] = {-d[0], -d[1], -d[2]};
-    double nv = dot3(n, wo);
-    if (nv < 1e-4) {
-        for (int c = 0; c < 3; c++) n[c] += wo[c] * (1e-4 - nv);
+    double bend = prw_normal_bend(dot3(n, wo));
+    if (bend > 0) {
+        for (int c = 0; c < 3; c++) n[c] += wo[c] * bend;
         norm3(n);
     }
     memcpy(sh->n, n, sizeof n);
@@ -407,14 +410,10 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
             double d2 = fmax(dot3(dv, dv), 1e-8), dist = sqrt(d2);
             for (int c = 0; c < 3; c++) wi[c] = dv[c] / dist;
             double E = 1.0 / d2;
-            if (dl->range > 0) {
-                double q = d2 / (dl->range * dl->range);
-                E *= fmin(fmax(1 - q * q, 0.0), 1.0);
-            }
+            if (dl->range > 0) E *= prw_range_window(d2, dl->range);
             if (dl->type == PRW_LIGHT_SPOT) {
                 double cd = -dot3(wi, dl->dir);
-                double sp = fmin(fmax((cd - dl->cos_outer) / fmax(dl->cos_inner - dl->cos_outer, 1e-4), 0.0), 1.0);
-                E *= sp * sp;
+                E *= prw_spot_factor(cd, dl->cos_inner, dl->cos_outer);
             }
             if (!(E > 0)) continue;
             for (int c = 0; c < 3; c++) Li[c] = dl->I[c] * E;

@@ -283,7 +283,7 @@ void prw_setup_export(prw_setup *s, const char *name)
 static void image_size(const prw_graph *g, const prw_image_decl *d, uint32_t *w, uint32_t *h, uint32_t *layers)
 {
     const prw_render_desc *rd = g->env->desc;
-    uint32_t ss = rd->supersample ? rd->supersample : 1;
+    uint32_t ss = rd->quality.supersample ? rd->quality.supersample : 1;
     *layers = d->layers ? d->layers : 1;
     switch (d->size) {
     case PRW_SIZE_VIEW: *w = rd->width, *h = rd->height; break;
@@ -294,7 +294,7 @@ static void image_size(const prw_graph *g, const prw_image_decl *d, uint32_t *w,
         break;
     }
     case PRW_SIZE_SHADOW:
-        *w = *h = rd->shadow_size;
+        *w = *h = rd->quality.shadow_size;
         *layers = g->env->shadows->count ? g->env->shadows->count : 1;
         break;
     case PRW_SIZE_FIXED:

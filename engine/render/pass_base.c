@@ -11,7 +11,7 @@
 #include "pipes.h"
 #include "prw_pass.h"
 
-static const char *out_name(const prw_render_env *env) { return env->desc->supersample > 1 ? "hdr_ss" : "hdr"; }
+static const char *out_name(const prw_render_env *env) { return env->desc->quality.supersample > 1 ? "hdr_ss" : "hdr"; }
 
 static void setup(prw_setup *s)
 {
@@ -20,7 +20,7 @@ static void setup(prw_setup *s)
     prw_image_decl hdr = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_VIEW};
     prw_setup_image(s, "hdr", &hdr);
     prw_setup_export(s, "hdr");
-    if (env->desc->supersample > 1) {
+    if (env->desc->quality.supersample > 1) {
         prw_image_decl ss = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_INTERNAL};
         prw_setup_image(s, "hdr_ss", &ss);
     }

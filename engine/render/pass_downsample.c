@@ -15,7 +15,7 @@ typedef struct ds_state {
 
 static void setup(prw_setup *s)
 {
-    if (prw_setup_env(s)->desc->supersample <= 1) return; /* in the graph, never needed (listed as skipped) */
+    if (prw_setup_env(s)->desc->quality.supersample <= 1) return; /* in the graph, never needed (listed as skipped) */
     prw_setup_use(s, "hdr_ss", PRW_USE_STORAGE_READ);
     prw_setup_use(s, "hdr", PRW_USE_STORAGE_WRITE);
 }
@@ -25,7 +25,7 @@ static bool create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     ds_state *s = prw_calloc(1, sizeof *s);
     *state = s;
-    if (env->desc->supersample <= 1) return true;
+    if (env->desc->quality.supersample <= 1) return true;
     for (uint32_t v = 0; v < env->desc->max_views; v++) {
         if (!prw_desc_alloc(env->gpu, env->pool, env->pipes->storage2_layout, &s->sets[v], e)) return false;
         prw_desc_write_image(env->gpu, s->sets[v], 0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
@@ -44,7 +44,7 @@ static void destroy(const prw_pass_init *in, void *state)
 
 static bool needed(const prw_pass_ctx *c, const char **why)
 {
-    if (c->env->desc->supersample <= 1) return (*why = "no supersampling"), false;
+    if (c->env->desc->quality.supersample <= 1) return (*why = "no supersampling"), false;
     return true;
 }
 
@@ -54,7 +54,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     const prw_render_env *env = c->env;
     ds_state *s = c->state;
     vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, env->pipes->downsample);
-    downsample_pc pc = {env->desc->supersample, env->desc->width, env->desc->height};
+    downsample_pc pc = {env->desc->quality.supersample, env->desc->width, env->desc->height};
     vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, env->pipes->storage2_pl, 0, 1, &s->sets[c->view], 0,
                             NULL);
     vkCmdPushConstants(c->cmd, env->pipes->storage2_pl, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);

@@ -22,7 +22,7 @@
 static void setup(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
-    if (!(env->desc->extra_gpu_work > 0)) return prw_setup_skip(s, "test knob extra_gpu_work is off");
+    if (!(env->desc->quality.extra_gpu_work > 0)) return prw_setup_skip(s, "test knob extra_gpu_work is off");
     prw_image_decl d = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_INTERNAL, .msaa = true, .transient = true};
     prw_setup_image(s, "extra_color", &d);
     prw_setup_use(s, "extra_color", PRW_USE_COLOR);
@@ -32,7 +32,7 @@ static void setup(prw_setup *s)
 
 static bool needed(const prw_pass_ctx *c, const char **why)
 {
-    if (!(c->env->desc->extra_gpu_work > 0)) return (*why = "test knob extra_gpu_work is off"), false;
+    if (!(c->env->desc->quality.extra_gpu_work > 0)) return (*why = "test knob extra_gpu_work is off"), false;
     return true;
 }
 
@@ -53,7 +53,7 @@ static void replay(const prw_pass_ctx *c, prw_draw_ctx *dc, uint32_t w, uint32_t
 static bool record(prw_pass_ctx *c, prw_error *e)
 {
     const prw_render_env *env = c->env;
-    double f = env->desc->extra_gpu_work;
+    double f = env->desc->quality.extra_gpu_work;
     prw_gpu_image *color = prw_pass_image(c, "extra_color"), *depth = prw_pass_image(c, "depth");
     uint32_t w = color->width, h = color->height;
     VkRenderingAttachmentInfo ca = {

@@ -58,12 +58,12 @@ typedef struct rp_state {
     prw_pipe_recipe recipe;    /* variant: rp_kind */
 } rp_state;
 
-static const char *out_name(const prw_render_env *env) { return env->desc->supersample > 1 ? "hdr_ss" : "hdr"; }
+static const char *out_name(const prw_render_env *env) { return env->desc->quality.supersample > 1 ? "hdr_ss" : "hdr"; }
 
 static void setup(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
-    if (env->desc->stereo_reuse != PRW_STEREO_REUSE_REPROJECT) return prw_setup_skip(s, "stereo_reuse is off");
+    if (env->desc->quality.stereo_reuse != PRW_STEREO_REUSE_REPROJECT) return prw_setup_skip(s, "stereo_reuse is off");
     if (env->desc->max_views < 2) return prw_setup_skip(s, "a renderer for one view");
     bool k2 = env->samples != VK_SAMPLE_COUNT_1_BIT;
     prw_setup_use_view(s, out_name(env), 0, PRW_USE_SAMPLED);
@@ -129,7 +129,7 @@ static bool create(const prw_pass_init *in, void **state, prw_error *e)
     *state = s;
     prw_gpu *gpu = env->gpu;
     s->k = env->samples != VK_SAMPLE_COUNT_1_BIT ? 2 : 1;
-    uint32_t w = env->desc->width * env->desc->supersample, h = env->desc->height * env->desc->supersample;
+    uint32_t w = env->desc->width * env->desc->quality.supersample, h = env->desc->height * env->desc->quality.supersample;
     prw_image_desc rd = {.width = s->k * w, .height = s->k * h, .format = DS_FORMAT,
                          .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT};
     prw_image_desc rc = {.width = s->k * w, .height = s->k * h, .format = PRW_HDR_FORMAT,
@@ -196,12 +196,14 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     const prw_view *lv = &f->views[0];
     rp_ubo u;
     u.left_view_proj = prw_view_globals_view_proj(lv, f->draw[1].origin);
-    double tol = env->desc->reproject_tolerance != 0 ? env->desc->reproject_tolerance : DEFAULT_TOLERANCE;
+    const prw_render_debug *dbg = env->desc->debug;
+    bool mark = dbg && dbg->reproject_mark;
+    double tol = dbg && dbg->reproject_tolerance != 0 ? dbg->reproject_tolerance : DEFAULT_TOLERANCE;
     prw_gpu_image *left_depth = prw_graph_image(c->graph, "depth", 0);
     u.params[0] = (float)tol;
     u.params[1] = (float)left_depth->width;
     u.params[2] = (float)left_depth->height;
-    u.params[3] = env->desc->reproject_mark ? 0.0f : 1.0f;
+    u.params[3] = mark ? 0.0f : 1.0f;
     memcpy(s->ubo.mapped, &u, sizeof u);
 
     prw_gpu_image *right_out = prw_graph_image(c->graph, out_name(env), 1);
@@ -215,7 +217,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
         .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
         .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
         /* marked: nothing drawn = nothing shaded, alpha 0 too */
-        .clearValue.color = {{0, 0, 0, env->desc->reproject_mark ? 0.0f : 1.0f}},
+        .clearValue.color = {{0, 0, 0, mark ? 0.0f : 1.0f}},
     };
     VkRenderingAttachmentInfo da = {
         .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,

@@ -25,7 +25,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
 {
     const prw_render_env *env = c->env;
     prw_gpu_image *map = prw_pass_image(c, "shadow_map");
-    uint32_t size = env->desc->shadow_size;
+    uint32_t size = env->desc->quality.shadow_size;
     for (uint32_t v = 0; v < env->shadows->count; v++) {
         VkRenderingAttachmentInfo depth = {
             .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,

@@ -12,17 +12,26 @@
  *  - A sweep spec is knob ranges separated by ';', values by ',': "msaa=1,4;shadow_size=512,1024,2048";
  *    it expands to the Cartesian product, the first knob varying slowest, applied to a base config.
  *  - Errors are one line in prw_error naming the offending text and the accepted values.
- *  - prw_quality_render_desc() is the only place knobs turn into renderer settings.
+ *  - The renderer takes the struct as it is (prw_render_desc.quality); the commands build it with
+ *    the same syntax everywhere (app/: --preset CONFIG and the knob shorthands).
  */
 #ifndef PRW_QUALITY_H
 #define PRW_QUALITY_H
 
 #include "prw_core.h"
-#include "prw_render.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Pixel-changing reuse between the eyes of a two-view frame (issue 5; the knob stereo_reuse). */
+typedef enum prw_stereo_reuse {
+    PRW_STEREO_REUSE_OFF = 0,       /* both eyes fully shaded */
+    PRW_STEREO_REUSE_REPROJECT = 1, /* right eye reuses the left eye's colour where the left eye saw the same
+                                       surface; only the rest is shaded (pass_reproject.c; per-view loop only) */
+} prw_stereo_reuse;
+/* "off" -> 0, "reproject" -> 1 (the knob stereo_reuse by name); false for anything else. */
+bool prw_stereo_reuse_parse(const char *text, double *out);
 
 typedef struct prw_quality {
     /* used by the renderer */
@@ -32,8 +41,9 @@ typedef struct prw_quality {
     uint32_t tonemap;          /* tone-mapping operator (prw_tm_op; on the command line also by name) */
     uint32_t stereo_reuse;     /* prw_stereo_reuse: off (0) | reproject (1); changes pixels, FLIP reported by
                                   `prw bench --views 2` (issue 5) */
+    double lod_pixel_tolerance; /* NURBS LOD: screen-space geometric error, pixels, of every model whose
+                                   manifest entry sets no tol_px */
     /* no effect yet (the features arrive with later issues) */
-    double lod_pixel_tolerance; /* LOD: screen-space geometric error, pixels */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */
     uint32_t ssdo_samples;      /* SSDO: samples per pixel */
@@ -67,7 +77,9 @@ double prw_quality_get(const prw_quality *q, const prw_knob_info *k);
 /* Sets a knob after checking its range (and msaa in {1, 4}); value names the text for messages. */
 bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_error *e);
 
-prw_quality prw_quality_default(void); /* = preset "high" */
+prw_quality prw_quality_default(void); /* = preset "high": what every command uses unless told */
+/* Every knob within its range (msaa 1 or 4); the error names the first one that is not. */
+bool prw_quality_validate(const prw_quality *q, prw_error *e);
 /* "low" | "medium" | "high" | "ultra"; false with a one-line error otherwise. */
 bool prw_quality_preset(const char *name, prw_quality *out, prw_error *e);
 /* Parses a config string (see above) on top of base. */
@@ -82,9 +94,6 @@ bool prw_quality_parse_sweep(const char *spec, const prw_quality *base, prw_qual
 void prw_quality_format(const prw_quality *q, char *buf, size_t cap);
 /* Only the knobs that differ from `base` ("" when none). */
 void prw_quality_format_diff(const prw_quality *q, const prw_quality *base, char *buf, size_t cap);
-
-/* Renderer settings for these knobs at width x height (timestamps off, one view). */
-prw_render_desc prw_quality_render_desc(const prw_quality *q, uint32_t width, uint32_t height);
 
 /* Help text: one line per visible knob with its range and "no effect yet" where true. */
 void prw_quality_describe(char *buf, size_t cap);

@@ -31,6 +31,7 @@
 
 #include "prw_gpu.h"
 #include "prw_image.h"
+#include "prw_quality.h"
 #include "prw_scene.h"
 #include "prw_tonemap.h"
 #include "prw_view.h"
@@ -46,6 +47,10 @@ struct prw_pass;
 
 /* Test-only switches (never set by the app's commands). */
 typedef struct prw_render_debug {
+    double reproject_tolerance; /* reproject: relative depth agreement; 0 -> 0.01; < 0 reuses nothing */
+    bool reproject_mark;        /* reproject: reused samples get alpha 0 in the right eye's HDR image and the
+                                   clear alpha is 0 (resolved alpha = fraction of the pixel's samples shaded
+                                   by the right eye) */
     const struct prw_pass *const *passes; /* NULL-terminated pass table; NULL: the standard one (passes.c) */
     const char *const *exports;           /* NULL-terminated names of graph images to keep for
                                              prw_renderer_read_image (e.g. "depth", "gbuf_normal") */
@@ -59,32 +64,19 @@ typedef enum prw_views_backend {
     PRW_VIEWS_MULTIVIEW = 1, /* view mask 0b11, layered targets, gl_ViewIndex selects the view */
 } prw_views_backend;
 
-/* Pixel-changing reuse between the eyes of a two-view frame (issue 5; the quality knob stereo_reuse). */
-typedef enum prw_stereo_reuse {
-    PRW_STEREO_REUSE_OFF = 0,       /* both eyes fully shaded */
-    PRW_STEREO_REUSE_REPROJECT = 1, /* right eye reuses the left eye's colour where the left eye saw the same
-                                       surface; only the rest is shaded (pass_reproject.c; per-view loop only) */
-} prw_stereo_reuse;
-/* "off" -> 0, "reproject" -> 1 (the knob stereo_reuse by name, quality.c); false for anything else. */
-bool prw_stereo_reuse_parse(const char *text, double *out);
 
 typedef struct prw_render_desc {
     uint32_t width, height;  /* per view */
-    uint32_t msaa;           /* 1 or 4; 0 -> 4 */
-    uint32_t shadow_size;    /* 0 -> 1024 */
     uint32_t max_views;      /* 0 -> 1 */
-    bool timestamps;         /* per-pass GPU times (each timestamp flushes on lavapipe) */
-    uint32_t supersample;    /* N x N supersampling for stills (box filter in linear HDR); 0 -> 1 */
-    float extra_gpu_work;    /* test knob (pass_extra_work.c): re-draws the base pass over this fraction of
-                                the image into a scratch target; the image is unchanged; 0 = off */
+    bool timestamps;         /* per-pass times (each timestamp flushes on lavapipe) */
     prw_views_backend views_backend; /* per-view passes; 0 = loop (issue 5) */
-    prw_tm_op tonemap;       /* initial tone-mapping operator on the srgb display; 0 = exposure */
-    prw_stereo_reuse stereo_reuse; /* frames of exactly 2 views on a renderer with max_views >= 2; 0 = off */
-    double reproject_tolerance;    /* reproject: relative depth agreement; 0 -> 0.01; < 0 reuses nothing (tests) */
-    bool reproject_mark;           /* reproject, tests: reused samples get alpha 0 in the right eye's HDR image
-                                      and the clear alpha is 0 (resolved alpha = fraction of the pixel's samples
-                                      shaded by the right eye) */
-    const prw_render_debug *debug; /* NULL: none */
+    prw_quality quality;     /* the knobs (prw_quality.h); all zero -> prw_quality_default(), otherwise it must
+                                pass prw_quality_validate.  msaa, shadow_size, supersample, tonemap (the
+                                initial operator on the srgb display), stereo_reuse (frames of exactly 2 views
+                                on a renderer with max_views >= 2), lod_pixel_tolerance and the hidden test
+                                knob extra_gpu_work (pass_extra_work.c) are used */
+    const prw_render_debug *debug; /* NULL: none; copied at create (its passes / exports arrays are not: they
+                                      must outlive the renderer) */
 } prw_render_desc;
 
 typedef struct prw_pass_stat {

@@ -1,6 +1,8 @@
-/* quality — the knob table, presets, config / sweep parsing and knobs -> prw_render_desc. */
+/* quality — the knob table, presets, config / sweep parsing and validation (prw_quality.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "prw_quality.h"
+
+#include "prw_tonemap.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -20,7 +22,8 @@ static const prw_knob_info g_knobs[] = {
     U32(stereo_reuse, 0, 1, true,
         "stereo: off (0) or reproject (1): the right eye reuses the left eye's colour where both see the same "
         "surface (changes pixels; per-view loop backend)"),
-    F64(lod_pixel_tolerance, 0.01, 100, false, "LOD screen-space error, pixels"),
+    F64(lod_pixel_tolerance, 0.01, 100, true,
+        "NURBS LOD screen-space error, pixels (models whose manifest entry sets no tol_px)"),
     U32(btf_clusters, 1, 65536, false, "BTF clusters"),
     U32(btf_components, 1, 1024, false, "BTF components per cluster"),
     U32(ssdo_samples, 0, 1024, false, "SSDO samples per pixel"),
@@ -72,26 +75,37 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
 }
 
 /* Presets: points in the knob space.  Unimplemented knobs get plausible values so the presets are
- * already ordered along every axis. */
+ * already ordered along every axis.  "high" is every command's default: 4x MSAA, 1024^2 shadow maps,
+ * 0.5 px LOD error (the renderer's own defaults before the knobs reached it). */
 static const struct {
     const char *name;
     prw_quality q;
 } g_presets[] = {
-    {"low", {.msaa = 1, .shadow_size = 512, .supersample = 1, .lod_pixel_tolerance = 4, .btf_clusters = 8,
+    {"low", {.msaa = 1, .shadow_size = 256, .supersample = 1, .lod_pixel_tolerance = 4, .btf_clusters = 8,
              .btf_components = 2, .ssdo_samples = 4, .ssdo_radius = 0.25, .vpl_count = 64, .ism_size = 64,
              .kernel_taps = 8, .envmap_size = 128, .billboard_error = 8, .radiosity_size = 64}},
-    {"medium", {.msaa = 4, .shadow_size = 1024, .supersample = 1, .lod_pixel_tolerance = 2, .btf_clusters = 16,
+    {"medium", {.msaa = 4, .shadow_size = 512, .supersample = 1, .lod_pixel_tolerance = 2, .btf_clusters = 16,
                 .btf_components = 4, .ssdo_samples = 8, .ssdo_radius = 0.5, .vpl_count = 256, .ism_size = 128,
                 .kernel_taps = 16, .envmap_size = 256, .billboard_error = 4, .radiosity_size = 128}},
-    {"high", {.msaa = 4, .shadow_size = 2048, .supersample = 1, .lod_pixel_tolerance = 1, .btf_clusters = 32,
+    {"high", {.msaa = 4, .shadow_size = 1024, .supersample = 1, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
               .btf_components = 8, .ssdo_samples = 16, .ssdo_radius = 0.5, .vpl_count = 1024, .ism_size = 256,
               .kernel_taps = 32, .envmap_size = 512, .billboard_error = 2, .radiosity_size = 256}},
-    {"ultra", {.msaa = 4, .shadow_size = 4096, .supersample = 2, .lod_pixel_tolerance = 0.5, .btf_clusters = 64,
+    {"ultra", {.msaa = 4, .shadow_size = 4096, .supersample = 2, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
                .btf_components = 16, .ssdo_samples = 32, .ssdo_radius = 1, .vpl_count = 4096, .ism_size = 512,
                .kernel_taps = 64, .envmap_size = 1024, .billboard_error = 1, .radiosity_size = 512}},
 };
 
 prw_quality prw_quality_default(void) { return g_presets[2].q; }
+
+bool prw_quality_validate(const prw_quality *q, prw_error *e)
+{
+    for (size_t i = 0; i < PRW_ARRAY_LEN(g_knobs); i++) {
+        prw_quality probe = *q;
+        if (!prw_quality_set(&probe, &g_knobs[i], prw_quality_get(q, &g_knobs[i]), e))
+            return prw_fail_wrap(e, "quality");
+    }
+    return true;
+}
 
 bool prw_quality_preset(const char *name, prw_quality *out, prw_error *e)
 {
@@ -271,22 +285,6 @@ void prw_quality_format_diff(const prw_quality *q, const prw_quality *base, char
     for (size_t i = 0; i < PRW_ARRAY_LEN(g_knobs) && n < cap; i++)
         if (prw_quality_get(q, &g_knobs[i]) != prw_quality_get(base, &g_knobs[i]))
             n += format_knob(q, &g_knobs[i], buf + n, cap - n, n > 0);
-}
-
-prw_render_desc prw_quality_render_desc(const prw_quality *q, uint32_t width, uint32_t height)
-{
-    prw_render_desc d = {
-        .width = width,
-        .height = height,
-        .msaa = q->msaa,
-        .shadow_size = q->shadow_size,
-        .max_views = 1,
-        .supersample = q->supersample,
-        .extra_gpu_work = (float)q->extra_gpu_work,
-        .tonemap = (prw_tm_op)q->tonemap,
-        .stereo_reuse = (prw_stereo_reuse)q->stereo_reuse,
-    };
-    return d;
 }
 
 void prw_quality_describe(char *buf, size_t cap)

@@ -15,6 +15,7 @@ struct prw_renderer {
     prw_gpu *gpu;
     const prw_scene *scene;
     prw_render_desc desc;
+    prw_render_debug debug; /* a copy of *desc.debug (desc.debug points here) */
     prw_render_env env;
     prw_desc_pool *pool;
     prw_pipes *pipes;

@@ -11,26 +11,22 @@
 
 static bool validate_desc(prw_render_desc *d, prw_error *e)
 {
-    if (!d->msaa) d->msaa = 4;
-    if (!d->shadow_size) d->shadow_size = 1024;
+    static const prw_quality zero;
+    if (memcmp(&d->quality, &zero, sizeof zero) == 0) d->quality = prw_quality_default();
     if (!d->max_views) d->max_views = 1;
-    if (!d->supersample) d->supersample = 1;
-    if (d->msaa != 1 && d->msaa != 4)
-        return prw_fail(e, "render: MSAA %u not supported (lavapipe offers 1 and 4)", d->msaa);
+    const prw_quality *q = &d->quality;
+    if (!prw_quality_validate(q, e)) return prw_fail_wrap(e, "render");
     if (d->width == 0 || d->height == 0 || d->width > 16384 || d->height > 16384)
         return prw_fail(e, "render: image size %ux%u out of range (1..16384)", d->width, d->height);
     if (d->max_views > PRW_MAX_VIEWS)
         return prw_fail(e, "render: %u views requested, at most %d", d->max_views, PRW_MAX_VIEWS);
-    if (d->supersample > 8 || d->width * d->supersample > 16384 || d->height * d->supersample > 16384)
-        return prw_fail(e, "render: supersampling %ux%u of %ux%u out of range (N <= 8, <= 16384 pixels a side)",
-                        d->supersample, d->supersample, d->width, d->height);
-    if (d->shadow_size > 8192) return prw_fail(e, "render: shadow map size %u out of range (<= 8192)", d->shadow_size);
+    if (d->width * q->supersample > 16384 || d->height * q->supersample > 16384)
+        return prw_fail(e, "render: supersampling %ux%u of %ux%u out of range (<= 16384 pixels a side)",
+                        q->supersample, q->supersample, d->width, d->height);
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views > 2)
         return prw_fail(e, "render: views backend multiview supports 2 views (max_views %u)", d->max_views);
-    if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views == 2 && d->supersample > 1)
+    if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views == 2 && q->supersample > 1)
         return prw_fail(e, "render: views backend multiview does not support supersampling");
-    if ((unsigned)d->stereo_reuse > PRW_STEREO_REUSE_REPROJECT)
-        return prw_fail(e, "render: stereo_reuse %d unknown (off = 0, reproject = 1)", (int)d->stereo_reuse);
     return true;
 }
 
@@ -71,15 +67,20 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
     r->gpu = gpu;
     r->scene = scene;
     r->desc = *desc;
+    if (desc->debug) {
+        r->debug = *desc->debug;
+        r->desc.debug = &r->debug;
+    }
     bool ok = validate_desc(&r->desc, e);
-    VkSampleCountFlagBits samples = r->desc.msaa == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
+    VkSampleCountFlagBits samples = r->desc.quality.msaa == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
     r->env = (prw_render_env){.gpu = gpu, .scene = scene, .desc = &r->desc, .samples = samples,
                               .shadows = &r->plan, .drawables = &r->drawables};
     ok = ok && prw_desc_pool_create(gpu, &r->pool, e);
     r->env.pool = r->pool;
     ok = ok && prw_pipes_create(&r->env, &r->pipes, e);
     r->env.pipes = r->pipes;
-    ok = ok && prw_tm_gpu_create(gpu, r->pool, r->desc.width, r->desc.height, r->desc.max_views, r->desc.tonemap,
+    ok = ok && prw_tm_gpu_create(gpu, r->pool, r->desc.width, r->desc.height, r->desc.max_views,
+                                 (prw_tm_op)r->desc.quality.tonemap,
                                  &r->tm, e);
     r->env.tm = r->tm;
     for (uint32_t v = 0; ok && v < r->desc.max_views; v++) {
@@ -129,13 +130,13 @@ static void prepare_frame(prw_renderer *r, const prw_view *views, uint32_t count
     f->view_count = count;
     f->mode = PRW_FRAME_LOOP;
     if (count == 2 && r->desc.views_backend == PRW_VIEWS_MULTIVIEW) f->mode = PRW_FRAME_MULTIVIEW;
-    else if (count == 2 && r->desc.stereo_reuse == PRW_STEREO_REUSE_REPROJECT) f->mode = PRW_FRAME_REPROJECT;
+    else if (count == 2 && r->desc.quality.stereo_reuse == PRW_STEREO_REUSE_REPROJECT) f->mode = PRW_FRAME_REPROJECT;
     for (uint32_t v = 0; v < count; v++) {
         /* camera-relative rendering: each view relative to its own eye, so every eye of a view set is
          * bit-identical to a mono render from it; multiview draws all views with the first eye's origin */
         prw_dvec3 o = f->mode == PRW_FRAME_MULTIVIEW ? views[0].eye : views[v].eye;
         prw_gpu_globals g;
-        prw_view_globals_fill(r->scene, &r->plan, r->desc.shadow_size, &views[v], o, &g);
+        prw_view_globals_fill(r->scene, &r->plan, r->desc.quality.shadow_size, &views[v], o, &g);
         memcpy(r->globals[v].mapped, &g, sizeof g);
         f->draw[v] = (prw_draw_view){.origin = o, .eye = views[v].eye, .globals = r->globals_set[v]};
     }
@@ -280,10 +281,10 @@ void prw_renderer_describe(const prw_renderer *r, char *buf, size_t cap) { prw_g
 
 bool prw_renderer_set_extra_work(prw_renderer *r, double fraction, prw_error *e)
 {
-    if (!(r->desc.extra_gpu_work > 0))
+    if (!(r->desc.quality.extra_gpu_work > 0))
         return prw_fail(e, "renderer: extra GPU work can only be changed on a renderer created with it");
     if (!(fraction > 0) || !(fraction <= 16))
         return prw_fail(e, "renderer: extra GPU work %g is not in (0, 16]", fraction);
-    r->desc.extra_gpu_work = (float)fraction;
+    r->desc.quality.extra_gpu_work = fraction;
     return true;
 }

@@ -78,8 +78,9 @@ static bool measure(prw_gpu *gpu, prw_views_choice *c, prw_error *e)
     prw_view eyes[2];
     if (ok) ok = prw_stereo_desktop(&centre, 0.063, 0.7, eyes, e);
     for (int b = 0; b < 2 && ok; b++) {
-        prw_render_desc d = {.width = 96, .height = 64, .msaa = 4, .shadow_size = 256, .max_views = 2,
+        prw_render_desc d = {.width = 96, .height = 64, .max_views = 2, .quality = prw_quality_default(),
                              .views_backend = b ? PRW_VIEWS_MULTIVIEW : PRW_VIEWS_LOOP};
+        d.quality.shadow_size = 256;
         ok = prw_renderer_create(gpu, s, &d, &r[b], e) && prw_renderer_render(r[b], eyes, 2, NULL, e) &&
              prw_renderer_read_hdr(r[b], 0, &img[b][0], e) && prw_renderer_read_hdr(r[b], 1, &img[b][1], e);
     }
@@ -102,8 +103,9 @@ static bool measure(prw_gpu *gpu, prw_views_choice *c, prw_error *e)
         ok = prw_stereo_desktop(&centre, 0.063, 0.7, eyes, e);
     }
     for (int b = 0; b < 2 && ok; b++) {
-        prw_render_desc d = {.width = 256, .height = 144, .msaa = 4, .shadow_size = 1024, .max_views = 2,
+        prw_render_desc d = {.width = 256, .height = 144, .max_views = 2, .quality = prw_quality_default(),
                              .views_backend = b ? PRW_VIEWS_MULTIVIEW : PRW_VIEWS_LOOP};
+        d.quality.shadow_size = 1024;
         ok = prw_renderer_create(gpu, s, &d, &r[b], e) && prw_renderer_render(r[b], eyes, 2, NULL, e); /* warm */
     }
     for (int i = 0; i < FRAMES && ok; i++)

@@ -85,27 +85,38 @@ static void t_sweep(void)
     CHECK(list == NULL && n == 0);
 }
 
-static void t_desc(void)
+/* The renderer takes the struct as it is: validation names the first knob out of range; the help says
+ * which knobs have no effect yet (the renderer uses lod_pixel_tolerance now). */
+static void t_validate(void)
 {
+    prw_error e = {{0}};
     prw_quality q = prw_quality_default();
+    CHECK_OK(prw_quality_validate(&q, &e), &e);
     q.msaa = 1;
     q.shadow_size = 512;
     q.supersample = 2;
     q.extra_gpu_work = 0.2;
-    prw_render_desc d = prw_quality_render_desc(&q, 64, 48);
-    CHECK(d.width == 64 && d.height == 48 && d.msaa == 1 && d.shadow_size == 512 && d.supersample == 2);
-    CHECK(d.max_views == 1 && !d.timestamps);
-    CHECK(d.extra_gpu_work > 0.19f && d.extra_gpu_work < 0.21f);
+    CHECK_OK(prw_quality_validate(&q, &e), &e);
+    q.msaa = 2;
+    CHECK(!prw_quality_validate(&q, &e) && strstr(e.msg, "msaa"));
+    q = prw_quality_default();
+    q.lod_pixel_tolerance = 0;
+    CHECK(!prw_quality_validate(&q, &e) && strstr(e.msg, "lod_pixel_tolerance"));
+    q = prw_quality_default();
+    q.ssdo_radius = 0.0 / 0.0;
+    CHECK(!prw_quality_validate(&q, &e) && strstr(e.msg, "ssdo_radius"));
     char help[4096];
     prw_quality_describe(help, sizeof help);
-    CHECK(strstr(help, "lod_pixel_tolerance") && strstr(help, "no effect yet"));
+    CHECK(strstr(help, "btf_clusters") && strstr(help, "no effect yet"));
+    const char *lod = strstr(help, "lod_pixel_tolerance");
+    CHECK(lod && (!strchr(lod, '\n') || !strstr(lod, "no effect yet") || strstr(lod, "no effect yet") > strchr(lod, '\n')));
     CHECK(!strstr(help, "extra_gpu_work"));
 }
 
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
-        {"presets", t_presets}, {"config", t_config}, {"sweep", t_sweep}, {"desc", t_desc},
+        {"presets", t_presets}, {"config", t_config}, {"sweep", t_sweep}, {"validate", t_validate},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }

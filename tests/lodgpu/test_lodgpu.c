@@ -111,7 +111,9 @@ static void test_scene_renders(void)
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_view v;
-    prw_render_desc rd = {.width = 128, .height = 128, .msaa = 4, .shadow_size = 512};
+    prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
+    rd.quality.shadow_size = 512;
     CHECK_OK(prw_view_from_camera(s, 0, 128, 128, &v, &e), &e);
     CHECK_OK(prw_renderer_create(g_gpu, s, &rd, &r, &e), &e);
     prw_frame_stats st;
@@ -213,7 +215,9 @@ static void test_update_minimal(void)
     if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
-    prw_render_desc rd = {.width = 128, .height = 128, .msaa = 1, .shadow_size = 256};
+    prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
+    rd.quality.shadow_size = 256;
     CHECK_OK(prw_renderer_create(g_gpu, s, &rd, &r, &e), &e);
     prw_lod_scene *ls = prw_renderer_lod(r);
     prw_lod_gpu *g = prw_lod_scene_model(ls, 0);
@@ -361,7 +365,9 @@ static void test_crack_free_box(void)
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_view v;
-    prw_render_desc rd = {.width = 128, .height = 128, .msaa = 4, .shadow_size = 256};
+    prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
+    rd.quality.shadow_size = 256;
     CHECK_OK(prw_view_from_camera(s, 0, 128, 128, &v, &e), &e);
     CHECK_OK(prw_renderer_create(g_gpu, s, &rd, &r, &e), &e);
     prw_lod_gpu *g = prw_lod_scene_model(prw_renderer_lod(r), 0);
@@ -464,7 +470,9 @@ static void test_flip_vs_finest(void)
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_view v;
-    prw_render_desc rd = {.width = 128, .height = 128, .msaa = 4, .shadow_size = 1024};
+    prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
+    rd.quality.shadow_size = 1024;
     (void)v;
     /* close to the shell (about 1.9 m from the roof), so the levels matter at 128² */
     v = prw_view_look_at(prw_v3(2.3, 1.0, 0.74), prw_v3(2, 0.2, -0.9), prw_v3(0, 1, 0), 50 * PRW_PI / 180, 0.05, 128,
@@ -519,7 +527,9 @@ static void test_proxy_far_copies(void)
     prw_error e = {{0}};
     prw_renderer *r = NULL;
     prw_view v;
-    prw_render_desc rd = {.width = 128, .height = 128, .msaa = 4, .shadow_size = 512};
+    prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
+    rd.quality.shadow_size = 512;
     CHECK_OK(prw_view_from_camera(s, 0, 128, 128, &v, &e), &e);
     CHECK_OK(prw_renderer_create(g_gpu, s, &rd, &r, &e), &e);
     prw_lod_scene *ls = prw_renderer_lod(r);
@@ -586,7 +596,9 @@ static void test_far_from_origin(void)
         prw_error e = {{0}};
         prw_renderer *r = NULL;
         prw_view v;
-        prw_render_desc rd = {.width = 128, .height = 128, .msaa = 4, .shadow_size = 256};
+        prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+        rd.quality.msaa = 4;
+        rd.quality.shadow_size = 256;
         CHECK_OK(prw_view_from_camera(s, 0, 128, 128, &v, &e), &e);
         CHECK_OK(prw_renderer_create(g_gpu, s, &rd, &r, &e), &e);
         CHECK_OK(prw_renderer_render(r, &v, 1, NULL, &e), &e);
@@ -613,7 +625,9 @@ static void test_view_set(void)
     if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
-    prw_render_desc rd = {.width = 128, .height = 128, .msaa = 1, .shadow_size = 256};
+    prw_render_desc rd = {.width = 128, .height = 128, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
+    rd.quality.shadow_size = 256;
     CHECK_OK(prw_renderer_create(g_gpu, s, &rd, &r, &e), &e);
     prw_lod_scene *ls = prw_renderer_lod(r);
     const prw_lod_model *lm = &prw_lod_scene_hierarchy(ls, 0)->lod;

@@ -156,7 +156,8 @@ static void test_depth_normal_vs_reference(void)
     prw_gpu_desc gd = {.device_index = -1};
     static const char *const exports[] = {"depth", "gbuf_normal", "gbuf_id", NULL};
     prw_render_debug dbg = {.exports = exports};
-    prw_render_desc rd = {.width = W, .height = H, .msaa = 1, .debug = &dbg};
+    prw_render_desc rd = {.width = W, .height = H,  .debug = &dbg, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
     prw_view v;
     float *depth = NULL, *normal = NULL;
     uint32_t *id = NULL, w, h;

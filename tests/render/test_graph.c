@@ -141,7 +141,8 @@ static void test_coming_passes(void)
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
     prw_render_debug dbg = {.passes = k_table}, dbg2 = {.passes = k_table_no_orphan},
                      dbg_bad = {.passes = k_table_misordered};
-    prw_render_desc rd = {.width = 96, .height = 64, .msaa = 4, .max_views = 2, .debug = &dbg};
+    prw_render_desc rd = {.width = 96, .height = 64,  .max_views = 2, .debug = &dbg, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
     prw_view centre, eyes[2];
     bool ok = prw_gpu_create(&gd, &gpu, &e) && prw_view_from_camera(s, 0, 96, 64, &centre, &e) &&
               prw_stereo_desktop(&centre, 0.063, 0.7, eyes, &e) && prw_renderer_create(gpu, s, &rd, &r, &e);

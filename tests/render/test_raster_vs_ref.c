@@ -40,7 +40,9 @@ static bool render_raster(const prw_scene *s, const prw_view *v, prw_image *hdr,
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
-    prw_render_desc rd = {.width = SIZE, .height = SIZE, .msaa = 4, .shadow_size = 2048};
+    prw_render_desc rd = {.width = SIZE, .height = SIZE, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
+    rd.quality.shadow_size = 2048;
     bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
               prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);

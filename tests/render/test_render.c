@@ -41,7 +41,10 @@ static bool render_scene(const prw_scene *s, const char *cam, uint32_t w, uint32
     prw_renderer *r = NULL;
     prw_view v;
     int ci = prw_scene_find_camera(s, cam);
-    prw_render_desc rd = {.width = w, .height = h, .msaa = msaa, .shadow_size = 512, .supersample = g_supersample};
+    prw_render_desc rd = {.width = w, .height = h, .quality = prw_quality_default()};
+    rd.quality.msaa = msaa;
+    rd.quality.shadow_size = 512;
+    rd.quality.supersample = g_supersample;
     bool ok = ci >= 0 && prw_view_from_camera(s, ci, w, h, &v, &e) && prw_renderer_create(g_gpu, s, &rd, &r, &e) &&
               prw_renderer_render(r, &v, 1, st, &e) && prw_renderer_read_hdr(r, 0, hdr, &e);
     if (ok && ldr) {

@@ -119,8 +119,10 @@ static void test_compose_gpu_vs_c(void)
 static void eyes_vs_mono(const char *what, const prw_stereo_setup *st, prw_views_backend backend)
 {
     prw_error e = {{0}};
-    prw_render_desc d2 = {.width = st->eye_w, .height = st->eye_h, .msaa = 4, .shadow_size = 512, .max_views = 2,
-                          .views_backend = backend};
+    prw_render_desc d2 = {.width = st->eye_w, .height = st->eye_h,   .max_views = 2,
+                          .views_backend = backend, .quality = prw_quality_default()};
+    d2.quality.msaa = 4;
+    d2.quality.shadow_size = 512;
     prw_render_desc d1 = d2;
     d1.max_views = 1;
     d1.views_backend = PRW_VIEWS_LOOP;

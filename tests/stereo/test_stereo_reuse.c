@@ -90,9 +90,22 @@ static void free_images(prw_image *im, int n)
     for (int i = 0; i < n; i++) prw_image_free(&im[i]);
 }
 
+/* The debug switches of a desc, in storage that lives as long as the test (renderers copy it at create). */
+static prw_render_debug *dbg_of(prw_render_desc *d)
+{
+    static prw_render_debug pool[16];
+    static unsigned n;
+    prw_render_debug *p = &pool[n++ % 16];
+    *p = d->debug ? *d->debug : (prw_render_debug){0};
+    d->debug = p;
+    return p;
+}
+
 static prw_render_desc base_desc(uint32_t w, uint32_t h, uint32_t msaa)
 {
-    prw_render_desc d = {.width = w, .height = h, .msaa = msaa, .shadow_size = 512};
+    prw_render_desc d = {.width = w, .height = h, .quality = prw_quality_default()};
+    d.quality.msaa = msaa;
+    d.quality.shadow_size = 512;
     return d;
 }
 
@@ -128,7 +141,7 @@ static void test_knob_off_unchanged(void)
     bool ok = render(g_demo, d, &eyes[0], 1, &mono[0]) && render(g_demo, d, &eyes[1], 1, &mono[1]) &&
               render(g_demo, d, eyes, 2, off);
     prw_render_desc don = d;
-    don.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
+    don.quality.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
     ok = ok && render(g_demo, don, eyes, 2, on) && render(g_demo, don, &eyes[1], 1, &mono_on);
     if (ok) {
         CHECK_MSG(same(&off[0], &mono[0]) && same(&off[1], &mono[1]), "knob off: eyes differ from mono");
@@ -153,8 +166,8 @@ static void test_reuse_nothing_is_full(void)
         prw_image full = {0}, on[2] = {{0}};
         prw_render_desc d = base_desc(128, 128, msaa);
         prw_render_desc dn = d;
-        dn.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
-        dn.reproject_tolerance = -1; /* reuse nothing */
+        dn.quality.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
+        dbg_of(&dn)->reproject_tolerance = -1; /* reuse nothing */
         if (render(g_demo, d, &eyes[1], 1, &full) && render(g_demo, dn, eyes, 2, on)) {
             size_t diff = count_diff_rgb(&on[1], &full);
             if (msaa == 1) {
@@ -213,9 +226,9 @@ static void strip_case(uint32_t msaa, double tol_px, double depth_tol)
     prw_image full = {0}, on[2] = {{0}};
     prw_render_desc d = base_desc(W, H, msaa);
     prw_render_desc dn = d;
-    dn.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
-    dn.reproject_mark = true;
-    dn.reproject_tolerance = depth_tol;
+    dn.quality.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
+    dbg_of(&dn)->reproject_mark = true;
+    dbg_of(&dn)->reproject_tolerance = depth_tol;
     if (render(s, d, &eyes[1], 1, &full) && render(s, dn, eyes, 2, on)) {
         const prw_image *r = &on[1];
         double worst_strip = 0, worst_border = 0, worst_start = 0, other = 0;
@@ -311,8 +324,8 @@ static void test_demo_flip(void)
     prw_image full = {0}, on[2] = {{0}};
     prw_render_desc d = base_desc(128, 128, 4);
     prw_render_desc dn = d;
-    dn.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
-    dn.reproject_mark = true;
+    dn.quality.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
+    dbg_of(&dn)->reproject_mark = true;
     if (render(g_demo, d, &eyes[1], 1, &full) && render(g_demo, dn, eyes, 2, on)) {
         CHECK(all_finite(&on[0]) && all_finite(&on[1]));
         double shaded = 0;
@@ -351,7 +364,7 @@ static void test_multiview_refused(void)
     prw_render_desc d = base_desc(64, 64, 1);
     d.max_views = 2;
     d.views_backend = PRW_VIEWS_MULTIVIEW;
-    d.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
+    d.quality.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
     prw_renderer *r = NULL;
     prw_error e = {{0}};
     CHECK(!prw_renderer_create(g_gpu, g_demo, &d, &r, &e));
@@ -390,8 +403,8 @@ static void test_timing(void)
         prw_render_desc d = base_desc(w, h, c < 4 ? 1 : 4);
         d.timestamps = true;
         d.max_views = mode ? 2 : 1;
-        d.stereo_reuse = mode >= 2 ? PRW_STEREO_REUSE_REPROJECT : PRW_STEREO_REUSE_OFF;
-        d.reproject_tolerance = mode == 3 ? -1 : 0;
+        d.quality.stereo_reuse = mode >= 2 ? PRW_STEREO_REUSE_REPROJECT : PRW_STEREO_REUSE_OFF;
+        dbg_of(&d)->reproject_tolerance = mode == 3 ? -1 : 0;
         if (!prw_renderer_create(g_gpu, g_demo, &d, &r[c], &e)) {
             fprintf(stderr, "%s\n", e.msg);
             prw_test_failures++;

@@ -25,7 +25,9 @@ static bool up(void)
     prw_error e;
     prw_gpu_desc d = {.device_index = -1, .validation = true};
     g_scene = prw_scene_create();
-    prw_render_desc rd = {.width = 64, .height = 48, .msaa = 1, .shadow_size = 256, .max_views = 2};
+    prw_render_desc rd = {.width = 64, .height = 48,   .max_views = 2, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
+    rd.quality.shadow_size = 256;
     if (!prw_gpu_create(&d, &g_gpu, &e) || !prw_demo_build(g_scene, prw_v3(0, 0, 0), &e) ||
         !prw_renderer_create(g_gpu, g_scene, &rd, &g_r, &e)) {
         fprintf(stderr, "setup: %s\n", e.msg);

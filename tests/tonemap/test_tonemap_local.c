@@ -44,7 +44,9 @@ static bool up(void)
     prw_error e;
     prw_gpu_desc d = {.device_index = -1, .validation = true};
     g_scene = prw_scene_create();
-    prw_render_desc rd = {.width = SZ, .height = SZ, .msaa = 1, .shadow_size = 512, .max_views = 1};
+    prw_render_desc rd = {.width = SZ, .height = SZ,   .max_views = 1, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
+    rd.quality.shadow_size = 512;
     if (!prw_gpu_create(&d, &g_gpu, &e) || !prw_demo_build(g_scene, prw_v3(0, 0, 0), &e) ||
         !prw_renderer_create(g_gpu, g_scene, &rd, &g_r, &e)) {
         fprintf(stderr, "setup: %s\n", e.msg);

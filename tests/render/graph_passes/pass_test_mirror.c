@@ -88,7 +88,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     double s = prw_v3_dot(n, e0) - d;
     mv.eye = prw_v3_sub(e0, prw_v3_scale(n, 2 * s));
     prw_gpu_globals g;
-    prw_view_globals_fill(env->scene, env->shadows, env->desc->shadow_size, &mv, mv.eye, &g);
+    prw_view_globals_fill(env->scene, env->shadows, env->desc->quality.shadow_size, &mv, mv.eye, &g);
     memcpy(m->globals[c->view].mapped, &g, sizeof g);
     /* keep what lies on the real eye's side of the mirror (camera-relative to the mirrored eye) */
     float sign = s >= 0 ? 1.0f : -1.0f;

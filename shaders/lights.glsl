@@ -1,0 +1,166 @@
+// lights.glsl — direct light of every light of the per-view globals at a surface point, in cd/m^2, with
+// the shared material model (prw_brdf.h) and the shared falloff rules (prw_shading.h):
+//  - point / spot / directional: f(n, v, l) E cos, E = intensity / d^2 (x range window, x spot cone) or
+//    the directional illuminance, shadowed by shadows.glsl;
+//  - rect area lights: diffuse (and the multiple-scattering specular) from Lambert's polygon formula
+//    (exact irradiance, clipped to the receiver's hemisphere), single-scattering specular by a
+//    lobe-resolving quadrature over the rectangle (rect_specular_single), visibility from one shadow map
+//    at the rectangle's centre (hard shadows: the main remaining difference to the reference).
+// Needs common.glsl, shadows.glsl, prw_brdf.h and prw_shading.h included before it.
+#ifndef PRW_LIGHTS_GLSL
+#define PRW_LIGHTS_GLSL
+
+const float PI = 3.14159265358979323846;
+
+// Irradiance per unit radiance from the quad q (camera-relative) at p with normal n, after clipping
+// the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
+// fdir receives the direction of the vector form factor (the irradiance-weighted mean direction).
+float quad_irradiance(vec3 p, vec3 n, vec3 q[4], out vec3 fdir)
+{
+    fdir = n;
+    vec3 poly[5];
+    int cnt = 0;
+    for (int i = 0; i < 4; i++) {
+        vec3 a = q[i] - p, b = q[(i + 1) % 4] - p;
+        float da = dot(n, a), db = dot(n, b);
+        if (da > 0.0) poly[cnt++] = a;
+        if ((da > 0.0) != (db > 0.0) && cnt < 5) poly[cnt++] = a + (b - a) * (da / (da - db));
+    }
+    if (cnt < 3) return 0.0;
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < cnt; i++) {
+        vec3 v0 = normalize(poly[i]), v1 = normalize(poly[(i + 1) % cnt]);
+        vec3 cr = cross(v0, v1);
+        float l = length(cr);
+        if (l > 1e-9) sum += atan(l, dot(v0, v1)) * (cr / l);
+    }
+    float e = dot(n, sum);
+    if (e < 0.0) sum = -sum;
+    float len = length(sum);
+    if (len > 1e-12) fdir = sum / len;
+    return 0.5 * abs(e);
+}
+
+// Single-scattering specular of a rect light (centre c, half axes du, dv, emitting towards +ln,
+// radiance 1) at p: the D * V * cos factor is integrated by midpoint quadrature over the quad on a
+// grid whose cells subtend at most half the GGX alpha (radians, seen from p), so the lobe is
+// resolved (at most 32 x 32 cells: near-mirror surfaces reflecting a large light are then
+// under-resolved, seen as a dotted reflection); Fresnel, which varies slowly over the light, is
+// taken at the quadrature's D V-weighted mean cos(v, h).
+vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                          float roughness, float specular)
+{
+    float alpha = prw_alpha_from_roughness(roughness);
+    float dist = max(length(c - p), 1e-4);
+    float lu = length(du), lv = length(dv);
+    float cell = 0.5 * alpha * dist; // metres on the light per cell, at the light's distance
+    int nu = int(clamp(ceil(2.0 * lu / cell), 1.0, 32.0));
+    int nv = int(clamp(ceil(2.0 * lv / cell), 1.0, 32.0));
+    float NoV = min(max(dot(n, v), 1e-4), 1.0);
+    float sum = 0.0, sum_voh = 0.0;
+    for (int j = 0; j < nv; j++) {
+        float sv = (2.0 * (float(j) + 0.5)) / float(nv) - 1.0;
+        for (int i = 0; i < nu; i++) {
+            float su = (2.0 * (float(i) + 0.5)) / float(nu) - 1.0;
+            vec3 d = c + du * su + dv * sv - p;
+            float d2 = max(dot(d, d), 1e-8);
+            vec3 l = d * inversesqrt(d2);
+            float NoL = dot(n, l), cl = -dot(l, ln);
+            if (NoL <= 0.0 || cl <= 0.0) continue;
+            vec3 h = normalize(v + l);
+            float w = prw_D_ggx(prw_clamp01(dot(n, h)), alpha) * prw_V_smith_ggx(NoV, min(NoL, 1.0), alpha) *
+                      (NoL * cl / d2);
+            sum += w;
+            sum_voh += w * prw_clamp01(dot(v, h));
+        }
+    }
+    if (!(sum > 0.0)) return vec3(0.0);
+    float voh = sum_voh / sum;
+    float m = prw_clamp01(metallic);
+    float f_diel = prw_clamp01(specular) * prw_F_dielectric(voh);
+    vec3 f = vec3((1.0 - m) * f_diel + m * prw_F_schlick(base.r, voh), (1.0 - m) * f_diel + m * prw_F_schlick(base.g, voh),
+                  (1.0 - m) * f_diel + m * prw_F_schlick(base.b, voh));
+    return f * (sum * 4.0 * lu * lv / float(nu * nv));
+}
+
+// Multiple-scattering specular (Kulla-Conty) per channel: a smooth, diffuse-like lobe.
+vec3 specular_ms(float NoV, float NoL, vec3 base, float metallic, float roughness, float specular)
+{
+    float ec_avg = prw_ggx_Ec_avg(roughness);
+    float ms = prw_ggx_ms_shape(min(NoV, 1.0), min(NoL, 1.0), roughness);
+    float m = prw_clamp01(metallic);
+    float diel = prw_F_ms(prw_clamp01(specular) * PRW_DIELECTRIC_F_AVG, ec_avg);
+    vec3 metal = vec3(prw_F_ms(base.r + (1.0 - base.r) * (1.0 / 21.0), ec_avg),
+                      prw_F_ms(base.g + (1.0 - base.g) * (1.0 / 21.0), ec_avg),
+                      prw_F_ms(base.b + (1.0 - base.b) * (1.0 / 21.0), ec_avg));
+    return ms * ((1.0 - m) * diel + m * metal);
+}
+
+// The shared material model (prw_brdf.h) per RGB channel, from cosines.
+vec3 brdf_cos(float NoV, float NoL, float NoH, float VoH, vec3 base, float metallic, float roughness, float specular)
+{
+    return vec3(prw_brdf_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness, specular),
+                prw_brdf_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness, specular),
+                prw_brdf_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness, specular));
+}
+
+vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
+{
+    vec3 h = normalize(v + l);
+    return brdf_cos(dot(n, v), dot(n, l), dot(n, h), dot(v, h), base, metallic, roughness, specular);
+}
+
+// Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance.
+void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, float metallic, float roughness,
+                      float specular)
+{
+    int count = int(g.params.x);
+    for (int i = 0; i < count; i++) {
+        prw_gpu_light L = g.lights[i];
+        int type = int(L.pos_type.w);
+        vec3 rgb = L.radiance.rgb;
+        if (type == PRW_GPU_LIGHT_RECT) {
+            vec3 c = L.pos_type.xyz;
+            if (dot(p - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
+            vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
+                                c + L.axis_u.xyz + L.axis_v.xyz, c - L.axis_u.xyz + L.axis_v.xyz);
+            vec3 fdir;
+            float E = quad_irradiance(p, n, q, fdir);
+            if (E <= 0.0) continue;
+            // Diffuse and the multiple-scattering specular (both smooth in the light direction):
+            // Lambert's polygon formula E, exact for a constant lobe, with the cosine-dependent
+            // factors taken at the vector form factor's direction.  Single-scattering specular:
+            // quadrature over the quad (rect_specular_single).
+            float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
+            vec3 fd = vec3(prw_brdf_diffuse_channel(NoV, NoLd, base.r, metallic, roughness, specular),
+                           prw_brdf_diffuse_channel(NoV, NoLd, base.g, metallic, roughness, specular),
+                           prw_brdf_diffuse_channel(NoV, NoLd, base.b, metallic, roughness, specular));
+            fd += specular_ms(NoV, NoLd, base, metallic, roughness, specular);
+            vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
+                                                   metallic, roughness, specular);
+            radiance += f * rgb * shadow_factor(L, p, n);
+            continue;
+        }
+        vec3 l;
+        float E;
+        if (type == PRW_GPU_LIGHT_DIRECTIONAL) {
+            l = -L.dir_range.xyz;
+            E = 1.0;
+        } else {
+            vec3 d = L.pos_type.xyz - p;
+            float d2 = max(dot(d, d), 1e-8);
+            l = d * inversesqrt(d2);
+            E = 1.0 / d2;
+            if (L.dir_range.w > 0.0) E *= prw_range_window(d2, L.dir_range.w);
+            if (type == PRW_GPU_LIGHT_SPOT) {
+                float cd = dot(-l, L.dir_range.xyz);
+                E *= prw_spot_factor(cd, L.cone_shadow.x, L.cone_shadow.y);
+            }
+        }
+        float NoL = dot(n, l);
+        if (NoL <= 0.0 || E <= 0.0) continue;
+        radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, p, n);
+    }
+}
+
+#endif
