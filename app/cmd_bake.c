@@ -122,7 +122,7 @@ int prw_cmd_bake(int argc, char **argv)
         else printf("cache not used\n");
         if (out) printf("wrote %s\n", out);
     }
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
     prw_args_free(&a);
     return rc;
 }

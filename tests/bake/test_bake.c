@@ -1,4 +1,4 @@
-/* engine/bake: the .lod format and the hierarchy cache.
+/* engine/bake and the .lod format it writes (engine/scene/prw_lod_file.h): the hierarchy cache.
  *  - round trip: parse(serialize(fresh build)) equals the fresh build in every array, bit for bit,
  *    and emits bit-identical meshes (vertices and indices) at every level and at random per-patch
  *    level mixes; serialize(parse(bytes)) == bytes;
@@ -230,11 +230,11 @@ static void roundtrip(const char *name, bool (*make)(prw_nurbs_model *, prw_erro
     CHECK_OK(prw_lod_file_write(path, fresh, &e), &e);
     CHECK_OK(prw_lod_file_read(path, &fromfile, &e), &e);
     CHECK(compare_baked(fresh, fromfile) == 0);
-    prw_baked_lod_destroy(fromfile);
+    prw_lod_file_destroy(fromfile);
     free(bytes);
     free(bytes2);
-    prw_baked_lod_destroy(back);
-    prw_baked_lod_destroy(fresh);
+    prw_lod_file_destroy(back);
+    prw_lod_file_destroy(fresh);
     prw_nurbs_model_free(&m);
 }
 
@@ -288,16 +288,16 @@ static void test_cache_hit(void)
     prw_bake_result r3;
     CHECK_OK(prw_bake_run(model, NULL, true, &b3, &r3, NULL, NULL, &e), &e);
     CHECK(r3.built && !r3.cache_hit && r3.cache_path[0] == '\0' && prw_bake_build_count() == builds + 2);
-    prw_baked_lod_destroy(b3);
+    prw_lod_file_destroy(b3);
     /* a changed knob is another key (and a miss) */
     prw_bake_options o;
     memset(&o, 0, sizeof o);
     o.lod.levels = 5;
     CHECK_OK(prw_bake_run(model, &o, false, &b3, &r3, NULL, NULL, &e), &e);
     CHECK(strcmp(r3.key, r1.key) != 0 && r3.built && !r3.cache_hit && b3->lod.levels == 5);
-    prw_baked_lod_destroy(b3);
-    prw_baked_lod_destroy(b1);
-    prw_baked_lod_destroy(b2);
+    prw_lod_file_destroy(b3);
+    prw_lod_file_destroy(b1);
+    prw_lod_file_destroy(b2);
 }
 
 static void test_key(void)
@@ -365,12 +365,12 @@ static void corrupt_and_rebuild(const char *what, bool truncate)
     CHECK(strstr(r.warning, truncate ? "truncated" : "checksum") != NULL);
     CHECK(prw_bake_build_count() == builds + 1);
     CHECK(compare_baked(ref, b) == 0);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
     /* the rewritten entry is whole again: the next run is a hit */
     CHECK_OK(prw_bake_run(model, NULL, false, &b, &r, NULL, NULL, &e), &e);
     CHECK(r.cache_hit && r.warning[0] == '\0');
-    prw_baked_lod_destroy(b);
-    prw_baked_lod_destroy(ref);
+    prw_lod_file_destroy(b);
+    prw_lod_file_destroy(ref);
 }
 
 static void test_corrupt_flip(void) { corrupt_and_rebuild("byte flipped", false); }
@@ -414,7 +414,7 @@ static void test_prefixes(void)
     prw_baked_lod *x;
     prw_error e;
     CHECK_OK(prw_lod_file_parse(full, n, "tiny.lod", &x, &e), &e);
-    prw_baked_lod_destroy(x);
+    prw_lod_file_destroy(x);
     int rejected = 0, rejected_fixed = 0, named = 0;
     for (size_t len = 0; len < n; len++) {
         uint8_t *c = prw_malloc(len + 1);
@@ -422,13 +422,13 @@ static void test_prefixes(void)
         if (!prw_lod_file_parse(c, len, "tiny.lod", &x, &e)) {
             rejected++;
             named += strncmp(e.msg, "tiny.lod: ", 10) == 0;
-        } else prw_baked_lod_destroy(x);
+        } else prw_lod_file_destroy(x);
         if (len >= PRW_LOD_HEADER_SIZE) {
             patch_header(c, len);
             if (!prw_lod_file_parse(c, len, "tiny.lod", &x, &e)) {
                 rejected_fixed++;
                 named += strncmp(e.msg, "tiny.lod: ", 10) == 0;
-            } else prw_baked_lod_destroy(x);
+            } else prw_lod_file_destroy(x);
         }
         free(c);
     }
@@ -439,7 +439,7 @@ static void test_prefixes(void)
     CHECK((size_t)rejected_fixed == fixed);
     CHECK((size_t)named == n + fixed);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 static void test_mutations(void)
@@ -485,7 +485,7 @@ static void test_mutations(void)
             prw_lod_mesh_free(&mesh);
             free(lv);
             free(sl);
-            prw_baked_lod_destroy(x);
+            prw_lod_file_destroy(x);
         }
     }
     printf("  %zu single-byte mutations (checksum recomputed): %d rejected, %d parsed and walked\n",
@@ -494,7 +494,7 @@ static void test_mutations(void)
     CHECK(rejected > 0);
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 static void test_bad_header(void)
@@ -530,7 +530,7 @@ static void test_bad_header(void)
     CHECK(!prw_lod_file_read(prw_test_path("no-such.lod"), &x, &e) && strstr(e.msg, "no-such.lod"));
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 /* The culling section (format version 2) is validated like the rest: each mutation of patch 0's
@@ -564,7 +564,7 @@ static void test_bad_cull(void)
         put_f64(c + rec + cases[k].off, cases[k].v);
         patch_header(c, n);
         bool ok = prw_lod_file_parse(c, n, "c.lod", &x, &e);
-        if (ok) prw_baked_lod_destroy(x);
+        if (ok) prw_lod_file_destroy(x);
         CHECK(!ok && strstr(e.msg, cases[k].msg));
         printf("  culling mutation %zu: %s\n", k, ok ? "(parsed)" : e.msg);
     }
@@ -579,7 +579,7 @@ static void test_bad_cull(void)
     printf("  culling patch count 3: %s\n", e.msg);
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 /* The proxy section (format version 3, the file's last) is validated like the rest: each mutation
@@ -600,14 +600,14 @@ static void test_bad_proxy(void)
     prw_nurbs_model_free(&m);
     CHECK(b->have_proxy && b->proxy.nlevels >= 2);
     if (!b->have_proxy || b->proxy.nlevels < 2) {
-        prw_baked_lod_destroy(b);
+        prw_lod_file_destroy(b);
         return;
     }
     uint8_t *full;
     size_t n;
     prw_lod_file_serialize(b, &full, &n);
     CHECK_OK(prw_lod_file_parse(full, n, "p.lod", &x, &e), &e);
-    prw_baked_lod_destroy(x);
+    prw_lod_file_destroy(x);
     const prw_lod_proxy_level *l0 = &b->proxy.levels[0];
     size_t sec = n - proxy_bytes(b), lv0 = sec + 29, tris0 = lv0 + 28 + 24 * (size_t)l0->nverts,
            cp0 = tris0 + 12 * (size_t)l0->ntris, uv0 = cp0 + 12 * (size_t)l0->ntris, tp0 = uv0 + 48 * (size_t)l0->ntris,
@@ -642,7 +642,7 @@ static void test_bad_proxy(void)
         else put_f64(c + cases[k].at, cases[k].v);
         patch_header(c, n);
         bool ok = prw_lod_file_parse(c, n, "p.lod", &x, &e);
-        if (ok) prw_baked_lod_destroy(x);
+        if (ok) prw_lod_file_destroy(x);
         CHECK(!ok && strncmp(e.msg, "p.lod: ", 7) == 0 && strstr(e.msg, cases[k].msg));
         printf("  proxy mutation %zu: %s\n", k, ok ? "(parsed)" : e.msg);
     }
@@ -657,7 +657,7 @@ static void test_bad_proxy(void)
     printf("  version 2: %s\n", e.msg);
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 static void test_bad_model(void)
