@@ -14,7 +14,12 @@
  *    patch indices out of range, bad counts are refused with a message naming the problem;
  *  - single-byte mutations with a recomputed checksum either fail cleanly or give a hierarchy that
  *    selection and extraction walk without leaving their arrays (ASan / UBSan builds catch any
- *    stray read). */
+ *    stray read);
+ *  - bake_scene: before prw_bake_scene an entry has nothing attached (the message the renderer and
+ *    the reference give); after it, a file entry and a procedural entry carry their model and a
+ *    hierarchy equal, bit for bit, to prw_bake_scene_entry's, each with one progress line (built, then
+ *    from the cache for a second scene, with nothing rebuilt); a second call builds nothing and keeps
+ *    the attachments; an attachment whose patch count is not the model's is refused. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +27,7 @@
 
 #include "bake_models.h"
 #include "prw_bake.h"
+#include "prw_bake_scene.h"
 #include "prw_lod_orient.h"
 #include "prw_lod_select.h"
 #include "prw_nurbs_json.h"
@@ -675,6 +681,86 @@ static void test_bad_model(void)
     CHECK(!prw_bake_run(prw_test_path("model.stl"), NULL, false, &b, &r, NULL, NULL, &e) && strstr(e.msg, "unknown model type"));
 }
 
+typedef struct lines {
+    char text[8][256];
+    int n;
+} lines;
+
+static void collect(void *user, const char *line)
+{
+    lines *l = user;
+    if (l->n < 8) snprintf(l->text[l->n++], sizeof l->text[0], "%s", line);
+}
+
+static prw_scene *two_entry_scene(void)
+{
+    static const char *text = "{\"prw_manifest\": 1,\n"
+                              " \"materials\": [{\"name\": \"m\"}],\n"
+                              " \"nurbs\": [{\"name\": \"two\", \"file\": \"scene-two.json\", \"material\": \"m\"},\n"
+                              "            {\"name\": \"plate\", \"procedural\": \"plate\", \"material\": \"m\"}]}\n";
+    write_model("scene-two.json");
+    prw_scene *s = prw_scene_create();
+    prw_error e;
+    if (!prw_scene_parse_manifest(s, text, strlen(text), prw_test_path("scene.json"), &e)) {
+        fprintf(stderr, "manifest: %s\n", e.msg);
+        prw_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void test_bake_scene(void)
+{
+    set_cache("bake-scene");
+    prw_scene *s = two_entry_scene();
+    CHECK(s != NULL);
+    if (!s) return;
+    prw_error e;
+    const prw_nurbs_model *m[2];
+    const prw_baked_lod *h[2];
+    CHECK(!prw_scene_nurbs_baked(s, 0, &m[0], &h[0], &e) && m[0] == NULL && h[0] == NULL &&
+          strstr(e.msg, "NURBS entry 'two' has no baked hierarchy: call prw_bake_scene"));
+    int builds = prw_bake_build_count();
+    lines l = {.n = 0};
+    CHECK_OK(prw_bake_scene(s, collect, &l, &e), &e);
+    CHECK(prw_bake_build_count() == builds + 2);
+    CHECK(l.n == 2 && strstr(l.text[0], "lod: two: hierarchy built in ") && strstr(l.text[1], "lod: plate: hierarchy built in "));
+    for (uint32_t i = 0; i < 2; i++) {
+        CHECK_OK(prw_scene_nurbs_baked(s, i, &m[i], &h[i], &e), &e);
+        CHECK(h[i]->lod.npatches == (int)m[i]->count && strlen(h[i]->key) == 32);
+        /* the same hierarchy prw_bake_scene_entry gives (now from the cache) */
+        prw_baked_lod *x;
+        CHECK_OK(prw_bake_scene_entry(&s->nurbs[i], m[i], NULL, NULL, &x, &e), &e);
+        CHECK(compare_baked(h[i], x) == 0);
+        prw_lod_file_destroy(x);
+    }
+    /* a second call builds nothing and keeps the attachments */
+    l.n = 0;
+    CHECK_OK(prw_bake_scene(s, collect, &l, &e), &e);
+    const prw_baked_lod *again;
+    CHECK(prw_scene_nurbs_baked(s, 1, NULL, &again, &e) && again == h[1] && l.n == 0);
+    /* another scene with the same entries: both from the cache */
+    prw_scene *s2 = two_entry_scene();
+    CHECK(s2 != NULL);
+    if (s2) {
+        CHECK_OK(prw_bake_scene(s2, collect, &l, &e), &e);
+        CHECK(l.n == 2 && strstr(l.text[0], "lod: two: hierarchy from the cache") &&
+              strstr(l.text[1], "lod: plate: hierarchy from the cache"));
+        const prw_baked_lod *h2;
+        CHECK(prw_scene_nurbs_baked(s2, 0, NULL, &h2, &e) && compare_baked(h[0], h2) == 0);
+        /* a hierarchy of another model is refused (and freed: the scene took it) */
+        prw_nurbs_model mm;
+        CHECK_OK(prw_scene_nurbs_load(&s2->nurbs[0], &mm, &e), &e);
+        prw_baked_lod *plate;
+        CHECK_OK(prw_bake_scene_entry(&s2->nurbs[1], m[1], NULL, NULL, &plate, &e), &e);
+        CHECK(!prw_scene_nurbs_attach(s2, 0, &mm, plate, &e) && strstr(e.msg, "patches"));
+        CHECK(mm.count == 0);
+        prw_scene_destroy(s2);
+    }
+    CHECK(prw_bake_build_count() == builds + 2);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -691,6 +777,7 @@ int main(int argc, char **argv)
         {"bad_cull", test_bad_cull},
         {"bad_proxy", test_bad_proxy},
         {"bad_model", test_bad_model},
+        {"bake_scene", test_bake_scene},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
