@@ -39,6 +39,10 @@ bool prw_parse_double(const char *s, const char *what, double lo, double hi, dou
 
 /* Loads a manifest (path) or, for NULL/"demo", the built-in demo scene. */
 bool prw_app_load_scene(const char *path, prw_scene **out, prw_error *e);
+/* Makes a loaded scene ready for the renderer and the reference: the baker (engine/bake,
+ * prw_bake_scene) attaches every NURBS entry's model and LOD hierarchy, from the cache or built;
+ * one progress line per entry on stderr (log level info). */
+bool prw_app_bake_scene(prw_scene *s, prw_error *e);
 bool prw_app_create_gpu(bool present, prw_gpu **out, prw_error *e);
 
 int prw_cmd_render(int argc, char **argv);
@@ -51,6 +55,7 @@ int prw_cmd_bench(int argc, char **argv);
 int prw_cmd_bench_merge(int argc, char **argv);
 int prw_cmd_tmbench(int argc, char **argv);
 int prw_cmd_bake(int argc, char **argv);
+int prw_cmd_cache(int argc, char **argv);
 
 /* The demo job: a window when a display exists, else a headless render to files. */
 int prw_run_demo(void);

@@ -20,7 +20,8 @@ static void help(void)
            "  the JSON form, lod/nurbs_json.md), or loads them from the cache, and prints the cache key,\n"
            "  patch / level / triangle counts, the time and the cache path.  Progress goes to stderr.\n"
            "  Cache: $PRW_CACHE_DIR, else $XDG_CACHE_HOME/prw, else ~/.cache/prw; subdirectory lod/,\n"
-           "  entries <key>.lod; the key hashes the file bytes, the format version and every knob.\n"
+           "  entries <key>.lod; the key hashes the file bytes, the format version and every knob\n"
+           "  ('prw cache clear lod' empties it).\n"
            "options:\n"
            "  --out FILE.lod             also write the hierarchy here (atomically)\n"
            "  --no-cache                 neither read nor write the cache\n"
@@ -122,7 +123,7 @@ int prw_cmd_bake(int argc, char **argv)
         else printf("cache not used\n");
         if (out) printf("wrote %s\n", out);
     }
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
     prw_args_free(&a);
     return rc;
 }

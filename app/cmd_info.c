@@ -121,7 +121,7 @@ int prw_cmd_info(int argc, char **argv)
     for (uint32_t i = 0; i < s->camera_count; i++)
         printf("  camera %-16s yfov %.1f deg, EV100 %.2f\n", s->cameras[i].name, s->cameras[i].yfov * 180.0 / PRW_PI,
                s->cameras[i].ev100);
-    int rc = print_graph(s, (uint32_t)views, w, h, &e) ? 0 : 1;
+    int rc = prw_app_bake_scene(s, &e) && print_graph(s, (uint32_t)views, w, h, &e) ? 0 : 1;
     if (rc) fprintf(stderr, "prw: error: %s\n", e.msg);
     prw_scene_destroy(s);
     prw_args_free(&a);

@@ -161,6 +161,7 @@ int prw_cmd_reference(int argc, char **argv)
     prw_view view;
     if (!prw_app_load_scene(scene_path, &scene, &e)) goto done;
     if (!prw_ref_view_for_camera(scene, camera, width, height, &view, &e)) goto done;
+    if (!prw_app_bake_scene(scene, &e)) goto done;
     double t0 = prw_now();
     if (!prw_ref_create(scene, view.eye, prw_threads_get(), &r, &e)) goto done;
     double t_build = prw_now() - t0;

@@ -207,6 +207,7 @@ static int prw_render_job_run(const render_job *job)
     }
     prw_view view;
     if (!prw_view_from_camera(scene, cam, job->width, job->height, &view, &e)) goto done;
+    if (!prw_app_bake_scene(scene, &e)) goto done;
     if (job->has_ev) view.ev100 = job->ev100;
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,

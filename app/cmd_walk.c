@@ -296,6 +296,7 @@ static int walk_run(const walk_opts *o)
         goto done;
     prw_view view;
     if (!prw_view_from_camera(c.scene, cam, o->w, o->h, &view, &e)) goto done;
+    if (!prw_app_bake_scene(c.scene, &e)) goto done;
     const double ev100 = view.ev100, yfov = c.scene->cameras[cam].yfov;
     const double znear = c.scene->cameras[cam].znear > 0 ? c.scene->cameras[cam].znear : 0.05;
     {

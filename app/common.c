@@ -1,8 +1,10 @@
 #define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "app.h"
+#include "prw_bake_scene.h"
 #include "prw_demo.h"
 
 prw_global_opts g_prw_opts;
@@ -20,6 +22,15 @@ bool prw_app_load_scene(const char *path, prw_scene **out, prw_error *e)
     *out = s;
     return true;
 }
+
+static void bake_progress(void *user, const char *line)
+{
+    (void)user;
+    prw_log(PRW_LOG_INFO, "%s", line);
+    fflush(stderr);
+}
+
+bool prw_app_bake_scene(prw_scene *s, prw_error *e) { return prw_bake_scene(s, bake_progress, NULL, e); }
 
 bool prw_app_create_gpu(bool present, prw_gpu **out, prw_error *e)
 {

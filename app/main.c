@@ -28,6 +28,7 @@ static void usage(FILE *f)
             "  bench-merge DIR1 DIR2 ... --out DIR   join the outputs of bench --shard runs bit-exactly\n"
             "  tmbench         selective vs full local tone mapping: quality and speed of the passes alone\n"
             "  bake MODEL      build / cache the LOD hierarchy of a trimmed-NURBS model (.igs, .iges, .json)\n"
+            "  cache clear [KIND]  remove cached entries (LOD hierarchies, references, ...); rebuilt on demand\n"
             "  SCENE is a manifest (.json) or 'demo' (the default).  'prw COMMAND --help' for options.\n"
             "\n"
             "global options:\n"
@@ -114,6 +115,7 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "bench-merge") == 0) return prw_cmd_bench_merge(sub_argc, sub_argv);
     if (strcmp(cmd, "tmbench") == 0) return prw_cmd_tmbench(sub_argc, sub_argv);
     if (strcmp(cmd, "bake") == 0) return prw_cmd_bake(sub_argc, sub_argv);
+    if (strcmp(cmd, "cache") == 0) return prw_cmd_cache(sub_argc, sub_argv);
     if (strcmp(cmd, "help") == 0) {
         usage(stdout);
         return 0;

@@ -59,6 +59,7 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     prw_view centre;
     uint32_t cw = job->hmd ? 64 : job->width, ch = job->hmd ? 64 : job->height;
     if (!prw_view_from_camera(scene, cam, cw, ch, &centre, &e)) goto done;
+    if (!prw_app_bake_scene(scene, &e)) goto done;
     if (job->has_ev) centre.ev100 = job->ev100;
     if (job->hmd) {
         if (!prw_stereo_setup_hmd(&centre, &hmd, job->width, job->height, &st, &e)) goto done;

@@ -204,15 +204,3 @@ bool prw_mkdirs(const char *dir, prw_error *e)
     }
     return true;
 }
-
-bool prw_cache_dir(const char *sub, const char *who, bool create, char *buf, size_t cap, prw_error *e)
-{
-    const char *d = getenv("PRW_CACHE_DIR"), *x = getenv("XDG_CACHE_HOME"), *h = getenv("HOME");
-    int n;
-    if (d && d[0]) n = snprintf(buf, cap, "%s/%s", d, sub);
-    else if (x && x[0]) n = snprintf(buf, cap, "%s/prw/%s", x, sub);
-    else if (h && h[0]) n = snprintf(buf, cap, "%s/.cache/prw/%s", h, sub);
-    else return prw_fail(e, "%s: no PRW_CACHE_DIR, XDG_CACHE_HOME or HOME", who);
-    if (n < 0 || (size_t)n >= cap) return prw_fail(e, "%s: directory path too long", who);
-    return !create || prw_mkdirs(buf, e);
-}

@@ -65,13 +65,16 @@ bool prw_write_file_atomic(const char *path, const void *data, size_t size, prw_
 bool prw_mkdirs(const char *dir, prw_error *e);
 /* The project's cache directory for one kind of entry: $PRW_CACHE_DIR/<sub>, else
  * $XDG_CACHE_HOME/prw/<sub>, else $HOME/.cache/prw/<sub>; created when create is true.  `who`
- * prefixes the errors (e.g. "LOD cache"). */
+ * prefixes the errors (e.g. "LOD cache").  Part of the cache store (core/cache.c, prw_cache.h:
+ * keys, entry paths, atomic stores, clearing). */
 bool prw_cache_dir(const char *sub, const char *who, bool create, char *buf, size_t cap, prw_error *e);
 
 /* Monotonic clock in seconds. */
 double prw_now(void);
 
-/* 64-bit FNV-1a, for cache keys and content hashes. */
+/* 64-bit FNV-1a (prime 1099511628211) from the offset basis 1469598103934665603 XOR seed — one digit
+ * short of the published basis 14695981039346656037; kept, since every cache key and .lod checksum
+ * depends on it.  For cache keys and content hashes. */
 uint64_t prw_hash64(const void *data, size_t n, uint64_t seed);
 
 #define PRW_ARRAY_LEN(a) (sizeof(a) / sizeof((a)[0]))

@@ -1,18 +1,25 @@
-/* bake_scene.c — see prw_bake_scene.h. */
+/* bake_scene.c — the hierarchies of a scene's NURBS entries (prw_bake_scene.h). */
 #include "prw_bake_scene.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
-#include "prw_lod_node.h"
-
-static void say(prw_bake_progress_fn progress, void *user, const char *fmt, const char *a, double x)
+/* "lod: <name>: hierarchy from the cache" (seconds < 0) or "... built in <seconds> s" */
+static void say(prw_bake_progress_fn progress, void *user, const char *name, double seconds)
 {
     if (!progress) return;
     char line[1400];
-    snprintf(line, sizeof line, fmt, a, x);
+    if (seconds < 0) snprintf(line, sizeof line, "lod: %s: hierarchy from the cache", name);
+    else snprintf(line, sizeof line, "lod: %s: hierarchy built in %.2f s", name, seconds);
+    progress(user, line);
+}
+
+static void warn(prw_bake_progress_fn progress, void *user, const char *name, const char *w)
+{
+    if (!progress || !w[0]) return;
+    char line[1400];
+    snprintf(line, sizeof line, "lod: %s: %.1300s", name, w);
     progress(user, line);
 }
 
@@ -20,32 +27,31 @@ static void say(prw_bake_progress_fn progress, void *user, const char *fmt, cons
 static bool procedural_hierarchy(const prw_scene_nurbs *n, const prw_nurbs_model *m, const prw_bake_options *o,
                                  prw_bake_progress_fn progress, void *user, prw_baked_lod **out, prw_error *e)
 {
-    char input[64], key[33], dir[4000], path[4200];
+    char input[64], key[33], path[4200], warning[1024];
     snprintf(input, sizeof input, "procedural:%016llx", (unsigned long long)prw_scene_nurbs_model_hash(m));
     prw_bake_key(input, strlen(input), PRW_MODEL_JSON, o, key);
-    prw_error ce;
-    bool cache = prw_bake_cache_dir(dir, sizeof dir, true, &ce);
-    if (cache) {
-        snprintf(path, sizeof path, "%s/%s.lod", dir, key);
-        struct stat st;
-        if (stat(path, &st) == 0) {
-            prw_baked_lod *b = NULL;
-            if (prw_lod_file_read(path, &b, &ce)) {
-                if (strcmp(b->key, key) == 0 && b->lod.npatches == (int)m->count) {
-                    *out = b;
-                    say(progress, user, "lod: %s: hierarchy from the cache%.0f", n->name, 0);
-                    return true;
-                }
-                prw_baked_lod_destroy(b); /* another key: rebuilt and overwritten below */
-            }
+    prw_baked_lod *b = NULL;
+    if (prw_bake_cache_load(key, &b, path, sizeof path, warning, sizeof warning)) {
+        if (b->lod.npatches == (int)m->count) {
+            *out = b;
+            say(progress, user, n->name, -1);
+            return true;
         }
+        snprintf(warning, sizeof warning, "corrupt cache entry rebuilt: %.900s: %d patches, the model %zu surfaces",
+                 path, b->lod.npatches, m->count);
+        prw_lod_file_destroy(b);
     }
+    warn(progress, user, n->name, warning);
     double t0 = prw_now();
     if (!prw_baked_lod_build(m, o, out, NULL, NULL, e))
         return prw_fail_wrap(e, "procedural NURBS model '%s'", n->procedural);
     snprintf((*out)->key, sizeof (*out)->key, "%s", key);
-    say(progress, user, "lod: %s: hierarchy built in %.2f s", n->name, prw_now() - t0);
-    if (cache) prw_lod_file_write(path, *out, &ce); /* best effort */
+    say(progress, user, n->name, prw_now() - t0);
+    prw_error ce;
+    if (path[0] && !prw_bake_cache_store(key, *out, NULL, 0, &ce)) {
+        snprintf(warning, sizeof warning, "cache not written: %.900s", ce.msg);
+        warn(progress, user, n->name, warning);
+    }
     return true;
 }
 
@@ -66,13 +72,30 @@ bool prw_bake_scene_entry(const prw_scene_nurbs *n, const prw_nurbs_model *m, pr
     if (!n->file[0]) return procedural_hierarchy(n, m, &o, progress, user, out, e);
     prw_bake_result br;
     if (!prw_bake_run(n->file, &o, false, out, &br, NULL, NULL, e)) return false;
-    say(progress, user, br.cache_hit ? "lod: %s: hierarchy from the cache%.0f" : "lod: %s: hierarchy built in %.2f s",
-        n->name, br.seconds_total);
+    warn(progress, user, n->name, br.warning);
+    say(progress, user, n->name, br.cache_hit ? -1 : br.seconds_total);
     int np = (*out)->lod.npatches;
     if (np != (int)m->count) {
-        prw_baked_lod_destroy(*out);
+        prw_lod_file_destroy(*out);
         *out = NULL;
         return prw_fail(e, "%s: hierarchy has %d patches, the model %zu surfaces", n->file, np, m->count);
+    }
+    return true;
+}
+
+bool prw_bake_scene(prw_scene *s, prw_bake_progress_fn progress, void *user, prw_error *e)
+{
+    for (uint32_t i = 0; i < s->nurbs_count; i++) {
+        if (prw_scene_nurbs_baked(s, i, NULL, NULL, NULL)) continue; /* already attached */
+        const prw_scene_nurbs *n = &s->nurbs[i];
+        prw_nurbs_model m;
+        prw_baked_lod *b = NULL;
+        if (!prw_scene_nurbs_load(n, &m, e)) return prw_fail_wrap(e, "NURBS model '%s'", n->name);
+        if (!prw_bake_scene_entry(n, &m, progress, user, &b, e)) {
+            prw_nurbs_model_free(&m);
+            return prw_fail_wrap(e, "NURBS model '%s'", n->name);
+        }
+        if (!prw_scene_nurbs_attach(s, i, &m, b, e)) return false; /* both freed */
     }
     return true;
 }

@@ -1,4 +1,4 @@
-/* Building hierarchies and the content-addressed cache (see prw_bake.h). */
+/* prw_bake.c — building hierarchies and their cache entries (prw_bake.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <stdarg.h>
@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "prw_bake.h"
+#include "prw_cache.h"
 #include "prw_iges.h"
 #include "prw_lod_orient.h"
 #include "prw_nurbs_json.h"
@@ -85,11 +86,6 @@ bool prw_baked_lod_build(const prw_nurbs_model *m, const prw_bake_options *o, pr
     return true;
 }
 
-bool prw_bake_cache_dir(char *buf, size_t cap, bool create, prw_error *e)
-{
-    return prw_cache_dir("lod", "LOD cache", create, buf, cap, e);
-}
-
 bool prw_model_kind_from_path(const char *path, prw_model_kind *kind)
 {
     const char *dot = strrchr(path, '.');
@@ -100,53 +96,60 @@ bool prw_model_kind_from_path(const char *path, prw_model_kind *kind)
     return true;
 }
 
-typedef struct kbuf {
-    uint8_t b[256];
-    size_t n;
-} kbuf;
-
-static void kput(kbuf *k, const void *p, size_t n)
-{
-    if (k->n + n <= sizeof k->b) memcpy(k->b + k->n, p, n);
-    k->n += n;
-}
-
-static void kput_u64(kbuf *k, uint64_t v)
-{
-    uint8_t t[8];
-    for (int i = 0; i < 8; i++) t[i] = (uint8_t)(v >> (8 * i));
-    kput(k, t, 8);
-}
-
-static void kput_f64(kbuf *k, double v)
-{
-    uint64_t u;
-    memcpy(&u, &v, 8);
-    kput_u64(k, u);
-}
-
 void prw_bake_key(const void *input, size_t n, prw_model_kind kind, const prw_bake_options *o, char key[33])
 {
     prw_bake_options opt = o ? *o : (prw_bake_options){0};
-    kbuf k = {.n = 0};
-    const char *tag = "prw-lod-key", *algo = PRW_BAKE_ALGO_VERSION;
-    kput(&k, tag, strlen(tag) + 1);
-    kput_u64(&k, PRW_LOD_FILE_VERSION);
-    kput(&k, algo, strlen(algo) + 1);
-    kput_u64(&k, (uint64_t)kind);
-    kput_f64(&k, opt.seam.tol);
-    kput_f64(&k, opt.seam.chord);
-    kput_f64(&k, opt.seam.max_edge);
-    kput_u64(&k, (uint64_t)(int64_t)opt.lod.levels);
-    kput_f64(&k, opt.lod.tau0);
-    kput_u64(&k, (uint64_t)(int64_t)opt.lod.max_cells);
-    kput_u64(&k, (uint64_t)(int64_t)opt.lod.max_patch_triangles);
-    kput_f64(&k, opt.lod.finest_rel);
-    kput_u64(&k, (uint64_t)n);
-    uint64_t a = prw_hash64(k.b, k.n, 0), b = prw_hash64(k.b, k.n, 0x9e3779b97f4a7c15ull);
-    a = prw_hash64(input, n, a);
-    b = prw_hash64(input, n, b);
-    snprintf(key, 33, "%016llx%016llx", (unsigned long long)a, (unsigned long long)b);
+    prw_cache_key k;
+    prw_cache_key_begin(&k, "prw-lod-key");
+    prw_cache_key_add_u64(&k, PRW_LOD_FILE_VERSION);
+    prw_cache_key_add_str(&k, PRW_BAKE_ALGO_VERSION);
+    prw_cache_key_add_u64(&k, (uint64_t)kind);
+    prw_cache_key_add_f64(&k, opt.seam.tol);
+    prw_cache_key_add_f64(&k, opt.seam.chord);
+    prw_cache_key_add_f64(&k, opt.seam.max_edge);
+    prw_cache_key_add_u64(&k, (uint64_t)(int64_t)opt.lod.levels);
+    prw_cache_key_add_f64(&k, opt.lod.tau0);
+    prw_cache_key_add_u64(&k, (uint64_t)(int64_t)opt.lod.max_cells);
+    prw_cache_key_add_u64(&k, (uint64_t)(int64_t)opt.lod.max_patch_triangles);
+    prw_cache_key_add_f64(&k, opt.lod.finest_rel);
+    prw_cache_key_add_u64(&k, (uint64_t)n);
+    prw_cache_key_finish(&k, input, n, key);
+}
+
+bool prw_bake_cache_load(const char *key, prw_baked_lod **out, char *path, size_t path_cap, char *warning, size_t wcap)
+{
+    *out = NULL;
+    warning[0] = '\0';
+    prw_error e;
+    if (!prw_cache_path(PRW_BAKE_CACHE_KIND, key, "lod", false, path, path_cap, &e)) {
+        snprintf(warning, wcap, "cache disabled: %.900s", e.msg);
+        path[0] = '\0';
+        return false;
+    }
+    struct stat st;
+    if (stat(path, &st) != 0) return false; /* a miss */
+    prw_baked_lod *b;
+    if (!prw_lod_file_read(path, &b, &e)) {
+        snprintf(warning, wcap, "corrupt cache entry rebuilt: %.900s", e.msg);
+        return false;
+    }
+    if (strcmp(b->key, key) != 0) {
+        snprintf(warning, wcap, "corrupt cache entry rebuilt: %.900s: holds key %.32s", path, b->key);
+        prw_lod_file_destroy(b);
+        return false;
+    }
+    *out = b;
+    return true;
+}
+
+bool prw_bake_cache_store(const char *key, const prw_baked_lod *b, char *path, size_t path_cap, prw_error *e)
+{
+    uint8_t *d;
+    size_t n;
+    prw_lod_file_serialize(b, &d, &n);
+    bool ok = prw_cache_store(PRW_BAKE_CACHE_KIND, key, "lod", d, n, path, path_cap, e);
+    free(d);
+    return ok;
 }
 
 static bool parse_model(const char *path, prw_model_kind kind, const char *data, size_t n, prw_nurbs_model *m,
@@ -176,37 +179,20 @@ bool prw_bake_run(const char *model_path, const prw_bake_options *o, bool no_cac
     size_t n;
     if (!prw_read_file(model_path, &data, &n, e)) return false;
     prw_bake_key(data, n, kind, o, r->key);
-    char dir[4000];
     bool use_cache = !no_cache;
     if (use_cache) {
-        prw_error ce;
-        if (!prw_bake_cache_dir(dir, sizeof dir, true, &ce)) {
-            snprintf(r->warning, sizeof r->warning, "cache disabled: %.900s", ce.msg);
-            use_cache = false;
-        } else {
-            snprintf(r->cache_path, sizeof r->cache_path, "%s/%s.lod", dir, r->key);
+        prw_baked_lod *b;
+        bool hit = prw_bake_cache_load(r->key, &b, r->cache_path, sizeof r->cache_path, r->warning, sizeof r->warning);
+        if (hit) {
+            free(data);
+            r->cache_hit = true;
+            r->surfaces = b->graph.npatches;
+            r->seconds_total = prw_now() - t_start;
+            say(progress, user, "cache hit: %s", r->cache_path);
+            *out = b;
+            return true;
         }
-    }
-    if (use_cache) {
-        struct stat st;
-        if (stat(r->cache_path, &st) == 0) {
-            prw_error le;
-            prw_baked_lod *b;
-            if (prw_lod_file_read(r->cache_path, &b, &le)) {
-                if (strcmp(b->key, r->key) == 0) {
-                    free(data);
-                    r->cache_hit = true;
-                    r->surfaces = b->graph.npatches;
-                    r->seconds_total = prw_now() - t_start;
-                    say(progress, user, "cache hit: %s", r->cache_path);
-                    *out = b;
-                    return true;
-                }
-                snprintf(le.msg, sizeof le.msg, "%.900s: holds key %.32s", r->cache_path, b->key);
-                prw_baked_lod_destroy(b);
-            }
-            snprintf(r->warning, sizeof r->warning, "corrupt cache entry rebuilt: %.900s", le.msg);
-        }
+        use_cache = r->cache_path[0] != '\0';
     }
     double t0 = prw_now();
     prw_nurbs_model m;
@@ -230,7 +216,7 @@ bool prw_bake_run(const char *model_path, const prw_bake_options *o, bool no_cac
     memcpy(b->key, r->key, sizeof b->key);
     if (use_cache) {
         prw_error we;
-        if (prw_lod_file_write(r->cache_path, b, &we)) {
+        if (prw_bake_cache_store(r->key, b, r->cache_path, sizeof r->cache_path, &we)) {
             r->cache_written = true;
             say(progress, user, "cached: %s", r->cache_path);
         } else {

@@ -125,7 +125,9 @@ bool prw_ref_view_for_camera(const prw_scene *s, const char *camera, uint32_t wi
                              prw_error *e);
 
 /* Builds the Embree scene (camera-relative to `origin`, normally the view's eye), emitter tables
- * and the environment distribution (reads the environment EXR).  threads: 0 = prw_threads_get(). */
+ * and the environment distribution (reads the environment EXR).  threads: 0 = prw_threads_get().
+ * NURBS entries use the model and hierarchy attached to the scene (engine/bake's prw_bake_scene
+ * must have run; otherwise "reference: NURBS entry '<name>' has no baked hierarchy: ..."). */
 bool prw_ref_create(const prw_scene *s, prw_dvec3 origin, int threads, prw_ref_renderer **out, prw_error *e);
 void prw_ref_destroy(prw_ref_renderer *r);
 

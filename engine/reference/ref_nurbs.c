@@ -1,8 +1,10 @@
 /* ref_nurbs — the scene's trimmed-NURBS models in the reference path tracer (issue 7: "the
  * reference renders the finest tessellation ... with normals from the exact surface").
  *
- * Each entry's hierarchy comes from prw_bake_scene_entry — the same cache and the same level 0 the
- * rasterizer's LOD models refine to — and level 0 with every segment at level 0 (all sewing points:
+ * Each entry's model and hierarchy are the ones the baker attached to the scene (engine/bake's
+ * prw_bake_scene; read with prw_scene_nurbs_baked, nothing is loaded or built here, and the reference
+ * does not link the baker) — the same level 0 the rasterizer's LOD models refine to — and level 0
+ * with every segment at level 0 (all sewing points:
  * watertight) becomes one prw_mesh per entry: positions in model metres, normals evaluated on the
  * exact surface at each vertex's (u, v) (prw_nurbs_surface_normal, defined at poles), (u, v) as
  * texture coordinates.  Between vertices the normal is interpolated; the tessellation's error bound
@@ -18,7 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "prw_bake_scene.h"
 #include "prw_lod_node.h"
 #include "ref_internal.h"
 
@@ -72,15 +73,12 @@ static void append_patch(const prw_lod_model *lm, const prw_nurbs_surface *surf,
     }
 }
 
-static bool entry_mesh(const prw_scene_nurbs *n, prw_mesh *out, double *err, prw_error *e)
+static bool entry_mesh(const prw_scene *s, uint32_t i, prw_mesh *out, double *err, prw_error *e)
 {
-    prw_nurbs_model m;
-    prw_baked_lod *b = NULL;
-    if (!prw_scene_nurbs_load(n, &m, e)) return prw_fail_wrap(e, "reference: NURBS model '%s'", n->name);
-    if (!prw_bake_scene_entry(n, &m, NULL, NULL, &b, e)) {
-        prw_nurbs_model_free(&m);
-        return prw_fail_wrap(e, "reference: NURBS model '%s'", n->name);
-    }
+    const prw_scene_nurbs *n = &s->nurbs[i];
+    const prw_nurbs_model *m;
+    const prw_baked_lod *b;
+    if (!prw_scene_nurbs_baked(s, i, &m, &b, e)) return prw_fail_wrap(e, "reference");
     const prw_lod_model *lm = &b->lod;
     int nseg = lm->g->nsegs;
     int *seg0 = prw_calloc(nseg > 0 ? (size_t)nseg : 1, sizeof(int));
@@ -93,13 +91,11 @@ static bool entry_mesh(const prw_scene_nurbs *n, prw_mesh *out, double *err, prw
     *err = 0;
     for (int p = 0; p < lm->npatches; p++) {
         if (!lm->patches[p].ok) continue;
-        append_patch(lm, &m.surfaces[p].surface, p, seg0, &em, out, &vcap, &icap);
+        append_patch(lm, &m->surfaces[p].surface, p, seg0, &em, out, &vcap, &icap);
         *err = fmax(*err, lm->patches[p].err[0]);
     }
     prw_lod_mesh_free(&em);
     free(seg0);
-    prw_baked_lod_destroy(b);
-    prw_nurbs_model_free(&m);
     if (out->index_count == 0) return prw_fail(e, "reference: NURBS model '%s': no triangles at level 0", n->name);
     prw_mesh_generate_tangents(out);
     prw_dvec3 lo = prw_v3(INFINITY, INFINITY, INFINITY), hi = prw_v3(-INFINITY, -INFINITY, -INFINITY);
@@ -139,7 +135,7 @@ bool ref_nurbs_add(prw_ref_renderer *r, prw_error *e)
         if (n->material < 0 || (uint32_t)n->material >= s->material_count || n->node < 0 ||
             (uint32_t)n->node >= s->node_count)
             return prw_fail(e, "reference: NURBS model '%s': material or node index out of range", n->name);
-        if (!entry_mesh(n, &r->nurbs_meshes[i], &r->nurbs_err[i], e)) return false;
+        if (!entry_mesh(s, i, &r->nurbs_meshes[i], &r->nurbs_err[i], e)) return false;
         r->nurbs_mesh_count = i + 1;
         for (int gj = 0; gj < n->grid[1]; gj++)
             for (int gi = 0; gi < n->grid[0]; gi++) {

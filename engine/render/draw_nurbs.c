@@ -94,7 +94,7 @@ static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
 static bool create(const prw_render_env *env, void **state, prw_error *e)
 {
     prw_lod_scene *ls = NULL;
-    bool ok = prw_lod_scene_create(env->gpu, env->scene, NULL, NULL, &ls, e);
+    bool ok = prw_lod_scene_create(env->gpu, env->scene, env->desc->quality.lod_pixel_tolerance, &ls, e);
     *state = ls;
     return ok;
 }

@@ -1,17 +1,17 @@
-/* lod_scene — the scene's NURBS models for a renderer: hierarchies from the bake cache (or built and
- * cached), one prw_lod_gpu per model, per-frame update of every instance (prw_lod_render.h). */
+/* lod_scene — the scene's NURBS models for a renderer: the hierarchies the baker attached to the
+ * scene (engine/bake's prw_bake_scene; nothing is loaded or built here), one prw_lod_gpu per model,
+ * per-frame update of every instance (prw_lod_render.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "prw_bake_scene.h"
 #include "prw_lod_node.h"
 #include "prw_lod_render.h"
 
 typedef struct lod_entry {
     prw_scene_nurbs desc;
-    prw_nurbs_model model;
-    prw_baked_lod *baked;
+    const prw_nurbs_model *model; /* the scene's (attached by the baker) */
+    const prw_baked_lod *baked;   /* the scene's */
     prw_lod_gpu *gpu;
     uint32_t instances;
 } lod_entry;
@@ -23,8 +23,7 @@ struct prw_lod_scene {
     prw_lod_frame_report last;
 };
 
-bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, prw_lod_progress_fn progress, void *user,
-                          prw_lod_scene **out, prw_error *e)
+bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, double tol_px, prw_lod_scene **out, prw_error *e)
 {
     *out = NULL;
     if (!s->nurbs_count) return true;
@@ -36,13 +35,14 @@ bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, prw_lod_progress_fn 
         lod_entry *en = &ls->entries[i];
         en->desc = s->nurbs[i];
         ls->count = i + 1;
-        ok = prw_scene_nurbs_load(&en->desc, &en->model, e);
+        ok = prw_scene_nurbs_baked(s, i, &en->model, &en->baked, e);
         if (!ok) break;
-        ok = prw_bake_scene_entry(&en->desc, &en->model, progress, user, &en->baked, e);
         en->instances = (uint32_t)(en->desc.grid[0] * en->desc.grid[1]);
-        prw_lod_gpu_options go = {.tol_px = en->desc.tol_px, .single_sided = en->desc.single_sided};
-        if (ok && en->baked->have_proxy) go.proxy = &en->baked->proxy; /* baked: not rebuilt here */
-        ok = ok && prw_lod_gpu_create(gpu, &en->baked->lod, &en->model, en->instances, &go, &en->gpu, e);
+        /* the entry's own tolerance, else the renderer's knob lod_pixel_tolerance */
+        prw_lod_gpu_options go = {.tol_px = en->desc.tol_px > 0 ? en->desc.tol_px : tol_px,
+                                  .single_sided = en->desc.single_sided};
+        if (en->baked->have_proxy) go.proxy = &en->baked->proxy; /* baked: not rebuilt here */
+        ok = prw_lod_gpu_create(gpu, &en->baked->lod, en->model, en->instances, &go, &en->gpu, e);
         if (!ok) prw_fail_wrap(e, "NURBS model '%s'", en->desc.name);
     }
     if (!ok) {
@@ -58,9 +58,7 @@ void prw_lod_scene_destroy(prw_lod_scene *ls)
     if (!ls) return;
     for (uint32_t i = 0; i < ls->count; i++) {
         lod_entry *en = &ls->entries[i];
-        prw_lod_gpu_destroy(en->gpu);
-        prw_baked_lod_destroy(en->baked);
-        prw_nurbs_model_free(&en->model);
+        prw_lod_gpu_destroy(en->gpu); /* the model and its hierarchy belong to the scene */
     }
     free(ls->entries);
     free(ls);

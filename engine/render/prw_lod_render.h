@@ -61,15 +61,15 @@
  *    CPU time of the selection and of the buffer update.
  *
  * prw_lod_scene: the scene's NURBS entries (prw_scene.h, prw_scene_nurbs) for a renderer: each entry's
- * hierarchy is loaded from the bake cache ($PRW_CACHE_DIR/lod, engine/bake) or built and cached —
- * files through prw_bake_run (the `prw bake` key), procedural models with the key of their content
- * hash — and one prw_lod_gpu serves its instance grid.
+ * model and hierarchy are the ones the baker attached to the scene (engine/bake's prw_bake_scene,
+ * read with prw_scene_nurbs_baked: nothing is loaded or built here, and the renderer does not link
+ * the baker), borrowed for the renderer's life; one prw_lod_gpu serves its instance grid.
  */
 #ifndef PRW_LOD_RENDER_H
 #define PRW_LOD_RENDER_H
 
-#include "prw_bake.h"
 #include "prw_gpu.h"
+#include "prw_lod_file.h"
 #include "prw_lod_select.h"
 #include "prw_scene.h"
 #include "prw_view.h"
@@ -163,11 +163,11 @@ void prw_lod_gpu_model_view(const prw_lod_gpu *g, prw_dmat4 world, const prw_vie
 /* ---- the scene's NURBS models ---- */
 typedef struct prw_lod_scene prw_lod_scene;
 
-typedef void (*prw_lod_progress_fn)(void *user, const char *line);
-/* Loads / builds every hierarchy of s->nurbs (NULL progress: silent).  *out is NULL (and true) for a
- * scene without NURBS models. */
-bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, prw_lod_progress_fn progress, void *user,
-                          prw_lod_scene **out, prw_error *e);
+/* One prw_lod_gpu per entry of s->nurbs, on the model and hierarchy attached to the scene (s must be
+ * baked: prw_bake_scene; otherwise fails with "NURBS entry '<name>' has no baked hierarchy: ...").
+ * s must outlive *out.  An entry without its own tol_px uses tol_px (the renderer passes its knob
+ * lod_pixel_tolerance; 0: 0.5).  *out is NULL (and true) for a scene without NURBS models. */
+bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, double tol_px, prw_lod_scene **out, prw_error *e);
 void prw_lod_scene_destroy(prw_lod_scene *ls);
 /* Per frame: every instance of every model for the view set; the report is also kept (last_report). */
 bool prw_lod_scene_update(prw_lod_scene *ls, const prw_view *views, uint32_t count, prw_error *e);

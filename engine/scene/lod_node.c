@@ -1,12 +1,14 @@
 /* lod_node — loading the NURBS model of a scene entry (prw_lod_node.h). */
 #include "prw_lod_node.h"
 
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
 #include "prw_iges.h"
 #include "prw_nurbs_json.h"
 #include "prw_nurbs_procedural.h"
+#include "scene_internal.h"
 
 bool prw_scene_nurbs_procedural_known(const char *name)
 {
@@ -82,4 +84,51 @@ uint64_t prw_scene_nurbs_model_hash(const prw_nurbs_model *m)
         }
     }
     return h;
+}
+
+/* ---- attachments ---- */
+
+void prw_scene_nurbs_baked_free(struct prw_scene_nurbs_baked *b)
+{
+    if (b->model) prw_nurbs_model_free(b->model);
+    free(b->model);
+    prw_lod_file_destroy(b->lod);
+    b->model = NULL;
+    b->lod = NULL;
+}
+
+bool prw_scene_nurbs_attach(prw_scene *s, uint32_t i, prw_nurbs_model *m, prw_baked_lod *lod, prw_error *e)
+{
+    bool ok = true;
+    if (i >= s->nurbs_count) ok = prw_fail(e, "scene: no NURBS entry %u (of %u)", i, s->nurbs_count);
+    else if (!lod || lod->lod.npatches != (int)m->count)
+        ok = prw_fail(e, "NURBS entry '%s': hierarchy has %d patches, the model %zu surfaces", s->nurbs[i].name,
+                      lod ? lod->lod.npatches : 0, m->count);
+    if (!ok) {
+        prw_nurbs_model_free(m);
+        prw_lod_file_destroy(lod);
+        return false;
+    }
+    struct prw_scene_nurbs_baked *b = &s->nurbs_baked[i];
+    prw_scene_nurbs_baked_free(b);
+    b->model = prw_malloc(sizeof *b->model);
+    *b->model = *m;
+    prw_nurbs_model_init(m);
+    b->lod = lod;
+    return true;
+}
+
+bool prw_scene_nurbs_baked(const prw_scene *s, uint32_t i, const prw_nurbs_model **m, const prw_baked_lod **lod,
+                           prw_error *e)
+{
+    if (m) *m = NULL;
+    if (lod) *lod = NULL;
+    if (i >= s->nurbs_count) return prw_fail(e, "scene: no NURBS entry %u (of %u)", i, s->nurbs_count);
+    const struct prw_scene_nurbs_baked *b = &s->nurbs_baked[i];
+    if (!b->model || !b->lod)
+        return prw_fail(e, "NURBS entry '%s' has no baked hierarchy: call prw_bake_scene (engine/bake) first",
+                        s->nurbs[i].name);
+    if (m) *m = b->model;
+    if (lod) *lod = b->lod;
+    return true;
 }

@@ -127,8 +127,10 @@ typedef struct prw_environment {
 } prw_environment;
 
 /* A trimmed-NURBS model drawn with per-frame seam-graph LOD (issue 7; drawn by engine/render's
- * prw_lod_render.h, loaded by engine/scene/prw_lod_node.h).  Plain data: the scene stores where the
- * model comes from; the renderer builds (or loads from the bake cache) its hierarchy. */
+ * prw_lod_render.h, loaded by engine/scene/prw_lod_node.h).  Plain data: the entry says where the
+ * model comes from; the baker (engine/bake/prw_bake_scene.h) attaches the loaded model and its
+ * hierarchy to the scene (prw_scene_nurbs_attach, prw_lod_node.h), which the renderer and the
+ * reference then use. */
 typedef struct prw_scene_nurbs {
     char name[PRW_NAME_MAX];
     char file[1024];       /* resolved .igs/.iges/.json path; "" for a procedural model */
@@ -167,6 +169,9 @@ typedef struct prw_scene {
     prw_environment environment; /* zeroed: none */
     prw_scene_nurbs *nurbs; /* NURBS models with LOD (issue 7) */
     uint32_t nurbs_count;
+    /* per NURBS entry, what the baker attached (prw_lod_node.h: prw_scene_nurbs_attach / _baked);
+       owned by the scene */
+    struct prw_scene_nurbs_baked *nurbs_baked;
 } prw_scene;
 
 prw_scene *prw_scene_create(void);
@@ -186,7 +191,7 @@ int prw_scene_add_camera(prw_scene *s, const prw_camera *c);
 /* Normalises l->color to Y = 1; a black (or negative / non-finite) colour becomes white. */
 int prw_scene_add_light(prw_scene *s, const prw_light *l);
 /* Copies n (node and material must exist, grid >= 1; -1 otherwise); its instances' world bounds
- * count in the scene bounds. */
+ * count in the scene bounds.  The new entry has nothing attached (not baked). */
 int prw_scene_add_nurbs(prw_scene *s, const prw_scene_nurbs *n);
 
 /* Defaults: identity TRS, no parent/mesh/camera/light; material: white, roughness 1, no textures. */

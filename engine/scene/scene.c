@@ -2,6 +2,8 @@
  * camera lookup, builder helpers (box, quad, sphere), TRS decomposition, rollback. */
 #include "scene_internal.h"
 
+#include "prw_lod_node.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,7 +57,9 @@ void prw_scene_destroy(prw_scene *s)
     free(s->nodes);
     free(s->cameras);
     free(s->lights);
+    for (uint32_t i = 0; i < s->nurbs_count; i++) prw_scene_nurbs_baked_free(&s->nurbs_baked[i]);
     free(s->nurbs);
+    free(s->nurbs_baked);
     free(s);
 }
 
@@ -80,6 +84,7 @@ void prw_scene_rollback(prw_scene *s, prw_scene_mark m)
     if (m.nodes < s->node_count) s->node_count = m.nodes;
     if (m.cameras < s->camera_count) s->camera_count = m.cameras;
     if (m.lights < s->light_count) s->light_count = m.lights;
+    for (uint32_t i = m.nurbs; i < s->nurbs_count; i++) prw_scene_nurbs_baked_free(&s->nurbs_baked[i]);
     if (m.nurbs < s->nurbs_count) s->nurbs_count = m.nurbs;
 }
 
@@ -280,6 +285,8 @@ int prw_scene_add_nurbs(prw_scene *s, const prw_scene_nurbs *n)
         (uint32_t)n->material >= s->material_count || n->grid[0] < 1 || n->grid[1] < 1)
         return -1;
     s->nurbs = grow(s->nurbs, s->nurbs_count, sizeof *s->nurbs);
+    s->nurbs_baked = grow(s->nurbs_baked, s->nurbs_count, sizeof *s->nurbs_baked); /* same capacity */
+    memset(&s->nurbs_baked[s->nurbs_count], 0, sizeof *s->nurbs_baked);
     s->nurbs[s->nurbs_count] = *n;
     prw_copy_name(s->nurbs[s->nurbs_count].name, n->name);
     return (int)s->nurbs_count++;

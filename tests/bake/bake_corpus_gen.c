@@ -28,7 +28,7 @@ static int write(const char *dir, const char *name, const char *json, int levels
     prw_nurbs_model_free(&m);
     if (!ok) goto fail;
     ok = prw_lod_file_write(path, b, &e);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
     if (!ok) goto fail;
     printf("wrote %s\n", path);
     return 0;

@@ -1,4 +1,4 @@
-/* Fuzz target for the .lod reader (engine/bake): the input is parsed in memory; a failure must
+/* Fuzz target for the .lod reader (engine/scene/prw_lod_file.h): the input is parsed in memory; a failure must
  * leave one message "fuzz.lod: <reason>"; a success must give a hierarchy that selection and
  * extraction walk at every level (selection also with the file's culling data; ASan / UBSan catch
  * stray reads) with finite output positions, and proxy levels whose every index is in range.
@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "prw_bake.h"
+#include "prw_lod_file.h"
 #include "prw_lod_select.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -84,5 +84,5 @@ static void one(const uint8_t *data, size_t size)
     }
     free(lv);
     free(sl);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }

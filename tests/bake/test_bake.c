@@ -1,4 +1,4 @@
-/* engine/bake: the .lod format and the hierarchy cache.
+/* engine/bake and the .lod format it writes (engine/scene/prw_lod_file.h): the hierarchy cache.
  *  - round trip: parse(serialize(fresh build)) equals the fresh build in every array, bit for bit,
  *    and emits bit-identical meshes (vertices and indices) at every level and at random per-patch
  *    level mixes; serialize(parse(bytes)) == bytes;
@@ -14,7 +14,12 @@
  *    patch indices out of range, bad counts are refused with a message naming the problem;
  *  - single-byte mutations with a recomputed checksum either fail cleanly or give a hierarchy that
  *    selection and extraction walk without leaving their arrays (ASan / UBSan builds catch any
- *    stray read). */
+ *    stray read);
+ *  - bake_scene: before prw_bake_scene an entry has nothing attached (the message the renderer and
+ *    the reference give); after it, a file entry and a procedural entry carry their model and a
+ *    hierarchy equal, bit for bit, to prw_bake_scene_entry's, each with one progress line (built, then
+ *    from the cache for a second scene, with nothing rebuilt); a second call builds nothing and keeps
+ *    the attachments; an attachment whose patch count is not the model's is refused. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +27,7 @@
 
 #include "bake_models.h"
 #include "prw_bake.h"
+#include "prw_bake_scene.h"
 #include "prw_lod_orient.h"
 #include "prw_lod_select.h"
 #include "prw_nurbs_json.h"
@@ -230,11 +236,11 @@ static void roundtrip(const char *name, bool (*make)(prw_nurbs_model *, prw_erro
     CHECK_OK(prw_lod_file_write(path, fresh, &e), &e);
     CHECK_OK(prw_lod_file_read(path, &fromfile, &e), &e);
     CHECK(compare_baked(fresh, fromfile) == 0);
-    prw_baked_lod_destroy(fromfile);
+    prw_lod_file_destroy(fromfile);
     free(bytes);
     free(bytes2);
-    prw_baked_lod_destroy(back);
-    prw_baked_lod_destroy(fresh);
+    prw_lod_file_destroy(back);
+    prw_lod_file_destroy(fresh);
     prw_nurbs_model_free(&m);
 }
 
@@ -288,16 +294,16 @@ static void test_cache_hit(void)
     prw_bake_result r3;
     CHECK_OK(prw_bake_run(model, NULL, true, &b3, &r3, NULL, NULL, &e), &e);
     CHECK(r3.built && !r3.cache_hit && r3.cache_path[0] == '\0' && prw_bake_build_count() == builds + 2);
-    prw_baked_lod_destroy(b3);
+    prw_lod_file_destroy(b3);
     /* a changed knob is another key (and a miss) */
     prw_bake_options o;
     memset(&o, 0, sizeof o);
     o.lod.levels = 5;
     CHECK_OK(prw_bake_run(model, &o, false, &b3, &r3, NULL, NULL, &e), &e);
     CHECK(strcmp(r3.key, r1.key) != 0 && r3.built && !r3.cache_hit && b3->lod.levels == 5);
-    prw_baked_lod_destroy(b3);
-    prw_baked_lod_destroy(b1);
-    prw_baked_lod_destroy(b2);
+    prw_lod_file_destroy(b3);
+    prw_lod_file_destroy(b1);
+    prw_lod_file_destroy(b2);
 }
 
 static void test_key(void)
@@ -365,12 +371,12 @@ static void corrupt_and_rebuild(const char *what, bool truncate)
     CHECK(strstr(r.warning, truncate ? "truncated" : "checksum") != NULL);
     CHECK(prw_bake_build_count() == builds + 1);
     CHECK(compare_baked(ref, b) == 0);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
     /* the rewritten entry is whole again: the next run is a hit */
     CHECK_OK(prw_bake_run(model, NULL, false, &b, &r, NULL, NULL, &e), &e);
     CHECK(r.cache_hit && r.warning[0] == '\0');
-    prw_baked_lod_destroy(b);
-    prw_baked_lod_destroy(ref);
+    prw_lod_file_destroy(b);
+    prw_lod_file_destroy(ref);
 }
 
 static void test_corrupt_flip(void) { corrupt_and_rebuild("byte flipped", false); }
@@ -414,7 +420,7 @@ static void test_prefixes(void)
     prw_baked_lod *x;
     prw_error e;
     CHECK_OK(prw_lod_file_parse(full, n, "tiny.lod", &x, &e), &e);
-    prw_baked_lod_destroy(x);
+    prw_lod_file_destroy(x);
     int rejected = 0, rejected_fixed = 0, named = 0;
     for (size_t len = 0; len < n; len++) {
         uint8_t *c = prw_malloc(len + 1);
@@ -422,13 +428,13 @@ static void test_prefixes(void)
         if (!prw_lod_file_parse(c, len, "tiny.lod", &x, &e)) {
             rejected++;
             named += strncmp(e.msg, "tiny.lod: ", 10) == 0;
-        } else prw_baked_lod_destroy(x);
+        } else prw_lod_file_destroy(x);
         if (len >= PRW_LOD_HEADER_SIZE) {
             patch_header(c, len);
             if (!prw_lod_file_parse(c, len, "tiny.lod", &x, &e)) {
                 rejected_fixed++;
                 named += strncmp(e.msg, "tiny.lod: ", 10) == 0;
-            } else prw_baked_lod_destroy(x);
+            } else prw_lod_file_destroy(x);
         }
         free(c);
     }
@@ -439,7 +445,7 @@ static void test_prefixes(void)
     CHECK((size_t)rejected_fixed == fixed);
     CHECK((size_t)named == n + fixed);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 static void test_mutations(void)
@@ -485,7 +491,7 @@ static void test_mutations(void)
             prw_lod_mesh_free(&mesh);
             free(lv);
             free(sl);
-            prw_baked_lod_destroy(x);
+            prw_lod_file_destroy(x);
         }
     }
     printf("  %zu single-byte mutations (checksum recomputed): %d rejected, %d parsed and walked\n",
@@ -494,7 +500,7 @@ static void test_mutations(void)
     CHECK(rejected > 0);
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 static void test_bad_header(void)
@@ -530,7 +536,7 @@ static void test_bad_header(void)
     CHECK(!prw_lod_file_read(prw_test_path("no-such.lod"), &x, &e) && strstr(e.msg, "no-such.lod"));
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 /* The culling section (format version 2) is validated like the rest: each mutation of patch 0's
@@ -564,7 +570,7 @@ static void test_bad_cull(void)
         put_f64(c + rec + cases[k].off, cases[k].v);
         patch_header(c, n);
         bool ok = prw_lod_file_parse(c, n, "c.lod", &x, &e);
-        if (ok) prw_baked_lod_destroy(x);
+        if (ok) prw_lod_file_destroy(x);
         CHECK(!ok && strstr(e.msg, cases[k].msg));
         printf("  culling mutation %zu: %s\n", k, ok ? "(parsed)" : e.msg);
     }
@@ -579,7 +585,7 @@ static void test_bad_cull(void)
     printf("  culling patch count 3: %s\n", e.msg);
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 /* The proxy section (format version 3, the file's last) is validated like the rest: each mutation
@@ -600,14 +606,14 @@ static void test_bad_proxy(void)
     prw_nurbs_model_free(&m);
     CHECK(b->have_proxy && b->proxy.nlevels >= 2);
     if (!b->have_proxy || b->proxy.nlevels < 2) {
-        prw_baked_lod_destroy(b);
+        prw_lod_file_destroy(b);
         return;
     }
     uint8_t *full;
     size_t n;
     prw_lod_file_serialize(b, &full, &n);
     CHECK_OK(prw_lod_file_parse(full, n, "p.lod", &x, &e), &e);
-    prw_baked_lod_destroy(x);
+    prw_lod_file_destroy(x);
     const prw_lod_proxy_level *l0 = &b->proxy.levels[0];
     size_t sec = n - proxy_bytes(b), lv0 = sec + 29, tris0 = lv0 + 28 + 24 * (size_t)l0->nverts,
            cp0 = tris0 + 12 * (size_t)l0->ntris, uv0 = cp0 + 12 * (size_t)l0->ntris, tp0 = uv0 + 48 * (size_t)l0->ntris,
@@ -642,7 +648,7 @@ static void test_bad_proxy(void)
         else put_f64(c + cases[k].at, cases[k].v);
         patch_header(c, n);
         bool ok = prw_lod_file_parse(c, n, "p.lod", &x, &e);
-        if (ok) prw_baked_lod_destroy(x);
+        if (ok) prw_lod_file_destroy(x);
         CHECK(!ok && strncmp(e.msg, "p.lod: ", 7) == 0 && strstr(e.msg, cases[k].msg));
         printf("  proxy mutation %zu: %s\n", k, ok ? "(parsed)" : e.msg);
     }
@@ -657,7 +663,7 @@ static void test_bad_proxy(void)
     printf("  version 2: %s\n", e.msg);
     free(c);
     free(full);
-    prw_baked_lod_destroy(b);
+    prw_lod_file_destroy(b);
 }
 
 static void test_bad_model(void)
@@ -673,6 +679,87 @@ static void test_bad_model(void)
     printf("  malformed model: %s\n", e.msg);
     CHECK(!prw_bake_run(prw_test_path("missing.igs"), NULL, false, &b, &r, NULL, NULL, &e) && strstr(e.msg, "missing.igs"));
     CHECK(!prw_bake_run(prw_test_path("model.stl"), NULL, false, &b, &r, NULL, NULL, &e) && strstr(e.msg, "unknown model type"));
+}
+
+typedef struct lines {
+    char text[8][256];
+    int n;
+} lines;
+
+static void collect(void *user, const char *line)
+{
+    lines *l = user;
+    if (l->n < 8) snprintf(l->text[l->n++], sizeof l->text[0], "%s", line);
+}
+
+static prw_scene *two_entry_scene(void)
+{
+    static const char *text = "{\"prw_manifest\": 1,\n"
+                              " \"materials\": [{\"name\": \"m\"}],\n"
+                              " \"nurbs\": [{\"name\": \"two\", \"file\": \"scene-two.json\", \"material\": \"m\",\n"
+                              "             \"chord_rel\": 0.02},\n" /* coarse: cheap under ASan */
+                              "            {\"name\": \"plate\", \"procedural\": \"plate\", \"material\": \"m\", \"chord_rel\": 0.02}]}\n";
+    write_model("scene-two.json");
+    prw_scene *s = prw_scene_create();
+    prw_error e;
+    if (!prw_scene_parse_manifest(s, text, strlen(text), prw_test_path("scene.json"), &e)) {
+        fprintf(stderr, "manifest: %s\n", e.msg);
+        prw_scene_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void test_bake_scene(void)
+{
+    set_cache("bake-scene");
+    prw_scene *s = two_entry_scene();
+    CHECK(s != NULL);
+    if (!s) return;
+    prw_error e;
+    const prw_nurbs_model *m[2];
+    const prw_baked_lod *h[2];
+    CHECK(!prw_scene_nurbs_baked(s, 0, &m[0], &h[0], &e) && m[0] == NULL && h[0] == NULL &&
+          strstr(e.msg, "NURBS entry 'two' has no baked hierarchy: call prw_bake_scene"));
+    int builds = prw_bake_build_count();
+    lines l = {.n = 0};
+    CHECK_OK(prw_bake_scene(s, collect, &l, &e), &e);
+    CHECK(prw_bake_build_count() == builds + 2);
+    CHECK(l.n == 2 && strstr(l.text[0], "lod: two: hierarchy built in ") && strstr(l.text[1], "lod: plate: hierarchy built in "));
+    for (uint32_t i = 0; i < 2; i++) {
+        CHECK_OK(prw_scene_nurbs_baked(s, i, &m[i], &h[i], &e), &e);
+        CHECK(h[i]->lod.npatches == (int)m[i]->count && strlen(h[i]->key) == 32);
+        /* the same hierarchy prw_bake_scene_entry gives (now from the cache) */
+        prw_baked_lod *x;
+        CHECK_OK(prw_bake_scene_entry(&s->nurbs[i], m[i], NULL, NULL, &x, &e), &e);
+        CHECK(compare_baked(h[i], x) == 0);
+        prw_lod_file_destroy(x);
+    }
+    /* a second call builds nothing and keeps the attachments */
+    l.n = 0;
+    CHECK_OK(prw_bake_scene(s, collect, &l, &e), &e);
+    const prw_baked_lod *again;
+    CHECK(prw_scene_nurbs_baked(s, 1, NULL, &again, &e) && again == h[1] && l.n == 0);
+    /* another scene with the same entries: both from the cache */
+    prw_scene *s2 = two_entry_scene();
+    CHECK(s2 != NULL);
+    if (s2) {
+        CHECK_OK(prw_bake_scene(s2, collect, &l, &e), &e);
+        CHECK(l.n == 2 && strstr(l.text[0], "lod: two: hierarchy from the cache") &&
+              strstr(l.text[1], "lod: plate: hierarchy from the cache"));
+        const prw_baked_lod *h2;
+        CHECK(prw_scene_nurbs_baked(s2, 0, NULL, &h2, &e) && compare_baked(h[0], h2) == 0);
+        /* a hierarchy of another model is refused (and freed: the scene took it) */
+        prw_nurbs_model mm;
+        CHECK_OK(prw_scene_nurbs_load(&s2->nurbs[0], &mm, &e), &e);
+        prw_baked_lod *plate;
+        CHECK_OK(prw_bake_scene_entry(&s2->nurbs[1], m[1], NULL, NULL, &plate, &e), &e);
+        CHECK(!prw_scene_nurbs_attach(s2, 0, &mm, plate, &e) && strstr(e.msg, "patches"));
+        CHECK(mm.count == 0);
+        prw_scene_destroy(s2);
+    }
+    CHECK(prw_bake_build_count() == builds + 2);
+    prw_scene_destroy(s);
 }
 
 int main(int argc, char **argv)
@@ -691,6 +778,7 @@ int main(int argc, char **argv)
         {"bad_cull", test_bad_cull},
         {"bad_proxy", test_bad_proxy},
         {"bad_model", test_bad_model},
+        {"bake_scene", test_bake_scene},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }

@@ -26,12 +26,15 @@
  *    least 1.5x worse.
  *  - far_from_origin: the box 1e5 m from the origin (camera and light moved with it) selects the same
  *    levels and renders the same image (camera-relative floats; an absolute-float mesh would not).
+ *  - unbaked: the renderer builds no hierarchy (engine/bake is above it): a scene whose NURBS entry
+ *    was not baked (prw_bake_scene) fails renderer creation with one message naming the entry.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_bake_scene.h"
 #include "prw_image.h"
 #include "prw_lod_node.h"
 #include "prw_lod_render.h"
@@ -71,7 +74,8 @@ static const char *k_box_scene =
     " \"nurbs\": [{\"name\": \"box\", \"procedural\": \"box\", \"material\": \"glow\", \"single_sided\": true, \"tol_px\": 1}],\n"
     " \"cameras\": [{\"name\": \"main\", \"position\": [2.6, 1.9, 3.3], \"target\": [0, 0, 0], \"yfov_deg\": 55, \"ev100\": 6}]}\n";
 
-static prw_scene *load_scene(const char *text)
+/* A scene from manifest text, baked (its NURBS entries' hierarchies attached) unless bake is false. */
+static prw_scene *load_scene_baked(const char *text, bool bake)
 {
     prw_scene *s = prw_scene_create();
     prw_error e;
@@ -80,8 +84,15 @@ static prw_scene *load_scene(const char *text)
         prw_scene_destroy(s);
         return NULL;
     }
+    if (bake && !prw_bake_scene(s, NULL, NULL, &e)) {
+        fprintf(stderr, "bake: %s\n", e.msg);
+        prw_scene_destroy(s);
+        return NULL;
+    }
     return s;
 }
+
+static prw_scene *load_scene(const char *text) { return load_scene_baked(text, true); }
 
 static bool finite_image(const prw_image *im)
 {
@@ -670,6 +681,20 @@ static void test_view_set(void)
     prw_scene_destroy(s);
 }
 
+static void test_unbaked(void)
+{
+    prw_scene *s = gpu_up() ? load_scene_baked(k_box_scene, false) : NULL;
+    CHECK(s != NULL);
+    if (!s) return;
+    prw_error e = {{0}};
+    prw_renderer *r = NULL;
+    prw_render_desc rd = {.width = 64, .height = 64, .msaa = 1, .shadow_size = 256};
+    CHECK(!prw_renderer_create(g_gpu, s, &rd, &r, &e) && r == NULL);
+    printf("unbaked: %s\n", e.msg);
+    CHECK(strstr(e.msg, "NURBS entry 'box' has no baked hierarchy: call prw_bake_scene") != NULL);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -680,6 +705,7 @@ int main(int argc, char **argv)
         {"proxy_far_copies", test_proxy_far_copies},
         {"far_from_origin", test_far_from_origin},
         {"view_set", test_view_set},
+        {"unbaked", test_unbaked},
     };
     int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
     if (g_gpu) {

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_bake_scene.h"
 #include "prw_reference.h"
 #include "prw_test.h"
 
@@ -71,6 +72,10 @@ static void test_box(void)
     prw_view v;
     CHECK_OK(prw_ref_view_for_camera(s, "main", W, H, &v, &e), &e);
     prw_ref_renderer *r = NULL;
+    /* the reference only uses hierarchies baked before (engine/bake is above it) */
+    CHECK(!prw_ref_create(s, v.eye, 2, &r, &e) && r == NULL && strstr(e.msg, "NURBS entry 'box'") &&
+          strstr(e.msg, "has no baked hierarchy: call prw_bake_scene"));
+    CHECK_OK(prw_bake_scene(s, NULL, NULL, &e), &e);
     CHECK_OK(prw_ref_create(s, v.eye, 2, &r, &e), &e);
     prw_ref_desc d = {.s0 = 0, .s1 = 16, .seed = 1};
     CHECK_OK(prw_ref_filter_parse("direct", &d.filter, &e), &e);

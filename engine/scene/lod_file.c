@@ -1,4 +1,4 @@
-/* The .lod file: writer and the validating reader (see prw_bake.h). */
+/* lod_file.c — the .lod file: writer and the validating reader (prw_lod_file.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdarg.h>
@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "prw_bake.h"
+#include "prw_lod_file.h"
 
 /* ---- writer ---- */
 
@@ -655,7 +655,7 @@ static bool read_proxy(rbuf *r, prw_baked_lod *b)
     return !r->bad;
 }
 
-void prw_baked_lod_destroy(prw_baked_lod *b)
+void prw_lod_file_destroy(prw_baked_lod *b)
 {
     if (!b) return;
     prw_seam_graph *g = &b->graph;
@@ -702,7 +702,7 @@ bool prw_lod_file_parse(const void *data, size_t size, const char *name, prw_bak
     bool ok = !r.bad && read_graph(&r, b) && read_lod(&r, b) && read_cull(&r, b) && read_proxy(&r, b);
     if (ok && r.at != r.n) ok = r_fail(&r, "%zu unexplained bytes after the hierarchy", r.n - r.at);
     if (!ok) {
-        prw_baked_lod_destroy(b);
+        prw_lod_file_destroy(b);
         return false;
     }
     *out = b;
