@@ -462,6 +462,12 @@ static int walk_run(const walk_opts *o)
     }
     if (!prw_gpu_wait_idle(c.gpu, &e)) goto done;
     printf("walk: presented %ld frames, %.3f s of %s\n", frame, sim_t, o->replay ? "replay" : "simulation");
+    {
+        char diff[1024];
+        prw_quality def = prw_quality_default();
+        prw_quality_format_diff(&o->q, &def, diff, sizeof diff);
+        printf("walk: quality %s%s\n", diff[0] ? "high;" : "high (the default)", diff);
+    }
     double la;
     if (o->adapt && frame > 0 && c.level[LEVELS - 1] && prw_renderer_tonemap_adaptation(c.level[LEVELS - 1], &la))
         printf("walk: adapted luminance %.4g cd/m^2 (time constants %.3g s up, %.3g s down)\n", la,

@@ -1,5 +1,7 @@
 # Runs prw bench end to end at a tiny size and compares outputs.
-#   -DPRW=<prw>  -DWORK=<dir>  -DMODE=determinism|shards  [-DCACHE=<dir> (shards)]
+#   -DPRW=<prw>  -DWORK=<dir>  -DMODE=determinism|shards|sweep_lod  [-DCACHE=<dir> (shards)]
+# sweep_lod: `--sweep lod_pixel_tolerance=0.5,2` on a scene with a NURBS entry (no tol_px of its own)
+# must draw fewer triangles at 2 px than at 0.5 px in every frame (the knob drives the NURBS LOD).
 # Rows are compared with the timing columns (frame_ms, cpu_ms: fields 4 and 5) masked; summaries by
 # their error, noise, frame-count and memory lines.
 set(COMMON bench demo --path demo --size 64x48 --frames-limit 6 --reference-every 3 --ref-spp 4 --warmup 1)
@@ -119,6 +121,41 @@ elseif(MODE STREQUAL "shards")
   if(rc EQUAL 0 OR NOT err MATCHES "shard 1/2 is missing")
     message(FATAL_ERROR "bench-merge of one shard of two: rc ${rc}, stderr ${err}")
   endif()
+elseif(MODE STREQUAL "sweep_lod")
+  file(REMOVE_RECURSE ${WORK})
+  file(MAKE_DIRECTORY ${WORK})
+  file(WRITE ${WORK}/box.json "{\"prw_manifest\": 1,
+ \"materials\": [{\"name\": \"m\", \"base_color\": [0.6, 0.5, 0.4], \"roughness\": 0.5}],
+ \"nurbs\": [{\"name\": \"box\", \"procedural\": \"box\", \"material\": \"m\", \"single_sided\": true}],
+ \"lights\": [{\"type\": \"point\", \"position\": [3, 4, 5], \"intensity\": 3000}],
+ \"cameras\": [{\"name\": \"main\", \"position\": [3.5, 2.5, 4.5], \"target\": [0, 0, 0], \"ev100\": 7}]}\n")
+  file(WRITE ${WORK}/path.json "{\"prw_camera_path\": 1, \"fps\": 30, \"keyframes\": [
+ {\"t\": 0, \"position\": [3.5, 2.5, 4.5], \"look_at\": [0, 0, 0], \"yfov_deg\": 50},
+ {\"t\": 0.1, \"position\": [4.5, 2.5, 4.0], \"look_at\": [0, 0, 0]}]}\n")
+  run_prw(out ${PRW} bench ${WORK}/box.json ${WORK}/path.json --size 96x64 --sweep lod_pixel_tolerance=0.5,2
+          --reference-every 1000 --ref-spp 2 --warmup 1 --out ${WORK}/out)
+  file(STRINGS ${WORK}/out/frames.csv rows REGEX "^[0-9]+,")
+  set(tri0 "")
+  set(tri1 "")
+  foreach(l IN LISTS rows)
+    string(REPLACE "," ";" f "${l}")
+    list(GET f 0 cfg)
+    list(GET f 1 frame)
+    list(GET f 5 tri)
+    set(t${cfg}_${frame} ${tri})
+    list(APPEND frames ${frame})
+  endforeach()
+  list(REMOVE_DUPLICATES frames)
+  list(LENGTH frames nf)
+  if(nf LESS 2)
+    message(FATAL_ERROR "sweep_lod: ${nf} frames in frames.csv")
+  endif()
+  foreach(fr IN LISTS frames)
+    message("frame ${fr}: ${t0_${fr}} triangles at 0.5 px, ${t1_${fr}} at 2 px")
+    if(NOT t1_${fr} LESS t0_${fr})
+      message(FATAL_ERROR "sweep_lod: frame ${fr}: lod_pixel_tolerance=2 drew ${t1_${fr}} triangles, 0.5 drew ${t0_${fr}}")
+    endif()
+  endforeach()
 else()
   message(FATAL_ERROR "unknown MODE ${MODE}")
 endif()

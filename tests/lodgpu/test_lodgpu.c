@@ -688,7 +688,9 @@ static void test_unbaked(void)
     if (!s) return;
     prw_error e = {{0}};
     prw_renderer *r = NULL;
-    prw_render_desc rd = {.width = 64, .height = 64, .msaa = 1, .shadow_size = 256};
+    prw_render_desc rd = {.width = 64, .height = 64, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
+    rd.quality.shadow_size = 256;
     CHECK(!prw_renderer_create(g_gpu, s, &rd, &r, &e) && r == NULL);
     printf("unbaked: %s\n", e.msg);
     CHECK(strstr(e.msg, "NURBS entry 'box' has no baked hierarchy: call prw_bake_scene") != NULL);
