@@ -36,13 +36,24 @@ static void quantise(const prw_image *sig, uint8_t *out)
     }
 }
 
+/* A composed panel image of the last frame (RGBA32F, exported by the compose pass). */
+static bool read_panel(prw_renderer *r, const char *name, prw_image *out, prw_error *e)
+{
+    void *px;
+    uint32_t w, h;
+    if (!prw_renderer_read_image(r, name, 0, &px, &w, &h, e)) return false;
+    out->width = (int)w;
+    out->height = (int)h;
+    out->rgba = px;
+    return true;
+}
+
 int prw_stereo_job_run(const prw_stereo_job *job)
 {
     prw_error e = {{0}};
     prw_scene *scene = NULL;
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
-    prw_composer *comp = NULL;
     prw_image hdr[2] = {{0}}, sig[2] = {{0}}, comp_hdr = {0}, comp_sig = {0};
     uint8_t *png = NULL;
     int rc = 1, written = 0;
@@ -77,7 +88,7 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     const char *vb = job->q.stereo_reuse && !job->views_backend ? "loop" : job->views_backend;
     if (!prw_views_backend_resolve(gpu, vb, &backend, &e)) goto done;
     prw_render_desc rd = {.width = st.eye_w, .height = st.eye_h, .quality = job->q, .max_views = 2,
-                          .views_backend = backend};
+                          .views_backend = backend, .compose = &st.compose};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap};
@@ -99,9 +110,8 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     if (!prw_renderer_render(r, st.eyes, 2, &fs, &e)) goto done;
     for (uint32_t k = 0; k < 2; k++)
         if (!prw_renderer_read_hdr(r, k, &hdr[k], &e) || !prw_renderer_read_signal(r, k, &sig[k], &e)) goto done;
-    if (!prw_composer_create(gpu, &comp, &e) || !prw_composer_run(comp, &st.compose, &hdr[0], &hdr[1], &comp_hdr, &e) ||
-        !prw_composer_run(comp, &st.compose, &sig[0], &sig[1], &comp_sig, &e))
-        goto done;
+    /* the panel: the graph's compose stage, from both eyes' HDR images and display signals */
+    if (!read_panel(r, "panel_hdr", &comp_hdr, &e) || !read_panel(r, "panel_signal", &comp_sig, &e)) goto done;
     if (prw_gpu_validation_count(gpu) != 0) {
         prw_fail(&e, "%u Vulkan validation messages (see above)", prw_gpu_validation_count(gpu));
         goto done;
@@ -165,7 +175,6 @@ done:
     }
     prw_image_free(&comp_hdr);
     prw_image_free(&comp_sig);
-    prw_composer_destroy(comp);
     prw_renderer_destroy(r);
     if (gpu) {
         prw_gpu_destroy(gpu);

@@ -2,7 +2,7 @@
 #include "prw_pass.h"
 
 extern const prw_pass prw_pass_shadow, prw_pass_base, prw_pass_base_multiview, prw_pass_reproject,
-    prw_pass_downsample, prw_pass_tm_stats, prw_pass_tonemap, prw_pass_extra_work;
+    prw_pass_downsample, prw_pass_tm_stats, prw_pass_tonemap, prw_pass_compose, prw_pass_extra_work;
 
 const prw_pass *const prw_passes_default[] = {
     &prw_pass_shadow,         /* shadow atlas, once per frame (pass_shadow.c) */
@@ -12,6 +12,7 @@ const prw_pass *const prw_passes_default[] = {
     &prw_pass_downsample,     /* N x N supersampling box filter (pass_downsample.c) */
     &prw_pass_tm_stats,       /* tone-mapping frame statistics (pass_tonemap.c) */
     &prw_pass_tonemap,        /* display-aware tone mapping per view (pass_tonemap.c) */
+    &prw_pass_compose,        /* two views -> one HMD / side-by-side panel (pass_compose.c) */
     &prw_pass_extra_work,     /* test knob: extra GPU work (pass_extra_work.c) */
     NULL,
 };

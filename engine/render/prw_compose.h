@@ -23,6 +23,12 @@ void prw_composer_destroy(prw_composer *c);
  * (allocated here, p->out_w x p->out_h, alpha 1).  out_w must be even. */
 bool prw_composer_run(prw_composer *c, const prw_compose_params *p, const prw_image *left, const prw_image *right,
                       prw_image *out, prw_error *e);
+/* The same on GPU images, recorded into a caller's command buffer (the graph's "compose" pass): a set
+ * naming left / right (sampled, SHADER_READ_ONLY) and out (RGBA32F storage, GENERAL) from the
+ * composer's pool, then the dispatch.  Sets stay valid until the composer is destroyed. */
+bool prw_composer_view_set(prw_composer *c, const prw_gpu_image *left, const prw_gpu_image *right,
+                           const prw_gpu_image *out, VkDescriptorSet *set, prw_error *e);
+void prw_composer_record(prw_composer *c, VkCommandBuffer cmd, VkDescriptorSet set, const prw_compose_params *p);
 
 #ifdef __cplusplus
 }

@@ -30,6 +30,7 @@
 #define PRW_RENDER_H
 
 #include "prw_gpu.h"
+#include "prw_hmd.h"
 #include "prw_image.h"
 #include "prw_quality.h"
 #include "prw_scene.h"
@@ -75,6 +76,9 @@ typedef struct prw_render_desc {
                                 initial operator on the srgb display), stereo_reuse (frames of exactly 2 views
                                 on a renderer with max_views >= 2), lod_pixel_tolerance and the hidden test
                                 knob extra_gpu_work (pass_extra_work.c) are used */
+    const prw_compose_params *compose; /* two-view frames are also composed into one panel (HMD pre-distortion or
+                                          side by side, prw_hmd.h): the graph images "panel_hdr" and
+                                          "panel_signal" (prw_renderer_read_image); NULL: none; copied */
     const prw_render_debug *debug; /* NULL: none; copied at create (its passes / exports arrays are not: they
                                       must outlive the renderer) */
 } prw_render_desc;

@@ -16,6 +16,7 @@ struct prw_renderer {
     const prw_scene *scene;
     prw_render_desc desc;
     prw_render_debug debug; /* a copy of *desc.debug (desc.debug points here) */
+    prw_compose_params compose; /* a copy of *desc.compose (desc.compose points here) */
     prw_render_env env;
     prw_desc_pool *pool;
     prw_pipes *pipes;

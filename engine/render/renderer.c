@@ -23,6 +23,12 @@ static bool validate_desc(prw_render_desc *d, prw_error *e)
     if (d->width * q->supersample > 16384 || d->height * q->supersample > 16384)
         return prw_fail(e, "render: supersampling %ux%u of %ux%u out of range (<= 16384 pixels a side)",
                         q->supersample, q->supersample, d->width, d->height);
+    if (d->compose && (d->compose->eye_w != d->width || d->compose->eye_h != d->height || d->compose->out_w < 2 ||
+                       d->compose->out_w % 2 || d->compose->out_h < 1 || d->compose->out_w > 16384 ||
+                       d->compose->out_h > 16384))
+        return prw_fail(e, "render: composition of %ux%u eyes into a %ux%u panel: the eyes must be the views' size "
+                           "(%ux%u) and the panel width even, at most 16384",
+                        d->compose->eye_w, d->compose->eye_h, d->compose->out_w, d->compose->out_h, d->width, d->height);
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views > 2)
         return prw_fail(e, "render: views backend multiview supports 2 views (max_views %u)", d->max_views);
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views == 2 && q->supersample > 1)
@@ -70,6 +76,10 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
     if (desc->debug) {
         r->debug = *desc->debug;
         r->desc.debug = &r->debug;
+    }
+    if (desc->compose) {
+        r->compose = *desc->compose;
+        r->desc.compose = &r->compose;
     }
     bool ok = validate_desc(&r->desc, e);
     VkSampleCountFlagBits samples = r->desc.quality.msaa == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
