@@ -81,39 +81,6 @@ struct render_job {
 
 /* The display-encoded PNG (HDR10 16-bit PQ + cICP + MaxCLL/MaxFALL sidecar on a PQ Rec.2020 display,
  * else 8-bit) and the optional display-referred EXR; on failure none of them is left. */
-#ifdef PRW_HAVE_GLARE
-/* The display signal of the HDR image after temporal glare (prw_glare.h): pupil from the frame's
- * log-average luminance (the adapted one when adaptation runs), PSF at the display's ppd. */
-static bool glare_signal(prw_renderer *r, const prw_display *d, const prw_image *hdr, double ev100, prw_image *sig,
-                         uint8_t *ldr8, prw_error *e)
-{
-    prw_image g = {0};
-    float *psf = NULL;
-    int R = 0;
-    double la;
-    if (!prw_renderer_tonemap_adaptation(r, &la)) {
-        prw_tm_stats st;
-        prw_tm_stats_image(hdr, &st);
-        la = st.log_avg;
-    }
-    prw_glare_settings gs = {.n = 512, .ppd = d->ppd > 0 ? d->ppd : 40.0};
-    double pupil = prw_glare_pupil_mm(la);
-    bool ok = prw_image_alloc(&g, hdr->width, hdr->height, e) && prw_glare_psf(&gs, pupil, &psf, &R, e);
-    if (ok) {
-        memcpy(g.rgba, hdr->rgba, (size_t)hdr->width * (size_t)hdr->height * 16);
-        ok = prw_glare_apply(&g, psf, R, e) && prw_renderer_tonemap_image(r, &g, ev100, sig, NULL, NULL, e);
-    }
-    if (ok) {
-        size_t n = (size_t)hdr->width * (size_t)hdr->height;
-        for (size_t i = 0; i < n * 4; i++) ldr8[i] = (uint8_t)lrintf(255.0f * fminf(fmaxf(sig->rgba[i], 0.0f), 1.0f));
-        printf("glare: pupil %.2f mm (log-average luminance %.4g cd/m^2), PSF radius %d px at %.0f ppd\n", pupil, la,
-               R, gs.ppd);
-    }
-    free(psf);
-    prw_image_free(&g);
-    return ok;
-}
-#endif
 
 static bool write_display_files(prw_renderer *r, const render_job *job, const prw_display *d, const uint8_t *ldr,
                                 const prw_image *hdr, double ev100, prw_error *e)
@@ -121,19 +88,9 @@ static bool write_display_files(prw_renderer *r, const render_job *job, const pr
     prw_image sig = {0}, light = {0};
     bool hdr10 = d->eotf == PRW_EOTF_PQ && d->primaries == PRW_PRIMARIES_REC2020;
     bool ok = true, png_done = false;
-    uint8_t *ldr_glare = NULL;
     (void)hdr, (void)ev100;
-    if (job->glare) {
-#ifdef PRW_HAVE_GLARE
-        ldr_glare = prw_malloc((size_t)job->width * job->height * 4);
-        ok = glare_signal(r, d, hdr, ev100, &sig, ldr_glare, e);
-        ldr = ldr_glare;
-#else
-        ok = prw_fail(e, "--glare: this build has no kissfft (install libkissfft-dev and rebuild)");
-#endif
-    } else if (hdr10 || job->display_exr) {
-        ok = prw_renderer_read_signal(r, 0, &sig, e);
-    }
+    /* with --glare the graph's glare stage already glared the display outputs (ldr, signal) */
+    if (hdr10 || job->display_exr) ok = prw_renderer_read_signal(r, 0, &sig, e);
     if (ok) {
         ok = hdr10 ? prw_tm_write_hdr10_png(job->png, d, &sig, e)
                    : prw_png_write8(job->png, (int)job->width, (int)job->height, 4, ldr, e);
@@ -166,7 +123,6 @@ static bool write_display_files(prw_renderer *r, const render_job *job, const pr
     }
     prw_image_free(&sig);
     prw_image_free(&light);
-    free(ldr_glare);
     return ok;
 }
 
@@ -210,14 +166,15 @@ static int prw_render_job_run(const render_job *job)
     if (!prw_app_bake_scene(scene, &e)) goto done;
     if (job->has_ev) view.ev100 = job->ev100;
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
-    prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,
-                          .timestamps = job->pass_times};
-    if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
+    if (!prw_display_resolve(job->display ? job->display : "srgb", &disp, &e)) goto done;
+    prw_glare_settings gs = {.n = 512, .ppd = disp.ppd > 0 ? disp.ppd : 40.0};
+    prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,
+                          .timestamps = job->pass_times, .glare = job->glare ? &gs : NULL};
+    if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap, .overlay = job->tm_overlay,
                                 .sel_threshold = job->tm_threshold, .sel_tile = (uint32_t)job->tm_tile};
-    if (!prw_display_resolve(job->display ? job->display : "srgb", &disp, &e) ||
-        (job->tonemap && !prw_tm_op_parse(job->tonemap, &tms.op, &e)) || !prw_renderer_set_tonemap(r, &disp, &tms, &e))
+    if ((job->tonemap && !prw_tm_op_parse(job->tonemap, &tms.op, &e)) || !prw_renderer_set_tonemap(r, &disp, &tms, &e))
         goto done;
     prw_frame_stats st;
     if (!prw_renderer_render(r, &view, 1, &st, &e)) goto done; /* warm-up: pipelines JIT here */
@@ -263,6 +220,9 @@ static int prw_render_job_run(const render_job *job)
         printf("selective tone mapping: %llu of %llu tiles marked, local operator on %llu of %llu 16x16 blocks\n",
                (unsigned long long)rep.tiles_marked, (unsigned long long)rep.tiles,
                (unsigned long long)rep.blocks_local, (unsigned long long)rep.blocks);
+    if (st.glare_pupil_mm > 0)
+        printf("glare: pupil %.2f mm, PSF radius %d px at %.0f ppd (a host stage of the graph)\n", st.glare_pupil_mm,
+               st.glare_psf_radius, gs.ppd);
     printf("frame time %.2f ms (median of %ld, %ux%u, %ux MSAA, %ux%u supersampling, %llu triangles, device %s)\n",
            median, job->frames, job->width, job->height, job->q.msaa, job->q.supersample, job->q.supersample,
            (unsigned long long)st.triangles, prw_gpu_device_name(gpu));

@@ -715,9 +715,14 @@ bool prw_graph_execute(prw_graph *g, prw_frame *f, prw_graph_exec *x, prw_frame_
             snprintf(s->reason, sizeof s->reason, "%s", p->frame_reason);
             continue;
         }
-        bool host_timed = p->p->queue == PRW_QUEUE_COMPUTE && x->split;
+        bool host = p->p->queue == PRW_QUEUE_HOST;
+        if (host && !x->split) {
+            s->skipped = true;
+            snprintf(s->reason, sizeof s->reason, "a host stage: runs in prw_renderer_render only");
+            continue;
+        }
+        bool host_timed = (p->p->queue == PRW_QUEUE_COMPUTE && x->split && x->time_compute) || host;
         double ms = 0;
-        if (host_timed && !x->split(x->user, &x->cmd, &ms, e)) return false;
         c.cmd = x->cmd;
         barrier_batch b;
         b.nimg = 0;
@@ -728,6 +733,10 @@ bool prw_graph_execute(prw_graph *g, prw_frame *f, prw_graph_exec *x, prw_frame_
             for (uint32_t i = 0; i < n; i++) need(&b, &g->res[p->uses[k].res], vs[i], p->uses[k].use);
         }
         flush_batch(g, c.cmd, &b);
+        /* host-timed passes start from an empty queue: what came before is submitted (and waited for) */
+        if (host_timed && !x->split(x->user, &x->cmd, &ms, e)) return false;
+        double t_host = prw_now();
+        c.cmd = host ? VK_NULL_HANDLE : x->cmd;
         bool timed = x->timer && !host_timed;
         uint32_t scope = timed ? prw_timer_begin(c.cmd, x->timer, p->p->name) : 0;
         c.state = p->state;
@@ -747,12 +756,15 @@ bool prw_graph_execute(prw_graph *g, prw_frame *f, prw_graph_exec *x, prw_frame_
         }
         for (uint32_t k = 0; k < p->nuses; k++)
             if (prw_use_writes(p->uses[k].use)) g->res[p->uses[k].res].written = true;
-        if (host_timed) {
+        if (host) {
+            s->gpu_ms = 1e3 * (prw_now() - t_host);
+            s->host_clock = true;
+        } else if (host_timed) {
             if (!x->split(x->user, &x->cmd, &ms, e)) return false;
             s->gpu_ms = ms;
             s->host_clock = true;
-            c.cmd = x->cmd;
         }
+        c.cmd = x->cmd;
     }
     /* exported buffers: the host reads them after the frame */
     barrier_batch b;
@@ -809,7 +821,7 @@ void prw_graph_describe(const prw_graph *g, char *buf, size_t cap)
     for (uint32_t pi = 0; pi < g->npasses; pi++) {
         const graph_pass *p = &g->passes[pi];
         OUT("  %-14s %-5s %-8s", p->p->name, p->p->scope == PRW_SCOPE_VIEW ? "view" : "frame",
-            p->p->queue == PRW_QUEUE_COMPUTE ? "compute" : "graphics");
+            p->p->queue == PRW_QUEUE_COMPUTE ? "compute" : p->p->queue == PRW_QUEUE_HOST ? "host" : "graphics");
         if (!p->in_graph) {
             OUT(" not in the graph: %s\n", p->why_not);
             continue;

@@ -14,8 +14,10 @@
  *    which persists across frames); exported buffers get one barrier to the host at the end.  A
  *    skipped or culled pass records nothing.
  *  - Timing: with a timer, every live graphics pass is bracketed by GPU timestamps; with a split
- *    callback, every live compute pass is recorded into a command buffer of its own, submitted and
- *    timed by the host clock.
+ *    callback and time_compute, every live compute pass is recorded into a command buffer of its own,
+ *    submitted and timed by the host clock; host stages are always host-timed.
+ *  - Host stages (PRW_QUEUE_HOST) run only with a split callback: what was recorded before them is
+ *    submitted and waited for first.
  *  - The counts of barrier commands and render-pass begins it and the passes recorded are in the
  *    frame stats.
  */
@@ -28,9 +30,10 @@ typedef struct prw_graph_exec {
     VkCommandBuffer cmd;
     prw_timer *timer; /* NULL: no GPU timestamps */
     /* Submits what was recorded into *cmd and begins a new buffer; *ms: the submit's wall time.  NULL:
-     * compute passes are not timed separately. */
+     * host stages are skipped and compute passes are not timed separately. */
     bool (*split)(void *user, VkCommandBuffer *cmd, double *ms, prw_error *e);
     void *user;
+    bool time_compute; /* with split: every compute pass in a submission of its own, host-timed */
 } prw_graph_exec;
 
 /* exports: NULL-terminated names the caller reads back after frames (kept, their producers live); may be NULL. */

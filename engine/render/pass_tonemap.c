@@ -3,11 +3,15 @@
  *              for the selective operator, block gradients; only when the settings use them);
  *   "tonemap"  (every view: operator -> gamut mapping -> inverse display model into the display signal
  *              "signal" (RGBA32F) and "ldr" (RGBA8), both exported).
+ * Both read "hdr", or "hdr_glare" when the glare stage runs (pass_glare.c).
  * The statistics and tile buffers belong to the tone-mapping service; both passes import them, so the
  * graph orders them between the passes and for the host's report. */
 #include "pipes.h"
 #include "prw_pass.h"
 #include "tonemap_gpu.h"
+
+/* The radiance the tone mapping reads: the glare stage's copy when there is one (pass_glare.c). */
+static const char *input_name(const prw_render_env *env) { return env->desc->glare ? "hdr_glare" : "hdr"; }
 
 static void import_buffers(prw_setup *s)
 {
@@ -19,7 +23,7 @@ static void import_buffers(prw_setup *s)
 static void stats_setup(prw_setup *s)
 {
     import_buffers(s);
-    prw_setup_use(s, "hdr", PRW_USE_SAMPLED);
+    prw_setup_use(s, input_name(prw_setup_env(s)), PRW_USE_SAMPLED);
     prw_setup_use(s, "tm_stats", PRW_USE_STORAGE_WRITE);
     prw_setup_use(s, "tm_tiles", PRW_USE_STORAGE_WRITE);
 }
@@ -58,7 +62,7 @@ static void tonemap_setup(prw_setup *s)
     prw_setup_export(s, "signal");
     prw_setup_export(s, "tm_stats");
     prw_setup_export(s, "tm_tiles");
-    prw_setup_use(s, "hdr", PRW_USE_SAMPLED);
+    prw_setup_use(s, input_name(prw_setup_env(s)), PRW_USE_SAMPLED);
     prw_setup_use(s, "ldr", PRW_USE_STORAGE_WRITE);
     prw_setup_use(s, "signal", PRW_USE_STORAGE_WRITE);
     prw_setup_use(s, "tm_stats", PRW_USE_STORAGE_WRITE);
@@ -70,7 +74,8 @@ static bool tonemap_create(const prw_pass_init *in, void **state, prw_error *e)
     (void)e;
     *state = NULL;
     for (uint32_t v = 0; v < in->env->desc->max_views; v++)
-        prw_tm_gpu_bind_view(in->env->tm, v, prw_graph_image(in->graph, "hdr", v), prw_graph_image(in->graph, "ldr", v),
+        prw_tm_gpu_bind_view(in->env->tm, v, prw_graph_image(in->graph, input_name(in->env), v),
+                             prw_graph_image(in->graph, "ldr", v),
                              prw_graph_image(in->graph, "signal", v));
     return true;
 }

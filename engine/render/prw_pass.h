@@ -48,6 +48,11 @@ typedef enum prw_pass_scope {
 typedef enum prw_pass_queue {
     PRW_QUEUE_GRAPHICS = 0,
     PRW_QUEUE_COMPUTE = 1,
+    /* A host stage: the graph submits and waits for everything recorded before it, then calls record()
+     * with cmd = VK_NULL_HANDLE; the pass works on the CPU (reading back and uploading graph images
+     * through engine/gpu) and the frame continues in a new command buffer.  Timed by the host clock.
+     * Only prw_renderer_render can run one (prw_renderer_record skips it, with the reason). */
+    PRW_QUEUE_HOST = 2,
 } prw_pass_queue;
 
 enum {
@@ -123,6 +128,8 @@ typedef struct prw_frame {
     prw_draw_view draw[PRW_MAX_VIEWS]; /* per view: camera-relative origin, globals set, ... */
     uint64_t triangles;                /* drawn by the passes that count (base, reproject) */
     uint32_t draws;
+    double glare_pupil_mm;             /* the glare stage's pupil (0: no glare this frame) */
+    int glare_psf_radius;              /* and its PSF radius, pixels */
 } prw_frame;
 
 typedef struct prw_pass_ctx {

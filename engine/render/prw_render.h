@@ -79,6 +79,10 @@ typedef struct prw_render_desc {
     const prw_compose_params *compose; /* two-view frames are also composed into one panel (HMD pre-distortion or
                                           side by side, prw_hmd.h): the graph images "panel_hdr" and
                                           "panel_signal" (prw_renderer_read_image); NULL: none; copied */
+    const struct prw_glare_settings *glare; /* temporal glare (prw_glare.h) on the display outputs: a host stage
+                                               after the radiance, whose glared copy "hdr_glare" the tone
+                                               mapping reads; the "hdr" images stay unglared; NULL: none;
+                                               copied (needs kissfft) */
     const prw_render_debug *debug; /* NULL: none; copied at create (its passes / exports arrays are not: they
                                       must outlive the renderer) */
 } prw_render_desc;
@@ -101,6 +105,8 @@ typedef struct prw_frame_stats {
     uint32_t draws;
     uint32_t barriers;   /* barrier commands recorded (each flushes on lavapipe) */
     uint32_t begins;     /* render-pass begins recorded */
+    double glare_pupil_mm; /* with glare: the pupil diameter used (mm); 0 otherwise */
+    int glare_psf_radius;  /* and the PSF radius, pixels */
 } prw_frame_stats;
 
 bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_desc *desc, prw_renderer **out,

@@ -6,6 +6,7 @@
 #include "gpu_types.h"
 #include "graph.h"
 #include "pipes.h"
+#include "prw_glare.h"
 #include "prw_render.h"
 #include "scene_gpu.h"
 #include "shadow_plan.h"
@@ -17,6 +18,7 @@ struct prw_renderer {
     prw_render_desc desc;
     prw_render_debug debug; /* a copy of *desc.debug (desc.debug points here) */
     prw_compose_params compose; /* a copy of *desc.compose (desc.compose points here) */
+    prw_glare_settings glare;   /* a copy of *desc.glare */
     prw_render_env env;
     prw_desc_pool *pool;
     prw_pipes *pipes;

@@ -29,6 +29,9 @@ static bool validate_desc(prw_render_desc *d, prw_error *e)
         return prw_fail(e, "render: composition of %ux%u eyes into a %ux%u panel: the eyes must be the views' size "
                            "(%ux%u) and the panel width even, at most 16384",
                         d->compose->eye_w, d->compose->eye_h, d->compose->out_w, d->compose->out_h, d->width, d->height);
+#ifndef PRW_HAVE_GLARE
+    if (d->glare) return prw_fail(e, "render: temporal glare: this build has no kissfft (install libkissfft-dev)");
+#endif
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views > 2)
         return prw_fail(e, "render: views backend multiview supports 2 views (max_views %u)", d->max_views);
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views == 2 && q->supersample > 1)
@@ -80,6 +83,10 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
     if (desc->compose) {
         r->compose = *desc->compose;
         r->desc.compose = &r->compose;
+    }
+    if (desc->glare) {
+        r->glare = *desc->glare;
+        r->desc.glare = &r->glare;
     }
     bool ok = validate_desc(&r->desc, e);
     VkSampleCountFlagBits samples = r->desc.quality.msaa == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
@@ -183,7 +190,10 @@ static bool record(prw_renderer *r, prw_graph_exec *x, const prw_view *views, ui
     prepare_frame(r, views, count, &f);
     if (r->timer) prw_timer_reset(x->cmd, r->timer);
     x->timer = r->timer;
-    return prw_graph_execute(r->graph, &f, x, &r->last, e);
+    if (!prw_graph_execute(r->graph, &f, x, &r->last, e)) return false;
+    r->last.glare_pupil_mm = f.glare_pupil_mm;
+    r->last.glare_psf_radius = f.glare_psf_radius;
+    return true;
 }
 
 bool prw_renderer_record(prw_renderer *r, VkCommandBuffer cmd, const prw_view *views, uint32_t count,
@@ -198,7 +208,7 @@ bool prw_renderer_render(prw_renderer *r, const prw_view *views, uint32_t count,
 {
     double t0 = prw_now();
     split_ctx sc = {r};
-    prw_graph_exec x = {.split = r->timer ? split : NULL, .user = &sc};
+    prw_graph_exec x = {.split = split, .user = &sc, .time_compute = r->timer != NULL};
     if (!prw_cmd_begin(r->gpu, &x.cmd, e)) return false;
     if (!record(r, &x, views, count, e)) {
         prw_error ignored;

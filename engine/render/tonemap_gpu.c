@@ -441,6 +441,12 @@ static void upload_params(prw_tm_gpu *tm, double ev100, bool adapted)
     memcpy(tm->params.mapped, &u, sizeof u);
 }
 
+bool prw_tm_gpu_adaptation(const prw_tm_gpu *tm, double *la)
+{
+    *la = tm->la_valid ? tm->la : 0.0;
+    return tm->la_valid;
+}
+
 bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm)
 {
     return op_needs_stats(tm->settings.op) || tm_counts(&tm->settings) ||

@@ -24,6 +24,8 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm);
 void prw_tm_gpu_bind_view(prw_tm_gpu *tm, uint32_t v, prw_gpu_image *hdr, prw_gpu_image *ldr, prw_gpu_image *signal);
 VkBuffer prw_tm_gpu_stats_buffer(const prw_tm_gpu *tm);
 VkBuffer prw_tm_gpu_tiles_buffer(const prw_tm_gpu *tm);
+/* The adapted luminance of the last frame (false, *la = 0, when adaptation is off or has no value yet). */
+bool prw_tm_gpu_adaptation(const prw_tm_gpu *tm, double *la);
 /* Whether the current settings use frame statistics or pixel counts (the "tm_stats" pass). */
 bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm);
 /* The frame's statistics over every view of c->frame (inputs sampled, outputs: the stats buffer). */
