@@ -7,7 +7,7 @@
  * view use the per-view base pass.  The views' "depth" images are not written.
  * On lavapipe (Mesa 22.3) this backend is wrong, not only slow: with view mask 0b11 the clipped
  * triangles of one view get mis-interpolated attributes (test_stereo_gpu multiview_eyes), so the
- * "auto" choice (views_choice.c), which checks a probe pair against the loop, never picks it there. */
+ * "auto" choice (views_backend.c), which checks a probe pair against the loop, never picks it there. */
 #include <stdlib.h>
 #include <string.h>
 

@@ -176,10 +176,10 @@ typedef struct prw_tm_profile {
 } prw_tm_profile;
 bool prw_tm_session_profile(prw_tm_session *s, double ev100, int reps, prw_tm_profile *out, prw_error *e);
 
-/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto = prw_views_backend_choose (views_choice.c) */
+/* "loop" | "multiview" | "auto" (NULL = auto) for gpu.  auto = prw_views_backend_choose (views_backend.c) */
 bool prw_views_backend_resolve(prw_gpu *gpu, const char *name, prw_views_backend *out, prw_error *e);
 
-/* The auto choice, measured once per device + driver and cached (views_choice.c): multiview only when
+/* The auto choice, measured once per device + driver and cached (views_backend.c): multiview only when
  * a probe stereo pair rendered by it equals the loop's within relative L1 1e-5 and it is >= 3 %
  * faster over interleaved frames; otherwise the loop.  `reason` says which rule decided. */
 typedef struct prw_views_choice {

@@ -1,4 +1,4 @@
-/* views_choice — the "auto" views backend (issue 5: "chosen per device by measurement").
+/* views_backend — the --views-backend choice (loop | multiview | auto) and the "auto" views backend (issue 5: "chosen per device by measurement").
  *
  * The choice is measured once per device and driver and kept in the project cache
  * ($PRW_CACHE_DIR/views/<key>.json, key = FNV of device name, driver string, driver version and
