@@ -17,11 +17,11 @@ static void setup(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
     bool msaa = env->samples != VK_SAMPLE_COUNT_1_BIT;
-    prw_image_decl hdr = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_VIEW};
+    prw_image_decl hdr = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_VIEW};
     prw_setup_image(s, "hdr", &hdr);
     prw_setup_export(s, "hdr");
     if (env->desc->quality.supersample > 1) {
-        prw_image_decl ss = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_INTERNAL};
+        prw_image_decl ss = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL};
         prw_setup_image(s, "hdr_ss", &ss);
     }
     prw_image_decl depth = {.format = PRW_DEPTH_FORMAT, .size = PRW_SIZE_INTERNAL, .msaa = true};
@@ -33,7 +33,7 @@ static void setup(prw_setup *s)
     prw_setup_optional(s, "gbuf_normal");
     prw_setup_optional(s, "gbuf_id");
     if (msaa) {
-        prw_image_decl c = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_INTERNAL, .msaa = true, .transient = true};
+        prw_image_decl c = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL, .msaa = true, .transient = true};
         prw_setup_image(s, "msaa_color", &c);
         prw_setup_use(s, "msaa_color", PRW_USE_COLOR);
         prw_image_decl nm = normal, im = id;

@@ -76,13 +76,13 @@ static bool create(const prw_pass_init *in, void **state, prw_error *e)
     m->recipe = (prw_pipe_recipe){.name = "base_multiview", .layout = m->layout, .describe = describe};
     bool msaa = env->samples != VK_SAMPLE_COUNT_1_BIT;
     uint32_t w = env->desc->width, h = env->desc->height;
-    prw_image_desc color = {.width = w, .height = h, .layers = 2, .format = PRW_HDR_FORMAT, .samples = env->samples,
+    prw_image_desc color = {.width = w, .height = h, .layers = 2, .format = prw_pipes_radiance_format(env), .samples = env->samples,
                             .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
                             .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
     prw_image_desc depth = {.width = w, .height = h, .layers = 2, .format = PRW_DEPTH_FORMAT, .samples = env->samples,
                             .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                             .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
-    prw_image_desc hdr = {.width = w, .height = h, .layers = 2, .format = PRW_HDR_FORMAT,
+    prw_image_desc hdr = {.width = w, .height = h, .layers = 2, .format = prw_pipes_radiance_format(env),
                           .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                           .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
     if ((msaa && !prw_image_create(gpu, &color, &m->color, e)) || !prw_image_create(gpu, &depth, &m->depth, e) ||

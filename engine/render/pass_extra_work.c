@@ -23,7 +23,7 @@ static void setup(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
     if (!(env->desc->quality.extra_gpu_work > 0)) return prw_setup_skip(s, "test knob extra_gpu_work is off");
-    prw_image_decl d = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_INTERNAL, .msaa = true, .transient = true};
+    prw_image_decl d = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL, .msaa = true, .transient = true};
     prw_setup_image(s, "extra_color", &d);
     prw_setup_use(s, "extra_color", PRW_USE_COLOR);
     prw_setup_use(s, "depth", PRW_USE_DEPTH);

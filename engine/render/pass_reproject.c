@@ -132,7 +132,7 @@ static bool create(const prw_pass_init *in, void **state, prw_error *e)
     uint32_t w = env->desc->width * env->desc->quality.supersample, h = env->desc->height * env->desc->quality.supersample;
     prw_image_desc rd = {.width = s->k * w, .height = s->k * h, .format = DS_FORMAT,
                          .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT};
-    prw_image_desc rc = {.width = s->k * w, .height = s->k * h, .format = PRW_HDR_FORMAT,
+    prw_image_desc rc = {.width = s->k * w, .height = s->k * h, .format = prw_pipes_radiance_format(env),
                          .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT};
     if (!prw_image_create(gpu, &rd, &s->right_ds, e) || (s->k > 1 && !prw_image_create(gpu, &rc, &s->right_color, e)))
         return prw_fail_wrap(e, "render: stereo_reuse=reproject targets");

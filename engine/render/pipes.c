@@ -36,7 +36,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         .vertex_binding_count = 1,
         .vertex_attrs = k_attrs,
         .vertex_attr_count = 4,
-        .color_formats = {PRW_HDR_FORMAT, PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
+        .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
         .color_count = gbuf ? 3 : 1,
         .depth_format = PRW_DEPTH_FORMAT,
         .samples = env->samples,
@@ -105,7 +105,9 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     if (!prw_pipeline_layout_create(p->gpu, base_sets, 2, PRW_BASE_PUSH_BYTES, &p->base_layout, e) ||
         !prw_pipeline_layout_create(p->gpu, NULL, 0, 64, &p->shadow_layout, e) ||
         !prw_pipeline_layout_create(p->gpu, &p->storage2_layout, 1, 12, &p->storage2_pl, e) ||
-        !prw_pipeline_compute(p->gpu, prw_shader_downsample_comp(), p->storage2_pl, &p->downsample, e) ||
+        !prw_pipeline_compute(p->gpu, env->desc->quality.radiance_bits == 16 ? prw_shader_downsample_comp()
+                                                                             : prw_shader_downsample32_comp(),
+                              p->storage2_pl, &p->downsample, e) ||
         !prw_pipeline_table_create(p->gpu, &p->table, e))
         return false;
     p->base = (prw_pipe_recipe){.name = "base", .layout = p->base_layout, .describe = describe_base};

@@ -56,8 +56,11 @@ void prw_pipes_forget(prw_pipes *p, const prw_pipe_recipe *r);
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e);
 
-/* Formats of the graph images every pass agrees on. */
-#define PRW_HDR_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT
+/* Formats of the graph images every pass agrees on.  Radiance: float32 or half by the knob radiance_bits. */
+static inline VkFormat prw_pipes_radiance_format(const prw_render_env *env)
+{
+    return env->desc->quality.radiance_bits == 16 ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+}
 #define PRW_DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 #define PRW_NORMAL_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT /* G-buffer: camera-relative normal, roughness */
 #define PRW_MATID_FORMAT VK_FORMAT_R32_UINT            /* G-buffer: material slot + 1 (0: nothing drawn) */

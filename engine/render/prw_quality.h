@@ -41,6 +41,8 @@ typedef struct prw_quality {
     uint32_t tonemap;          /* tone-mapping operator (prw_tm_op; on the command line also by name) */
     uint32_t stereo_reuse;     /* prw_stereo_reuse: off (0) | reproject (1); changes pixels, FLIP reported by
                                   `prw bench --views 2` (issue 5) */
+    uint32_t radiance_bits;     /* 32: radiance targets in float32 (no clipping at 65504 cd/m^2: 1e-4 .. 1e9+ in one
+                                   view); 16: half floats (cheaper, clips) */
     double lod_pixel_tolerance; /* NURBS LOD: screen-space geometric error, pixels, of every model whose
                                    manifest entry sets no tol_px */
     /* no effect yet (the features arrive with later issues) */

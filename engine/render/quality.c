@@ -22,6 +22,8 @@ static const prw_knob_info g_knobs[] = {
     U32(stereo_reuse, 0, 1, true,
         "stereo: off (0) or reproject (1): the right eye reuses the left eye's colour where both see the same "
         "surface (changes pixels; per-view loop backend)"),
+    U32(radiance_bits, 16, 32, true,
+        "radiance targets: 32 = float32 (no clipping), 16 = half float (clips above 65504 cd/m^2)"),
     F64(lod_pixel_tolerance, 0.01, 100, true,
         "NURBS LOD screen-space error, pixels (models whose manifest entry sets no tol_px)"),
     U32(btf_clusters, 1, 65536, false, "BTF clusters"),
@@ -67,6 +69,8 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
         if (value != floor(value)) return prw_fail(e, "knob %s=%g: expected an integer", k->name, value);
         if (strcmp(k->name, "msaa") == 0 && value != 1 && value != 4)
             return prw_fail(e, "knob msaa=%g: lavapipe offers 1 or 4", value);
+        if (strcmp(k->name, "radiance_bits") == 0 && value != 16 && value != 32)
+            return prw_fail(e, "knob radiance_bits=%g: 16 or 32", value);
         *(uint32_t *)(void *)p = (uint32_t)value;
     } else {
         *(double *)(void *)p = value;
@@ -76,21 +80,21 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
 
 /* Presets: points in the knob space.  Unimplemented knobs get plausible values so the presets are
  * already ordered along every axis.  "high" is every command's default: 4x MSAA, 1024^2 shadow maps,
- * 0.5 px LOD error (the renderer's own defaults before the knobs reached it). */
+ * 0.5 px LOD error (the renderer's own defaults before the knobs reached it), float32 radiance. */
 static const struct {
     const char *name;
     prw_quality q;
 } g_presets[] = {
-    {"low", {.msaa = 1, .shadow_size = 256, .supersample = 1, .lod_pixel_tolerance = 4, .btf_clusters = 8,
+    {"low", {.msaa = 1, .shadow_size = 256, .supersample = 1, .radiance_bits = 16, .lod_pixel_tolerance = 4, .btf_clusters = 8,
              .btf_components = 2, .ssdo_samples = 4, .ssdo_radius = 0.25, .vpl_count = 64, .ism_size = 64,
              .kernel_taps = 8, .envmap_size = 128, .billboard_error = 8, .radiosity_size = 64}},
-    {"medium", {.msaa = 4, .shadow_size = 512, .supersample = 1, .lod_pixel_tolerance = 2, .btf_clusters = 16,
+    {"medium", {.msaa = 4, .shadow_size = 512, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 2, .btf_clusters = 16,
                 .btf_components = 4, .ssdo_samples = 8, .ssdo_radius = 0.5, .vpl_count = 256, .ism_size = 128,
                 .kernel_taps = 16, .envmap_size = 256, .billboard_error = 4, .radiosity_size = 128}},
-    {"high", {.msaa = 4, .shadow_size = 1024, .supersample = 1, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
+    {"high", {.msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
               .btf_components = 8, .ssdo_samples = 16, .ssdo_radius = 0.5, .vpl_count = 1024, .ism_size = 256,
               .kernel_taps = 32, .envmap_size = 512, .billboard_error = 2, .radiosity_size = 256}},
-    {"ultra", {.msaa = 4, .shadow_size = 4096, .supersample = 2, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
+    {"ultra", {.msaa = 4, .shadow_size = 4096, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
                .btf_components = 16, .ssdo_samples = 32, .ssdo_radius = 1, .vpl_count = 4096, .ism_size = 512,
                .kernel_taps = 64, .envmap_size = 1024, .billboard_error = 1, .radiosity_size = 512}},
 };

@@ -21,7 +21,7 @@ static void setup(prw_setup *s)
     prw_dvec3 n;
     double d;
     if (!tp_scene_mirror(prw_setup_env(s)->scene, &n, &d)) return prw_setup_skip(s, "no mirror in the scene");
-    prw_image_decl hdr = {.format = PRW_HDR_FORMAT, .size = PRW_SIZE_VIEW};
+    prw_image_decl hdr = {.format = prw_pipes_radiance_format(prw_setup_env(s)), .size = PRW_SIZE_VIEW};
     prw_image_decl depth = {.format = PRW_DEPTH_FORMAT, .size = PRW_SIZE_VIEW};
     prw_setup_image(s, "mirror_hdr", &hdr);
     prw_setup_image(s, "mirror_depth", &depth);

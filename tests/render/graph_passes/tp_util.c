@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "pipes.h"
 #include "prw_test_shaders.h"
 
 tp_log_entry tp_log[TP_LOG_MAX];
@@ -34,7 +35,7 @@ bool tp_fullscreen_create(const prw_render_env *env, bool ms_input1, tp_fullscre
         .vs = prw_shader_tp_fullscreen_vert(),
         .fs = ms_input1 ? prw_shader_tp_add_ms_frag() : prw_shader_tp_add_frag(),
         .layout = f->layout,
-        .color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT},
+        .color_formats = {prw_pipes_radiance_format(env)},
         .color_count = 1,
         .blend_additive = true,
     };
