@@ -39,7 +39,7 @@ void main()
     if (bend > 0.0) n = normalize(n + v * bend);
 
     vec3 radiance = S.emission;
-    prw_direct_light(radiance, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular);
+    prw_direct_light(radiance, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
     o_color = vec4(radiance, 1.0);
 #ifdef PRW_GBUFFER
     o_normal = vec4(n, S.roughness);

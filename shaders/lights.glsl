@@ -111,8 +111,9 @@ vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, fl
 }
 
 // Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance.
+// shadow_offset: the receiver's normal offset for the shadow lookups, texels (shadows.glsl).
 void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, float metallic, float roughness,
-                      float specular)
+                      float specular, float shadow_offset)
 {
     int count = int(g.params.x);
     for (int i = 0; i < count; i++) {
@@ -138,7 +139,7 @@ void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, fl
             fd += specular_ms(NoV, NoLd, base, metallic, roughness, specular);
             vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
                                                    metallic, roughness, specular);
-            radiance += f * rgb * shadow_factor(L, p, n);
+            radiance += f * rgb * shadow_factor(L, p, n, shadow_offset);
             continue;
         }
         vec3 l;
@@ -159,7 +160,7 @@ void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, fl
         }
         float NoL = dot(n, l);
         if (NoL <= 0.0 || E <= 0.0) continue;
-        radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, p, n);
+        radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, p, n, shadow_offset);
     }
 }
 

@@ -21,6 +21,7 @@ struct prw_surface {
     float metallic, roughness, specular;
     vec3 n;        // shading normal (not yet bent towards the viewer)
     vec3 emission; // cd/m^2
+    bool double_sided;
 };
 
 prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_facing)
@@ -32,6 +33,7 @@ prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_
     S.roughness = prw_roughness_from(mat.mr.y, mrt.g);
     S.metallic = prw_metallic_from(mat.mr.x, mrt.b);
     S.specular = mat.extra.x;
+    S.double_sided = mat.mr.z > 0.5;
 
     vec3 n = normalize(normal);
     if (prw_normal_flips(mat.mr.z > 0.5, front_facing)) n = -n;

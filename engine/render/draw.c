@@ -62,6 +62,8 @@ bool prw_draw_bind(prw_draw_ctx *c, uint32_t material_kind, bool two_sided, bool
         if (c->kind != PRW_DRAW_SHADOW)
             vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 0, 1, &c->view->globals, 0,
                                     NULL);
+        else if (c->depth_bias) /* dynamic in the shadow recipe */
+            vkCmdSetDepthBias(c->cmd, c->bias_constant, 0.0f, c->bias_slope);
         c->bound = p;
     }
     return true;

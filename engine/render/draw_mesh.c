@@ -27,12 +27,15 @@ static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
         node_range(s, ni, &first, &count);
         if (!count) continue;
         if (c->kind == PRW_DRAW_SHADOW) {
-            if (!prw_draw_bind(c, 0, false, false)) return;
             prw_mat4 mvp = prw_m4_from_d(prw_dm4_mul(c->view->shadow_view_proj, s->nodes[ni].world));
-            vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof mvp, &mvp);
-            for (uint32_t k = first; k < first + count; k++)
+            bool mirrored = prw_draw_mirrors(s->nodes[ni].world);
+            for (uint32_t k = first; k < first + count; k++) {
+                uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[k].material);
+                if (!prw_draw_bind(c, 0, s->material_count && s->materials[mi].double_sided, mirrored)) return;
+                vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof mvp, &mvp);
                 vkCmdDrawIndexed(c->cmd, sg->meshes[k].index_count, 1, sg->meshes[k].first_index,
                                  sg->meshes[k].vertex_offset, 0);
+            }
             continue;
         }
         float pc[28];

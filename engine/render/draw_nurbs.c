@@ -63,20 +63,26 @@ static void record_shaded(prw_lod_scene *ls, const prw_render_env *env, prw_draw
     }
 }
 
-static void record_shadow(prw_lod_scene *ls, prw_draw_ctx *c)
+static void record_shadow(prw_lod_scene *ls, const prw_render_env *env, prw_draw_ctx *c)
 {
+    const prw_scene *s = env->scene;
     for (uint32_t i = 0; i < prw_lod_scene_model_count(ls); i++) {
         prw_lod_gpu *g = prw_lod_scene_model(ls, i);
+        const prw_scene_nurbs *en = prw_lod_scene_entry(ls, i);
+        uint32_t mi = prw_scene_gpu_slot(s, en->material);
+        /* a patch's orientation is only consistent on closed models marked single_sided: every other
+         * model casts from both sides */
+        bool two = !en->single_sided || (s->material_count && s->materials[mi].double_sided);
         VkDeviceSize zero = 0;
         for (uint32_t k = 0; k < prw_lod_scene_instances(ls, i); k++) {
             uint32_t n;
             const prw_lod_range *rg = prw_lod_gpu_ranges(g, k, true, &n);
             if (!n) continue;
-            if (!prw_draw_bind(c, 0, false, false)) return;
+            prw_dmat4 w = prw_lod_gpu_draw_matrix(g, prw_lod_scene_instance_world(ls, i, k));
+            if (!prw_draw_bind(c, 0, two, prw_draw_mirrors(w))) return;
             VkBuffer vb = prw_lod_gpu_vertex_buffer(g, k);
             vkCmdBindVertexBuffers(c->cmd, 0, 1, &vb, &zero);
             vkCmdBindIndexBuffer(c->cmd, prw_lod_gpu_index_buffer(g, k), 0, VK_INDEX_TYPE_UINT32);
-            prw_dmat4 w = prw_lod_gpu_draw_matrix(g, prw_lod_scene_instance_world(ls, i, k));
             prw_mat4 mvp = prw_m4_from_d(prw_dm4_mul(c->view->shadow_view_proj, w));
             vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof mvp, &mvp);
             for (uint32_t j = 0; j < n; j++) vkCmdDrawIndexed(c->cmd, rg[j].index_count, 1, rg[j].first_index, 0, 0);
@@ -87,7 +93,7 @@ static void record_shadow(prw_lod_scene *ls, prw_draw_ctx *c)
 static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
 {
     if (!state) return;
-    if (c->kind == PRW_DRAW_SHADOW) record_shadow(state, c);
+    if (c->kind == PRW_DRAW_SHADOW) record_shadow(state, env, c);
     else record_shaded(state, env, c);
 }
 

@@ -1,8 +1,8 @@
 /* pass_shadow — the shadow atlas, once per frame for the whole view set (eye-independent work,
  * DESIGN.md §6): one depth layer per planned shadow view (shadow_plan.h), every drawable's shadow
  * casters drawn with the light's clip matrix.  Reversed Z: cleared to 0 (far), nearer occluders store
- * larger depth; a constant and slope depth bias pushes them away from the light.  The atlas is cleared
- * once at allocation, so the base pass samples "lit" when this pass does not run. */
+ * larger depth; a constant and slope depth bias pushes casters away from the light.  The atlas is cleared once at allocation, so the base pass samples "lit" when
+ * this pass does not run. */
 #include "pipes.h"
 #include "prw_pass.h"
 #include "shadow_plan.h"
@@ -42,14 +42,13 @@ static bool record(prw_pass_ctx *c, prw_error *e)
             .pDepthAttachment = &depth,
         };
         prw_draw_view dv = {.shadow_view_proj = env->shadows->views[v].view_proj};
+        /* reversed Z: the bias moves casters towards 0 (away from the light) */
         prw_draw_ctx dc = {.cmd = c->cmd, .kind = PRW_DRAW_SHADOW, .view = &dv, .pipes = env->pipes,
-                           .recipe = &env->pipes->shadow, .sg = env->sg, .layout = env->pipes->shadow_layout};
+                           .recipe = &env->pipes->shadow, .sg = env->sg, .layout = env->pipes->shadow_layout,
+                           .depth_bias = true, .bias_constant = -1.0f, .bias_slope = -1.5f};
         prw_pass_begin_rendering(c, &ri);
-        if (prw_draw_bind(&dc, 0, false, false)) {
-            prw_cmd_viewport(c->cmd, size, size);
-            vkCmdSetDepthBias(c->cmd, -1.0f, 0.0f, -1.5f); /* reversed Z: bias towards 0 (away from the light) */
-            prw_drawables_record(env->drawables, env, &dc);
-        }
+        prw_cmd_viewport(c->cmd, size, size);
+        prw_drawables_record(env->drawables, env, &dc);
         prw_pass_end_rendering(c);
         if (dc.failed) return prw_fail(e, "%s", dc.err.msg);
     }

@@ -55,6 +55,10 @@ static bool describe_base(const prw_pipe_recipe *r, const prw_render_env *env, c
     return prw_pipes_describe_base(env, k, r->layout, d, e);
 }
 
+/* Shadow casters: both sides of every triangle (the first surface seen from the light), with the
+ * slope-scaled depth bias and the receivers' normal offset (shadows.glsl) against acne.  (Storing only
+ * the faces turned away from the light would need no bias, but open single-sided geometry facing the
+ * light would cast no shadow.) */
 static bool describe_shadow(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
                             prw_graphics_desc *d, prw_error *e)
 {

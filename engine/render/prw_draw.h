@@ -58,6 +58,8 @@ typedef struct prw_draw_ctx {
     const struct prw_scene_gpu *sg;
     VkPipelineLayout layout; /* the recipe's: push constants and material sets bind through it */
     VkPipeline bound;
+    bool depth_bias;    /* SHADOW: set (bias_constant, bias_slope) whenever a pipeline with depth bias is bound */
+    float bias_constant, bias_slope;
     bool failed;        /* a pipeline could not be built (error in err) */
     prw_error err;
     uint64_t triangles;
