@@ -132,7 +132,8 @@ struct Importer {
     uint64_t triangles = 0;
     struct Skip {
         bool lines_or_points; // else: a strip/fan/list that yields no triangle
-        std::string what;     // "LINES (mesh 'x', primitive 2)"
+        std::string mode;     // "LINES"
+        std::string place;    // "mesh 'x', primitive 2"
     };
     std::vector<Skip> skipped;
 
@@ -774,7 +775,7 @@ struct Importer {
                 const char *mname = mode_name(mode);
                 if (!mname) fail(where + format(": mode %d is not a glTF primitive mode (0..6)", p.mode));
                 if (mode < TINYGLTF_MODE_TRIANGLES) { // points and lines: not drawn
-                    skipped.push_back({true, format("%s (mesh '%s', primitive %zu)", mname, nm.c_str(), pi)});
+                    skipped.push_back({true, mname, format("mesh '%s', primitive %zu", nm.c_str(), pi)});
                     continue;
                 }
                 std::string mwhat = format("mesh '%s'", nm.c_str());
@@ -789,7 +790,7 @@ struct Importer {
                     pr.idx = to_list(mode, std::move(pr.idx), pr.n, where);
                 }
                 if (pr.idx.empty()) {
-                    skipped.push_back({false, format("%s without a triangle (mesh '%s', primitive %zu)", mname, nm.c_str(), pi)});
+                    skipped.push_back({false, mname, format("mesh '%s', primitive %zu", nm.c_str(), pi)});
                     continue;
                 }
                 if (pr.idx.size() > 0xffffffffu) fail(where + ": too many indices");
@@ -818,13 +819,16 @@ struct Importer {
         }
         if (skipped.empty()) return;
         std::string list;
-        for (size_t i = 0; i < skipped.size() && i < 4; i++) list += (i ? ", " : "") + skipped[i].what;
+        for (size_t i = 0; i < skipped.size() && i < 4; i++)
+            list += (i ? ", " : "") + skipped[i].mode + (skipped[i].lines_or_points ? "" : " without a triangle") + " (" +
+                    skipped[i].place + ")";
         if (skipped.size() > 4) list += format(" and %zu more", skipped.size() - 4);
         if (triangles == 0) {
             std::string more = skipped.size() > 1 ? format(" (and %zu more primitives without triangles)", skipped.size() - 1)
                                                   : std::string();
-            fail((skipped[0].lines_or_points ? "primitive mode " + skipped[0].what + " is not supported"
-                                             : skipped[0].what) +
+            const Skip &k = skipped[0];
+            fail((k.lines_or_points ? "primitive mode " + k.mode + " is not supported (" + k.place + ")"
+                                    : k.mode + " primitive without a triangle (" + k.place + ")") +
                  more + "; the file has no triangles to draw");
         }
         warn(PRW_WARN_SKIPPED, format("%zu primitives without triangles are not drawn: ", skipped.size()) + list);
