@@ -24,6 +24,7 @@
 #include "gltf_draco.h"
 
 #include <cJSON.h>
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include <sys/stat.h>
@@ -84,6 +85,7 @@ const size_t kMaxZeroElements = size_t(1) << 20;
 // hold a few; the cap keeps a tiny stream from making libdraco allocate gigabytes).
 const uint64_t kDracoPerByte = 1024;
 const uint32_t kMaxWarnings = 32; // per import; then one "N more" line
+const uint64_t kMaxPixels = uint64_t(1) << 27; // per image (16384 x 8192); RGBA8 512 MiB
 
 // Extensions whose data the importer reads (KHR_materials_specular: specularFactor only;
 // KHR_mesh_quantization: the accessor reader takes every integer component type).
@@ -92,6 +94,22 @@ const char *const kImplemented[] = {
     "KHR_texture_transform",      "KHR_materials_clearcoat",         "KHR_draco_mesh_compression",
     "KHR_mesh_quantization",
 };
+
+// tinygltf's image decoder, after a size check from the image header: stb_image would otherwise
+// allocate whatever width x height a few header bytes claim.
+bool guarded_image_loader(tinygltf::Image *image, const int index, std::string *err, std::string *warn, int req_w,
+                          int req_h, const unsigned char *bytes, int size, void *)
+{
+    int w = 0, h = 0, c = 0;
+    if (size > 0 && stbi_info_from_memory(bytes, size, &w, &h, &c) &&
+        (w > 65536 || h > 65536 || (uint64_t)w * (uint64_t)h > kMaxPixels)) {
+        if (err)
+            *err += format("image %d: %d x %d pixels is too large (at most %llu pixels)\n", index, w, h,
+                           (unsigned long long)kMaxPixels);
+        return false;
+    }
+    return tinygltf::LoadImageData(image, index, err, warn, req_w, req_h, bytes, size, nullptr);
+}
 
 bool implemented(const std::string &ext)
 {
@@ -991,6 +1009,63 @@ uint32_t glb_version(const std::string &d)
     return le32((const unsigned char *)d.data() + 4);
 }
 
+// The GLB container's chunk layout, checked before tinygltf reads it: tinygltf 2.7 lets a BIN chunk
+// end up to 8 bytes past the container (it forgets the chunk header; found by fuzz_gltf).  "" or why not.
+std::string glb_layout(const std::string &d)
+{
+    const unsigned char *p = (const unsigned char *)d.data();
+    if (d.size() < 20) return format("GLB: %zu bytes is shorter than the 20-byte header", d.size());
+    uint64_t length = le32(p + 8), jlen = le32(p + 12);
+    if (length > d.size()) return format("GLB: header length %llu exceeds the file's %zu bytes", (unsigned long long)length, d.size());
+    if (le32(p + 16) != 0x4E4F534Au) return "GLB: the first chunk is not JSON";
+    if (20 + jlen > length) return format("GLB: JSON chunk of %llu bytes exceeds the container", (unsigned long long)jlen);
+    uint64_t at = 20 + jlen;
+    if (at == length) return "";
+    if (at + 8 > length) return "GLB: truncated chunk header after the JSON chunk";
+    uint64_t blen = le32(p + at);
+    if (at + 8 + blen > length)
+        return format("GLB: chunk of %llu bytes at offset %llu exceeds the container (%llu bytes)", (unsigned long long)blen,
+                      (unsigned long long)at, (unsigned long long)length);
+    return "";
+}
+
+// tinygltf 2.7 decodes an image stored in a bufferView without checking that the view lies inside its
+// buffer (stb_image then reads past it; found by fuzz_gltf).  Checked here on the JSON before
+// parsing: buffer data is exactly byteLength long once tinygltf has loaded it.  "" or why not.
+std::string image_views(const char *json, size_t size)
+{
+    if (!memmem(json, size, "\"images\"", 8)) return "";
+    cJSON *root = cJSON_ParseWithLength(json, size);
+    if (!root) return ""; // tinygltf reports the syntax error
+    std::string why;
+    const cJSON *images = cJSON_GetObjectItemCaseSensitive(root, "images");
+    const cJSON *views = cJSON_GetObjectItemCaseSensitive(root, "bufferViews");
+    const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers");
+    int n = cJSON_IsArray(images) ? cJSON_GetArraySize(images) : 0;
+    for (int i = 0; i < n && why.empty(); i++) {
+        const cJSON *bvj = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(images, i), "bufferView");
+        if (!bvj) continue;
+        auto num = [](const cJSON *o, const char *key, double dflt) {
+            const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+            return !v ? dflt : cJSON_IsNumber(v) ? v->valuedouble : -1.0;
+        };
+        double b = cJSON_IsNumber(bvj) ? bvj->valuedouble : -1;
+        const cJSON *bv = b >= 0 && cJSON_IsArray(views) && b < cJSON_GetArraySize(views) ? cJSON_GetArrayItem(views, (int)b) : nullptr;
+        double buf = bv ? num(bv, "buffer", -1) : -1;
+        const cJSON *bo = buf >= 0 && cJSON_IsArray(buffers) && buf < cJSON_GetArraySize(buffers)
+                              ? cJSON_GetArrayItem(buffers, (int)buf) : nullptr;
+        double off = bv ? num(bv, "byteOffset", 0) : -1, len = bv ? num(bv, "byteLength", -1) : -1;
+        double blen = bo ? num(bo, "byteLength", -1) : -1;
+        if (!bo || off < 0 || len < 0 || blen < 0)
+            why = format("image %d: bufferView %g is missing or malformed", i, b);
+        else if (off + len > blen)
+            why = format("image %d: bufferView %g (bytes %.0f..%.0f) exceeds buffer %g length %.0f", i, b, off, off + len,
+                         buf, blen);
+    }
+    cJSON_Delete(root);
+    return why;
+}
+
 // tinygltf 2.7 (Debian's, built without its own Draco support) refuses a primitive whose indices
 // accessor has no bufferView — which is how KHR_draco_mesh_compression declares Draco indices.  So
 // before parsing, each Draco primitive's "indices" moves into its extension object as
@@ -1105,6 +1180,15 @@ bool import(prw_scene *s, const char *path, int parent, prw_error *e)
     uint32_t glb = glb_version(data);
     if (glb == 1) return prw_fail(e, "%s: glTF 1.0 binary (GLB version 1) is not supported; convert to 2.0", path);
     if (glb != 0 && glb != 2) return prw_fail(e, "%s: GLB container version %u is not supported (glTF 2.0 is GLB 2)", path, glb);
+    if (glb) {
+        std::string why = glb_layout(data);
+        if (!why.empty()) return prw_fail(e, "%s: %s", path, why.c_str());
+    }
+    {
+        size_t jo = glb ? 20 : 0, jn = glb ? le32((const unsigned char *)data.data() + 12) : data.size();
+        std::string why = image_views(data.data() + jo, jn);
+        if (!why.empty()) return prw_fail(e, "%s: %s", path, why.c_str());
+    }
     if (data.find("KHR_draco_mesh_compression") != std::string::npos) {
         std::string fixed;
         if (glb ? draco_rewrite_glb(data, &fixed) : draco_rewrite_json(data.data(), data.size(), &fixed)) data.swap(fixed);
@@ -1112,6 +1196,7 @@ bool import(prw_scene *s, const char *path, int parent, prw_error *e)
 
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(guarded_image_loader, nullptr);
     std::string err, warn;
     std::string p(path), base = p.find_last_of('/') == std::string::npos ? "" : p.substr(0, p.find_last_of('/'));
     bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)data.data(),

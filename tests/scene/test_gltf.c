@@ -906,17 +906,70 @@ static void test_no_light_no_camera(void)
     prw_scene_destroy(s);
 }
 
+/* PNG bytes: signature, IHDR (w x h, RGBA8), a dummy IDAT, IEND (CRCs not checked by stb_image). */
+static size_t png_header(uint8_t *out, uint32_t w, uint32_t h)
+{
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    size_t n = 0;
+    memcpy(out, sig, 8);
+    n = 8;
+    const uint8_t ihdr[25] = {0,    0,    0,    13,   'I',  'H',  'D',  'R',  (uint8_t)(w >> 24), (uint8_t)(w >> 16),
+                              (uint8_t)(w >> 8), (uint8_t)w, (uint8_t)(h >> 24), (uint8_t)(h >> 16), (uint8_t)(h >> 8),
+                              (uint8_t)h, 8, 6, 0, 0, 0, 0, 0, 0, 0};
+    memcpy(out + n, ihdr, 25);
+    n += 25;
+    const uint8_t idat[12] = {0, 0, 0, 0, 'I', 'D', 'A', 'T', 0, 0, 0, 0};
+    memcpy(out + n, idat, 12);
+    n += 12;
+    const uint8_t iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0, 0, 0, 0};
+    memcpy(out + n, iend, 12);
+    return n + 12;
+}
+
 static void test_limits(void)
 {
     /* an accessor without a bufferView (all zeros) claims no bytes: a huge count is refused */
-    gen_prim p = {.mode = 4, .pos = k_tri, .nv = 3, .extra = ",\"attributes\":{}"};
-    (void)p;
     const char *j = "{\"asset\":{\"version\":\"2.0\"},\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
                     "\"accessors\":[{\"componentType\":5126,\"count\":200000000,\"type\":\"VEC3\"}],"
                     "\"nodes\":[{\"mesh\":0}]}";
     const char *path = tmp_path("zeros.gltf");
     write_file(path, j, strlen(j));
     expect_fail(path, "accessor 0 (mesh 'mesh0' POSITION): has no bufferView (all zeros) and count 200000000", NULL);
+
+    /* an image whose header claims 16000 x 16000 pixels: refused before stb_image allocates */
+    uint8_t png[64];
+    size_t n = png_header(png, 16000, 16000);
+    write_file(tmp_path("huge.png"), png, n);
+    const char *ji = "{\"asset\":{\"version\":\"2.0\"},\"images\":[{\"uri\":\"huge.png\"}],\"textures\":[{\"source\":0}],"
+                     "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]}";
+    path = tmp_path("huge_image.gltf");
+    write_file(path, ji, strlen(ji));
+    expect_fail(path, "image 0: 16000 x 16000 pixels is too large", NULL);
+
+    /* a GLB whose BIN chunk runs past the container (tinygltf would read 8 bytes beyond it) */
+    const char *js = "{\"asset\":{\"version\":\"2.0\"}}   ";
+    uint32_t jl = (uint32_t)strlen(js);
+    uint8_t glb[128];
+    uint32_t total = 20 + jl + 8 + 8;
+    uint32_t hdr[5] = {0x46546C67u, 2, total, jl, 0x4E4F534Au};
+    memcpy(glb, hdr, 20);
+    memcpy(glb + 20, js, jl);
+    uint32_t bh[2] = {16, 0x004E4942u}; /* claims 16 bytes, 8 present */
+    memcpy(glb + 20 + jl, bh, 8);
+    memset(glb + 28 + jl, 0, 8);
+    path = tmp_path("bin_overrun.glb");
+    write_file(path, glb, total);
+    expect_fail(path, "GLB: chunk of 16 bytes at offset", "exceeds the container");
+
+    /* an image in a bufferView that runs past its buffer (tinygltf would hand stb_image the overrun) */
+    uint8_t bin[140];
+    write_file(tmp_path("quad.bin"), bin, make_bin(bin));
+    const char *jv = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"quad.bin\",\"byteLength\":140}],"
+                     "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":100,\"byteLength\":64}],"
+                     "\"images\":[{\"bufferView\":0,\"mimeType\":\"image/png\"}]}";
+    path = tmp_path("image_view_overrun.gltf");
+    write_file(path, jv, strlen(jv));
+    expect_fail(path, "image 0: bufferView 0 (bytes 100..164) exceeds buffer 0 length 140", NULL);
 }
 
 int main(int argc, char **argv)
