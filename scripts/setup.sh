@@ -5,7 +5,7 @@ set -euo pipefail
 PKGS=(
   build-essential cmake pkg-config git
   mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
-  libglfw3-dev libopenexr-dev libpng-dev zlib1g-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcjson-dev
+  libglfw3-dev libopenexr-dev libpng-dev zlib1g-dev libtinygltf-dev libdraco-dev nlohmann-json3-dev libstb-dev libcjson-dev
   libkissfft-dev
   libembree-dev libtbb-dev
   xvfb xauth

@@ -4,16 +4,27 @@
 // that boundary and becomes a one-line prw_error.  Import is all-or-nothing (rolled back on error).
 //
 // Conventions (see manifest.md, "glTF import"):
+//  - glTF 2.x only (1.0 refused by name); a file that requires an extension not in kImplemented is
+//    refused naming it; other unknown extensions in extensionsUsed get one warning each;
 //  - nodes: TRS as given; a `matrix` is decomposed into T, R, S assuming no shear (shear -> error);
-//  - each primitive -> one prw_mesh, each glTF mesh -> one prw_mesh_group; TRIANGLES mode only;
+//  - each primitive -> one prw_mesh, each glTF mesh -> one prw_mesh_group; TRIANGLES, strips and
+//    fans (converted to lists with glTF's winding); lines and points are skipped with one warning,
+//    or refused when the file has no triangles at all; KHR_draco_mesh_compression via gltf_draco;
 //  - every accessor is bounds-checked against its bufferView, every bufferView against its buffer;
+//    Draco streams are checked against what their header claims before libdraco allocates;
+//  - warnings go into the scene (prw_scene_add_warning), never to a stream;
 //  - emission [cd/m^2] = emissiveFactor x KHR_materials_emissive_strength (glTF value 1 = 1 cd/m^2);
 //  - KHR_lights_punctual: point/spot intensity in cd, directional in lux (as the extension states);
 //  - textures become RGBA8; baseColor and emissive are sRGB, the others linear; an image used both
-//    ways is stored twice.  Samplers (wrap/filter) and texCoord sets other than 0 are ignored;
+//    ways is stored twice.  Samplers (wrap/filter) are ignored; uv sets 0 and 1 are imported;
+//  - stored for the renderers: alphaMode/alphaCutoff, KHR_texture_transform per texture slot,
+//    KHR_materials_clearcoat; malformed data of these extensions is ignored with a warning;
 //  - orthographic cameras, skins, morph targets and animations are ignored.
 #include "scene_internal.h"
+#include "gltf_draco.h"
 
+#include <cJSON.h>
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include <sys/stat.h>
@@ -25,7 +36,9 @@
 #include <cstring>
 #include <exception>
 #include <map>
+#include <memory>
 #include <new>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -66,6 +79,63 @@ std::string one_line(const std::string &s, size_t max = 200)
 }
 
 const size_t kMaxElements = size_t(1) << 28; // per accessor, far above any sane asset
+// An accessor without a bufferView is all zeros and claims no bytes: its count is capped instead.
+const size_t kMaxZeroElements = size_t(1) << 20;
+// A Draco stream may claim at most this many faces or points per compressed byte (real streams
+// hold a few; the cap keeps a tiny stream from making libdraco allocate gigabytes).
+const uint64_t kDracoPerByte = 1024;
+const uint32_t kMaxWarnings = 32; // per import; then one "N more" line
+const uint64_t kMaxPixels = uint64_t(1) << 27; // per image (16384 x 8192); RGBA8 512 MiB
+
+// Extensions whose data the importer reads (KHR_materials_specular: specularFactor only;
+// KHR_mesh_quantization: the accessor reader takes every integer component type).
+const char *const kImplemented[] = {
+    "KHR_lights_punctual",        "KHR_materials_emissive_strength", "KHR_materials_specular",
+    "KHR_texture_transform",      "KHR_materials_clearcoat",         "KHR_draco_mesh_compression",
+    "KHR_mesh_quantization",
+};
+
+// tinygltf's image decoder, after a size check from the image header: stb_image would otherwise
+// allocate whatever width x height a few header bytes claim.
+bool guarded_image_loader(tinygltf::Image *image, const int index, std::string *err, std::string *warn, int req_w,
+                          int req_h, const unsigned char *bytes, int size, void *)
+{
+    int w = 0, h = 0, c = 0;
+    if (size > 0 && stbi_info_from_memory(bytes, size, &w, &h, &c) &&
+        (w > 65536 || h > 65536 || (uint64_t)w * (uint64_t)h > kMaxPixels)) {
+        if (err)
+            *err += format("image %d: %d x %d pixels is too large (at most %llu pixels)\n", index, w, h,
+                           (unsigned long long)kMaxPixels);
+        return false;
+    }
+    return tinygltf::LoadImageData(image, index, err, warn, req_w, req_h, bytes, size, nullptr);
+}
+
+bool implemented(const std::string &ext)
+{
+    for (const char *k : kImplemented)
+        if (ext == k) return true;
+    return false;
+}
+
+const char *mode_name(int mode)
+{
+    switch (mode) {
+    case TINYGLTF_MODE_POINTS: return "POINTS";
+    case TINYGLTF_MODE_LINE: return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
+    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
+    case TINYGLTF_MODE_TRIANGLES: return "TRIANGLES";
+    case TINYGLTF_MODE_TRIANGLE_STRIP: return "TRIANGLE_STRIP";
+    case TINYGLTF_MODE_TRIANGLE_FAN: return "TRIANGLE_FAN";
+    }
+    return nullptr;
+}
+
+// Malformed data of an optional extension: the importer ignores that extension with a warning.
+struct Malformed : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
 
 struct Importer {
     prw_scene *s;
@@ -76,6 +146,14 @@ struct Importer {
     std::vector<int> materials;                   // glTF material -> scene material
     int default_material = -1;
     std::vector<int> groups; // glTF mesh -> scene group
+    uint32_t warnings = 0, warnings_dropped = 0;
+    uint64_t triangles = 0;
+    struct Skip {
+        bool lines_or_points; // else: a strip/fan/list that yields no triangle
+        std::string mode;     // "LINES"
+        std::string place;    // "mesh 'x', primitive 2"
+    };
+    std::vector<Skip> skipped;
 
     Importer(prw_scene *scene, const std::string &path, const tinygltf::Model &model)
         : s(scene), file(path), m(model)
@@ -83,6 +161,73 @@ struct Importer {
     }
 
     [[noreturn]] void fail(const std::string &msg) const { throw ImportError(file + ": " + msg); }
+
+    void warn(prw_warning_kind kind, const std::string &msg)
+    {
+        if (warnings >= kMaxWarnings) {
+            warnings_dropped++;
+            return;
+        }
+        warnings++;
+        prw_scene_add_warning(s, kind, "%s: %s", file.c_str(), msg.c_str());
+    }
+
+    void finish_warnings()
+    {
+        if (warnings_dropped)
+            prw_scene_add_warning(s, PRW_WARN_OTHER, "%s: %u more warnings", file.c_str(), warnings_dropped);
+    }
+
+    // ---- version and extensions ----
+    void check_asset()
+    {
+        const std::string &v = m.asset.version;
+        if (v.empty()) {
+            warn(PRW_WARN_OTHER, "asset.version is missing; read as glTF 2.0");
+        } else if (v[0] == '1' && (v.size() == 1 || v[1] == '.')) {
+            fail("glTF 1.0 (asset.version \"" + one_line(v, 20) + "\") is not supported; convert to 2.0");
+        } else if (!(v[0] == '2' && (v.size() == 1 || v[1] == '.'))) {
+            fail("glTF version \"" + one_line(v, 20) + "\" (asset.version) is not supported; prw reads 2.x");
+        }
+        const std::string &mv = m.asset.minVersion;
+        if (!mv.empty() && !(mv == "2.0" || mv == "2"))
+            fail("asset.minVersion \"" + one_line(mv, 20) + "\" is newer than the glTF 2.0 this reader implements");
+    }
+
+    void check_extensions()
+    {
+        std::string missing;
+        std::set<std::string> seen;
+        for (const std::string &x : m.extensionsRequired)
+            if (!implemented(x) && seen.insert(x).second) missing += (missing.empty() ? "" : ", ") + one_line(x, 80);
+        if (!missing.empty())
+            fail(format("the file requires %s %s, which prw does not implement (supported: ",
+                        seen.size() > 1 ? "extensions" : "extension", missing.c_str()) +
+                 supported_list() + ")");
+        for (const std::string &x : m.extensionsUsed)
+            if (!implemented(x) && seen.insert(x).second)
+                warn(PRW_WARN_EXTENSION, "extension " + one_line(x, 80) + " is not supported; its data is ignored");
+    }
+
+    static std::string supported_list()
+    {
+        std::string r;
+        for (const char *k : kImplemented) r += (r.empty() ? "" : ", ") + std::string(k);
+        return r;
+    }
+
+    // What the importer does not draw at all: said once each.
+    void note_ignored()
+    {
+        if (!m.animations.empty()) warn(PRW_WARN_SKIPPED, format("%zu animations are ignored", m.animations.size()));
+        if (!m.skins.empty()) warn(PRW_WARN_SKIPPED, format("%zu skins are ignored (meshes drawn in bind pose)", m.skins.size()));
+        size_t morph = 0, ortho = 0;
+        for (const tinygltf::Mesh &gm : m.meshes)
+            for (const tinygltf::Primitive &p : gm.primitives) morph += p.targets.empty() ? 0 : 1;
+        for (const tinygltf::Camera &c : m.cameras) ortho += c.type == "orthographic" ? 1 : 0;
+        if (morph) warn(PRW_WARN_SKIPPED, format("morph targets of %zu primitives are ignored (base shape drawn)", morph));
+        if (ortho) warn(PRW_WARN_SKIPPED, format("%zu orthographic cameras are ignored", ortho));
+    }
 
     // ---- accessors ----
     struct View {
@@ -112,6 +257,9 @@ struct Importer {
         if (a.count > kMaxElements) fail(label + format(": count %zu is too large", a.count));
         size_t elem = (size_t)v.comp_size * (size_t)v.ncomp;
         if (a.bufferView < 0) { // glTF: zeros
+            if (a.count > kMaxZeroElements)
+                fail(label + format(": has no bufferView (all zeros) and count %zu; more than %zu such elements are refused",
+                                    a.count, kMaxZeroElements));
             v.stride = elem;
             return v;
         }
@@ -254,6 +402,125 @@ struct Importer {
         return true;
     }
 
+    // ---- texture slots: uv set and KHR_texture_transform ----
+    int uv_set(double tc, const std::string &what)
+    {
+        if (tc == 0 || tc == 1) return (int)tc;
+        warn(PRW_WARN_OTHER, what + format(": texCoord %g is not imported (uv sets 0 and 1 are); set 0 is used", tc));
+        return 0;
+    }
+
+    static float finite_number(const tinygltf::Value &v, const char *key)
+    {
+        if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || std::fabs(v.GetNumberAsDouble()) > 1e9)
+            throw Malformed(std::string(key) + " must be a finite number");
+        return (float)v.GetNumberAsDouble();
+    }
+
+    // Fills t from a KHR_texture_transform object (xf may be null: nothing to do).  Malformed: a warning,
+    // t unchanged.
+    void tex_transform(const tinygltf::Value *xf, const std::string &what, prw_tex_transform *t)
+    {
+        if (!xf) return;
+        prw_tex_transform r = *t;
+        try {
+            const tinygltf::Value &v = *xf;
+            if (!v.IsObject()) throw Malformed("is not an object");
+            for (const char *key : {"offset", "scale"}) {
+                if (!v.Has(key)) continue;
+                const tinygltf::Value &a = v.Get(key);
+                if (!a.IsArray() || a.ArrayLen() != 2) throw Malformed(std::string(key) + " must be 2 numbers");
+                float *out = key[0] == 'o' ? r.offset : r.scale;
+                for (int k = 0; k < 2; k++) out[k] = finite_number(a.Get(k), key);
+            }
+            if (v.Has("rotation")) r.rotation = finite_number(v.Get("rotation"), "rotation");
+            if (v.Has("texCoord")) {
+                const tinygltf::Value &tc = v.Get("texCoord");
+                if (!tc.IsNumber() || tc.GetNumberAsDouble() < 0 || tc.GetNumberAsDouble() != std::floor(tc.GetNumberAsDouble()))
+                    throw Malformed("texCoord must be an integer >= 0");
+                r.tex_coord = uv_set(tc.GetNumberAsDouble(), what);
+            }
+        } catch (const Malformed &x) {
+            warn(PRW_WARN_OTHER, what + ": KHR_texture_transform ignored: " + x.what());
+            return;
+        }
+        *t = r;
+    }
+
+    static const tinygltf::Value *xf_of(const tinygltf::ExtensionMap &ext)
+    {
+        auto it = ext.find("KHR_texture_transform");
+        return it == ext.end() ? nullptr : &it->second;
+    }
+
+    // A texture slot: the texture (index -1: none), its uv set and transform.
+    int slot(int index, double tex_coord, const tinygltf::Value *xf, bool srgb, const std::string &what,
+             prw_material *pm, prw_tex_slot sl)
+    {
+        int t = texture(index, srgb, what);
+        if (t < 0) return -1;
+        pm->tex_xf[sl].tex_coord = uv_set(tex_coord, what);
+        tex_transform(xf, what, &pm->tex_xf[sl]);
+        return t;
+    }
+
+    // KHR_materials_clearcoat.  Malformed values or texture references: a warning, no coat.
+    void clearcoat(const tinygltf::Material &g, const std::string &what, prw_material *pm)
+    {
+        auto it = g.extensions.find("KHR_materials_clearcoat");
+        if (it == g.extensions.end()) return;
+        const tinygltf::Value &v = it->second;
+        struct Tex {
+            int index = -1;
+            double tex_coord = 0, scale = 1;
+            const tinygltf::Value *xf = nullptr;
+        } tex[3];
+        const char *tex_keys[3] = {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"};
+        float factor = 0, rough = 0;
+        try {
+            if (!v.IsObject()) throw Malformed("is not an object");
+            auto unit = [&](const char *key, float *out) {
+                if (!v.Has(key)) return;
+                float x = finite_number(v.Get(key), key);
+                if (!(x >= 0 && x <= 1)) throw Malformed(std::string(key) + " must be in [0, 1]");
+                *out = x;
+            };
+            unit("clearcoatFactor", &factor);
+            unit("clearcoatRoughnessFactor", &rough);
+            for (int k = 0; k < 3; k++) {
+                if (!v.Has(tex_keys[k])) continue;
+                const tinygltf::Value &t = v.Get(tex_keys[k]);
+                std::string key = tex_keys[k];
+                if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsNumber())
+                    throw Malformed(key + " must be an object with an index");
+                double i = t.Get("index").GetNumberAsDouble();
+                if (!(i >= 0 && i < (double)m.textures.size()) || i != std::floor(i))
+                    throw Malformed(key + format(": texture %g does not exist (%zu textures)", i, m.textures.size()));
+                tex[k].index = (int)i;
+                if (t.Has("texCoord")) {
+                    double tc = t.Get("texCoord").IsNumber() ? t.Get("texCoord").GetNumberAsDouble() : -1;
+                    if (!(tc >= 0) || tc != std::floor(tc)) throw Malformed(key + ": texCoord must be an integer >= 0");
+                    tex[k].tex_coord = tc;
+                }
+                if (k == 2 && t.Has("scale")) tex[k].scale = finite_number(t.Get("scale"), "clearcoatNormalTexture.scale");
+                if (t.Has("extensions") && t.Get("extensions").IsObject() && t.Get("extensions").Has("KHR_texture_transform"))
+                    tex[k].xf = &t.Get("extensions").Get("KHR_texture_transform");
+            }
+        } catch (const Malformed &x) {
+            warn(PRW_WARN_OTHER, what + ": KHR_materials_clearcoat ignored: " + x.what());
+            return;
+        }
+        pm->clearcoat = factor;
+        pm->clearcoat_roughness = rough;
+        pm->clearcoat_normal_scale = (float)tex[2].scale;
+        std::string w = what + " KHR_materials_clearcoat.";
+        pm->clearcoat_tex = slot(tex[0].index, tex[0].tex_coord, tex[0].xf, false, w + tex_keys[0], pm, PRW_TEX_CLEARCOAT);
+        pm->clearcoat_roughness_tex =
+            slot(tex[1].index, tex[1].tex_coord, tex[1].xf, false, w + tex_keys[1], pm, PRW_TEX_CLEARCOAT_ROUGHNESS);
+        pm->clearcoat_normal_tex =
+            slot(tex[2].index, tex[2].tex_coord, tex[2].xf, false, w + tex_keys[2], pm, PRW_TEX_CLEARCOAT_NORMAL);
+    }
+
     void import_materials()
     {
         for (size_t i = 0; i < m.materials.size(); i++) {
@@ -271,9 +538,14 @@ struct Importer {
                 fail(what + ": metallicFactor, roughnessFactor and normalTexture.scale must be finite");
             pm.metallic = (float)std::fmin(std::fmax(pbr.metallicFactor, 0.0), 1.0);
             pm.roughness = (float)std::fmin(std::fmax(pbr.roughnessFactor, 0.0), 1.0);
-            pm.base_color_tex = texture(pbr.baseColorTexture.index, true, what + " baseColorTexture");
-            pm.metal_rough_tex = texture(pbr.metallicRoughnessTexture.index, false, what + " metallicRoughnessTexture");
-            pm.normal_tex = texture(g.normalTexture.index, false, what + " normalTexture");
+            pm.base_color_tex = slot(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                     xf_of(pbr.baseColorTexture.extensions), true, what + " baseColorTexture", &pm,
+                                     PRW_TEX_BASE_COLOR);
+            pm.metal_rough_tex = slot(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                                      xf_of(pbr.metallicRoughnessTexture.extensions), false,
+                                      what + " metallicRoughnessTexture", &pm, PRW_TEX_METAL_ROUGH);
+            pm.normal_tex = slot(g.normalTexture.index, g.normalTexture.texCoord, xf_of(g.normalTexture.extensions), false,
+                                 what + " normalTexture", &pm, PRW_TEX_NORMAL);
             pm.normal_scale = (float)g.normalTexture.scale;
             // emission: glTF emissive value 1 == 1 cd/m^2, times KHR_materials_emissive_strength
             double strength = 1.0;
@@ -291,7 +563,8 @@ struct Importer {
                 if (!std::isfinite(e) || e > 1e12) fail(what + ": emission is out of range");
                 pm.emission[c] = (float)e;
             }
-            pm.emissive_tex = texture(g.emissiveTexture.index, true, what + " emissiveTexture");
+            pm.emissive_tex = slot(g.emissiveTexture.index, g.emissiveTexture.texCoord, xf_of(g.emissiveTexture.extensions),
+                                   true, what + " emissiveTexture", &pm, PRW_TEX_EMISSIVE);
             // KHR_materials_specular: specularFactor scales the dielectric F0 (the colour term is not supported)
             auto spx = g.extensions.find("KHR_materials_specular");
             if (spx != g.extensions.end() && spx->second.IsObject() && spx->second.Has("specularFactor")) {
@@ -301,6 +574,14 @@ struct Importer {
                 pm.specular = (float)v.GetNumberAsDouble();
             }
             pm.double_sided = g.doubleSided;
+            if (g.alphaMode.empty() || g.alphaMode == "OPAQUE") pm.alpha_mode = PRW_ALPHA_OPAQUE;
+            else if (g.alphaMode == "MASK") pm.alpha_mode = PRW_ALPHA_MASK;
+            else if (g.alphaMode == "BLEND") pm.alpha_mode = PRW_ALPHA_BLEND;
+            else fail(what + ": alphaMode '" + one_line(g.alphaMode, 40) + "' is not OPAQUE, MASK or BLEND");
+            if (!std::isfinite(g.alphaCutoff) || g.alphaCutoff < 0 || g.alphaCutoff > 1e9)
+                fail(what + ": alphaCutoff must be a finite number >= 0");
+            pm.alpha_cutoff = (float)g.alphaCutoff;
+            clearcoat(g, what, &pm);
             materials.push_back(prw_scene_add_material(s, &pm));
         }
     }
@@ -320,6 +601,185 @@ struct Importer {
     }
 
     // ---- meshes ----
+    struct Prim {
+        size_t n = 0; // vertices
+        std::vector<float> pos, nrm, uv, uv1, tan;
+        std::vector<uint32_t> idx; // as the primitive's mode orders them
+    };
+
+    static int attr(const tinygltf::Primitive &p, const char *key)
+    {
+        auto it = p.attributes.find(key);
+        return it == p.attributes.end() ? -2 : it->second;
+    }
+
+    // Vertex attributes of the semantics prw uses, except those `draco` provides (names in `skip`).
+    void read_attributes(const tinygltf::Primitive &p, const std::string &mwhat, const std::set<std::string> &skip,
+                         Prim *out)
+    {
+        struct {
+            const char *sem;
+            int ncomp;
+            std::vector<float> *dst;
+        } sems[] = {{"NORMAL", 3, &out->nrm}, {"TEXCOORD_0", 2, &out->uv}, {"TEXCOORD_1", 2, &out->uv1},
+                    {"TANGENT", 4, &out->tan}};
+        if (!skip.count("POSITION")) {
+            int ipos = attr(p, "POSITION");
+            View vp = view(ipos, mwhat + " POSITION", 3);
+            if (out->n && vp.count != out->n)
+                fail(format("accessor %d (%s POSITION): count %zu differs from the Draco stream's %zu points", ipos,
+                            mwhat.c_str(), vp.count, out->n));
+            out->n = vp.count;
+            out->pos = read_floats(vp);
+        }
+        for (auto &x : sems) {
+            int idx = attr(p, x.sem);
+            if (idx == -2 || skip.count(x.sem)) continue;
+            View v = view(idx, mwhat + " " + x.sem, x.ncomp);
+            if (v.count != out->n)
+                fail(format("accessor %d (%s %s): count %zu differs from POSITION count %zu", idx, mwhat.c_str(), x.sem,
+                            v.count, out->n));
+            *x.dst = read_floats(v);
+        }
+    }
+
+    void read_indices(const tinygltf::Primitive &p, const std::string &mwhat, Prim *out)
+    {
+        if (p.indices == -1) {
+            out->idx.resize(out->n);
+            for (size_t i = 0; i < out->n; i++) out->idx[i] = (uint32_t)i;
+            return;
+        }
+        View vi = view(p.indices, mwhat + " indices", 1);
+        if (vi.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && vi.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            vi.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            fail(format("accessor %d (%s indices): componentType %d is not an unsigned integer type", p.indices,
+                        mwhat.c_str(), vi.comp_type));
+        out->idx.resize(vi.count, 0);
+        if (vi.base)
+            for (size_t i = 0; i < vi.count; i++)
+                out->idx[i] = (uint32_t)component(vi.base + i * vi.stride, vi.comp_type, false);
+    }
+
+    // KHR_draco_mesh_compression: the attributes it names and the faces come from the Draco stream,
+    // the others from their accessors.  Counts are checked against the stream's size before decoding.
+    void read_draco(const tinygltf::Primitive &p, const tinygltf::Value &ext, const std::string &where,
+                    const std::string &mwhat, Prim *out)
+    {
+        std::string dw = where + ": KHR_draco_mesh_compression";
+        if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES)
+            fail(dw + format(" with primitive mode %s is not supported (Draco streams hold triangle lists)",
+                             mode_name(p.mode) ? mode_name(p.mode) : "?"));
+        if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber() || !ext.Has("attributes") ||
+            !ext.Get("attributes").IsObject())
+            fail(dw + ": needs a bufferView index and an attributes object");
+        double bvd = ext.Get("bufferView").GetNumberAsDouble();
+        if (!(bvd >= 0 && bvd < (double)m.bufferViews.size()) || bvd != std::floor(bvd))
+            fail(dw + format(": bufferView %g does not exist (%zu bufferViews)", bvd, m.bufferViews.size()));
+        int bvi = (int)bvd;
+        const tinygltf::BufferView &bv = m.bufferViews[(size_t)bvi];
+        if (bv.buffer < 0 || (size_t)bv.buffer >= m.buffers.size())
+            fail(format("bufferView %d: buffer %d does not exist (%zu buffers)", bvi, bv.buffer, m.buffers.size()));
+        const tinygltf::Buffer &buf = m.buffers[(size_t)bv.buffer];
+        if (bv.byteOffset > buf.data.size() || bv.byteLength > buf.data.size() - bv.byteOffset)
+            fail(format("bufferView %d: byte range %zu..%zu exceeds buffer %d length %zu", bvi, bv.byteOffset,
+                        bv.byteOffset + bv.byteLength, bv.buffer, buf.data.size()));
+        const uint8_t *data = buf.data.data() + bv.byteOffset;
+        size_t len = bv.byteLength;
+
+        prw_gltf::DracoHeader h;
+        std::string why = prw_gltf::draco_peek(data, len, &h);
+        if (!why.empty()) fail(dw + format(" (bufferView %d): ", bvi) + why);
+        uint64_t cap = std::min<uint64_t>(kMaxElements, kDracoPerByte * (uint64_t)len + 1024);
+        if (h.faces > cap || h.max_points > 3 * cap)
+            fail(dw + format(" (bufferView %d): the stream claims %u faces in %zu bytes (more than %llu are refused)", bvi,
+                             h.faces, len, (unsigned long long)cap));
+        int ind = p.indices; // moved into the extension before parsing (draco_rewrite_json)
+        if (ext.Has("prw_indices")) {
+            const tinygltf::Value &iv = ext.Get("prw_indices");
+            double d = iv.IsNumber() ? iv.GetNumberAsDouble() : -2;
+            ind = d >= 0 && d < (double)m.accessors.size() && d == std::floor(d) ? (int)d : -2;
+            if (ind == -2) fail(format("%s indices: accessor %g does not exist (%zu accessors)", mwhat.c_str(), d, m.accessors.size()));
+        }
+        if (ind != -1) {
+            if (ind < 0 || (size_t)ind >= m.accessors.size())
+                fail(format("%s indices: accessor %d does not exist (%zu accessors)", mwhat.c_str(), ind, m.accessors.size()));
+            size_t ic = m.accessors[(size_t)ind].count;
+            if (ic != 3 * (size_t)h.faces)
+                fail(format("accessor %d (%s indices): count %zu differs from the Draco stream's %u faces x 3", ind,
+                            mwhat.c_str(), ic, h.faces));
+        }
+        std::unique_ptr<prw_gltf::DracoMesh> dm = prw_gltf::draco_decode(data, len, &why);
+        if (!dm) fail(dw + format(" (bufferView %d): ", bvi) + why);
+        out->n = dm->points();
+        if (out->n == 0 || dm->indices().empty()) fail(dw + format(" (bufferView %d): the stream holds no triangle", bvi));
+
+        const tinygltf::Value &atts = ext.Get("attributes");
+        std::set<std::string> from_draco;
+        struct {
+            const char *sem;
+            int ncomp;
+            std::vector<float> *dst;
+        } sems[] = {{"POSITION", 3, &out->pos}, {"NORMAL", 3, &out->nrm}, {"TEXCOORD_0", 2, &out->uv},
+                    {"TEXCOORD_1", 2, &out->uv1}, {"TANGENT", 4, &out->tan}};
+        for (auto &x : sems) {
+            if (!atts.Has(x.sem)) continue;
+            int ai = attr(p, x.sem);
+            if (ai == -2) continue; // compressed but not used by the primitive
+            const tinygltf::Value &u = atts.Get(x.sem);
+            if (!u.IsNumber() || u.GetNumberAsDouble() < 0 || u.GetNumberAsDouble() > 4294967295.0 ||
+                u.GetNumberAsDouble() != std::floor(u.GetNumberAsDouble()))
+                fail(dw + ": attributes." + x.sem + " must be an attribute id (integer >= 0)");
+            if (ai < 0 || (size_t)ai >= m.accessors.size())
+                fail(format("%s %s: accessor %d does not exist (%zu accessors)", mwhat.c_str(), x.sem, ai, m.accessors.size()));
+            const tinygltf::Accessor &a = m.accessors[(size_t)ai];
+            if (tinygltf::GetNumComponentsInType((uint32_t)a.type) != x.ncomp)
+                fail(format("accessor %d (%s %s): has %d components, expected %d", ai, mwhat.c_str(), x.sem,
+                            tinygltf::GetNumComponentsInType((uint32_t)a.type), x.ncomp));
+            if (a.count != out->n)
+                fail(format("accessor %d (%s %s): count %zu differs from the Draco stream's %zu points", ai, mwhat.c_str(),
+                            x.sem, a.count, out->n));
+            why = dm->attribute((uint32_t)u.GetNumberAsDouble(), x.ncomp, x.dst);
+            if (!why.empty()) fail(dw + ": " + x.sem + ": " + why);
+            from_draco.insert(x.sem);
+        }
+        if (!from_draco.count("POSITION") && attr(p, "POSITION") == -2) fail(where + ": no POSITION attribute");
+        read_attributes(p, mwhat, from_draco, out);
+        out->idx = dm->indices();
+    }
+
+    // Triangle list from a primitive's index sequence r (TRIANGLES: r itself).  Strips and fans follow
+    // glTF 2.0 section 3.7.2.1 (front faces counter-clockwise like TRIANGLES):
+    //   strip triangle i = (r[i], r[i + 1 + i % 2], r[i + 2 - i % 2]),  fan triangle i = (r[i + 1], r[i + 2], r[0]).
+    // Triangles with a repeated index (strip restarts, stitching) are dropped.
+    std::vector<uint32_t> to_list(int mode, std::vector<uint32_t> r, size_t n, const std::string &where) const
+    {
+        if (mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) return r;
+        for (size_t i = 0; i < r.size(); i++)
+            if (r[i] >= n)
+                fail(where + format(": index %u at position %zu is out of range (vertex count %zu)", r[i], i, n));
+        std::vector<uint32_t> t;
+        if (r.size() < 3) return t;
+        t.reserve(3 * (r.size() - 2));
+        for (size_t i = 0; i + 2 < r.size(); i++) {
+            uint32_t a, b, c;
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                a = r[i];
+                b = r[i + 1 + i % 2];
+                c = r[i + 2 - i % 2];
+            } else {
+                a = r[i + 1];
+                b = r[i + 2];
+                c = r[0];
+            }
+            if (a == b || b == c || a == c) continue;
+            t.push_back(a);
+            t.push_back(b);
+            t.push_back(c);
+        }
+        return t;
+    }
+
     void import_meshes()
     {
         for (size_t mi = 0; mi < m.meshes.size(); mi++) {
@@ -329,66 +789,67 @@ struct Importer {
             for (size_t pi = 0; pi < gm.primitives.size(); pi++) {
                 const tinygltf::Primitive &p = gm.primitives[pi];
                 std::string where = format("mesh '%s' primitive %zu", nm.c_str(), pi);
-                if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES)
-                    fail(where + format(": mode %d is not supported (only TRIANGLES = 4)", p.mode));
-                auto attr = [&](const char *key) {
-                    auto it = p.attributes.find(key);
-                    return it == p.attributes.end() ? -2 : it->second;
-                };
-                int ipos = attr("POSITION"), inrm = attr("NORMAL"), iuv = attr("TEXCOORD_0"), itan = attr("TANGENT");
-                if (ipos == -2) fail(where + ": no POSITION attribute");
-                std::string mwhat = format("mesh '%s'", nm.c_str());
-                View vp = view(ipos, mwhat + " POSITION", 3);
-                size_t n = vp.count;
-                std::vector<float> pos = read_floats(vp), nrm, uv, tan;
-                auto other = [&](int idx, const char *sem, int ncomp, std::vector<float> &out) {
-                    if (idx == -2) return;
-                    View v = view(idx, mwhat + " " + sem, ncomp);
-                    if (v.count != n)
-                        fail(format("accessor %d (%s %s): count %zu differs from POSITION count %zu", idx, mwhat.c_str(),
-                                    sem, v.count, n));
-                    out = read_floats(v);
-                };
-                other(inrm, "NORMAL", 3, nrm);
-                other(iuv, "TEXCOORD_0", 2, uv);
-                other(itan, "TANGENT", 4, tan);
-                std::vector<uint32_t> idx;
-                if (p.indices != -1) {
-                    View vi = view(p.indices, mwhat + " indices", 1);
-                    if (vi.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-                        vi.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-                        vi.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-                        fail(format("accessor %d (%s indices): componentType %d is not an unsigned integer type",
-                                    p.indices, mwhat.c_str(), vi.comp_type));
-                    idx.resize(vi.count, 0);
-                    if (vi.base)
-                        for (size_t i = 0; i < vi.count; i++)
-                            idx[i] = (uint32_t)component(vi.base + i * vi.stride, vi.comp_type, false);
-                } else {
-                    idx.resize(n);
-                    for (size_t i = 0; i < n; i++) idx[i] = (uint32_t)i;
+                int mode = p.mode == -1 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+                const char *mname = mode_name(mode);
+                if (!mname) fail(where + format(": mode %d is not a glTF primitive mode (0..6)", p.mode));
+                if (mode < TINYGLTF_MODE_TRIANGLES) { // points and lines: not drawn
+                    skipped.push_back({true, mname, format("mesh '%s', primitive %zu", nm.c_str(), pi)});
+                    continue;
                 }
+                std::string mwhat = format("mesh '%s'", nm.c_str());
+                Prim pr;
+                auto dx = p.extensions.find("KHR_draco_mesh_compression");
+                if (dx != p.extensions.end()) {
+                    read_draco(p, dx->second, where, mwhat, &pr);
+                } else {
+                    if (attr(p, "POSITION") == -2) fail(where + ": no POSITION attribute");
+                    read_attributes(p, mwhat, {}, &pr);
+                    read_indices(p, mwhat, &pr);
+                    pr.idx = to_list(mode, std::move(pr.idx), pr.n, where);
+                }
+                if (pr.idx.empty()) {
+                    skipped.push_back({false, mname, format("mesh '%s', primitive %zu", nm.c_str(), pi)});
+                    continue;
+                }
+                if (pr.idx.size() > 0xffffffffu) fail(where + ": too many indices");
                 prw_mesh pm;
                 memset(&pm, 0, sizeof pm);
                 prw_copy_name(pm.name, nm.c_str());
-                pm.vertex_count = (uint32_t)n;
-                pm.index_count = (uint32_t)idx.size();
-                pm.positions = pos.data();
-                pm.normals = nrm.empty() ? nullptr : nrm.data();
-                pm.uvs = uv.empty() ? nullptr : uv.data();
-                pm.tangents = tan.empty() ? nullptr : tan.data();
-                pm.indices = idx.data();
+                pm.vertex_count = (uint32_t)pr.n;
+                pm.index_count = (uint32_t)pr.idx.size();
+                pm.positions = pr.pos.data();
+                pm.normals = pr.nrm.empty() ? nullptr : pr.nrm.data();
+                pm.uvs = pr.uv.empty() ? nullptr : pr.uv.data();
+                pm.uvs1 = pr.uv1.empty() ? nullptr : pr.uv1.data();
+                pm.tangents = pr.tan.empty() ? nullptr : pr.tan.data();
+                pm.indices = pr.idx.data();
                 pm.material = material(p.material, where);
                 prw_error e;
                 if (prw_scene_add_mesh(s, &pm, &e) < 0) { // e: "mesh '<name>': <reason>"
                     const char *reason = strstr(e.msg, "': ");
                     fail(where + ": " + (reason ? reason + 3 : e.msg));
                 }
+                triangles += pr.idx.size() / 3;
             }
             int g = prw_scene_add_group(s, nm.c_str(), first, s->mesh_count - first);
             if (g < 0) fail(format("mesh '%s': cannot add group", nm.c_str()));
             groups.push_back(g);
         }
+        if (skipped.empty()) return;
+        std::string list;
+        for (size_t i = 0; i < skipped.size() && i < 4; i++)
+            list += (i ? ", " : "") + skipped[i].mode + (skipped[i].lines_or_points ? "" : " without a triangle") + " (" +
+                    skipped[i].place + ")";
+        if (skipped.size() > 4) list += format(" and %zu more", skipped.size() - 4);
+        if (triangles == 0) {
+            std::string more = skipped.size() > 1 ? format(" (and %zu more primitives without triangles)", skipped.size() - 1)
+                                                  : std::string();
+            const Skip &k = skipped[0];
+            fail((k.lines_or_points ? "primitive mode " + k.mode + " is not supported (" + k.place + ")"
+                                    : k.mode + " primitive without a triangle (" + k.place + ")") +
+                 more + "; the file has no triangles to draw");
+        }
+        warn(PRW_WARN_SKIPPED, format("%zu primitives without triangles are not drawn: ", skipped.size()) + list);
     }
 
     // ---- nodes, cameras, lights ----
@@ -535,14 +996,163 @@ struct Importer {
     }
 };
 
-bool is_glb(const char *path)
+uint32_t le32(const unsigned char *p)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return false;
-    char magic[4] = {0, 0, 0, 0};
-    size_t n = fread(magic, 1, 4, f);
-    fclose(f);
-    return n == 4 && memcmp(magic, "glTF", 4) == 0;
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+
+// 0: not a GLB; else the GLB container version (bytes 4..7).
+uint32_t glb_version(const std::string &d)
+{
+    if (d.size() < 4 || memcmp(d.data(), "glTF", 4) != 0) return 0;
+    if (d.size() < 8) return 0xffffffffu;
+    return le32((const unsigned char *)d.data() + 4);
+}
+
+// The GLB container's chunk layout, checked before tinygltf reads it: tinygltf 2.7 lets a BIN chunk
+// end up to 8 bytes past the container (it forgets the chunk header; found by fuzz_gltf).  "" or why not.
+std::string glb_layout(const std::string &d)
+{
+    const unsigned char *p = (const unsigned char *)d.data();
+    if (d.size() < 20) return format("GLB: %zu bytes is shorter than the 20-byte header", d.size());
+    uint64_t length = le32(p + 8), jlen = le32(p + 12);
+    if (length > d.size()) return format("GLB: header length %llu exceeds the file's %zu bytes", (unsigned long long)length, d.size());
+    if (le32(p + 16) != 0x4E4F534Au) return "GLB: the first chunk is not JSON";
+    if (20 + jlen > length) return format("GLB: JSON chunk of %llu bytes exceeds the container", (unsigned long long)jlen);
+    uint64_t at = 20 + jlen;
+    if (at == length) return "";
+    if (at + 8 > length) return "GLB: truncated chunk header after the JSON chunk";
+    uint64_t blen = le32(p + at);
+    if (at + 8 + blen > length)
+        return format("GLB: chunk of %llu bytes at offset %llu exceeds the container (%llu bytes)", (unsigned long long)blen,
+                      (unsigned long long)at, (unsigned long long)length);
+    return "";
+}
+
+// tinygltf 2.7 decodes an image stored in a bufferView without checking that the view lies inside its
+// buffer (stb_image then reads past it; found by fuzz_gltf).  Checked here on the JSON before
+// parsing: buffer data is exactly byteLength long once tinygltf has loaded it.  "" or why not.
+std::string image_views(const char *json, size_t size)
+{
+    if (!memmem(json, size, "\"images\"", 8)) return "";
+    cJSON *root = cJSON_ParseWithLength(json, size);
+    if (!root) return ""; // tinygltf reports the syntax error
+    std::string why;
+    const cJSON *images = cJSON_GetObjectItemCaseSensitive(root, "images");
+    const cJSON *views = cJSON_GetObjectItemCaseSensitive(root, "bufferViews");
+    const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers");
+    int n = cJSON_IsArray(images) ? cJSON_GetArraySize(images) : 0;
+    for (int i = 0; i < n && why.empty(); i++) {
+        const cJSON *bvj = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(images, i), "bufferView");
+        if (!bvj) continue;
+        auto num = [](const cJSON *o, const char *key, double dflt) {
+            const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+            return !v ? dflt : cJSON_IsNumber(v) ? v->valuedouble : -1.0;
+        };
+        double b = cJSON_IsNumber(bvj) ? bvj->valuedouble : -1;
+        const cJSON *bv = b >= 0 && cJSON_IsArray(views) && b < cJSON_GetArraySize(views) ? cJSON_GetArrayItem(views, (int)b) : nullptr;
+        double buf = bv ? num(bv, "buffer", -1) : -1;
+        const cJSON *bo = buf >= 0 && cJSON_IsArray(buffers) && buf < cJSON_GetArraySize(buffers)
+                              ? cJSON_GetArrayItem(buffers, (int)buf) : nullptr;
+        double off = bv ? num(bv, "byteOffset", 0) : -1, len = bv ? num(bv, "byteLength", -1) : -1;
+        double blen = bo ? num(bo, "byteLength", -1) : -1;
+        if (!bo || off < 0 || len < 0 || blen < 0)
+            why = format("image %d: bufferView %g is missing or malformed", i, b);
+        else if (off + len > blen)
+            why = format("image %d: bufferView %g (bytes %.0f..%.0f) exceeds buffer %g length %.0f", i, b, off, off + len,
+                         buf, blen);
+    }
+    cJSON_Delete(root);
+    return why;
+}
+
+// tinygltf 2.7 (Debian's, built without its own Draco support) refuses a primitive whose indices
+// accessor has no bufferView — which is how KHR_draco_mesh_compression declares Draco indices.  So
+// before parsing, each Draco primitive's "indices" moves into its extension object as
+// "prw_indices" (read_draco takes it from there).  Returns false when nothing had to change.
+bool draco_rewrite_json(const char *text, size_t size, std::string *out)
+{
+    cJSON *root = cJSON_ParseWithLength(text, size);
+    if (!root) return false;
+    bool changed = false;
+    const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(root, "meshes");
+    if (!cJSON_IsArray(meshes)) meshes = nullptr;
+    const cJSON *mesh;
+    cJSON_ArrayForEach(mesh, meshes)
+    {
+        const cJSON *prims = cJSON_GetObjectItemCaseSensitive(mesh, "primitives");
+        if (!cJSON_IsArray(prims)) prims = nullptr;
+        cJSON *prim;
+        cJSON_ArrayForEach(prim, prims)
+        {
+            cJSON *ext = cJSON_GetObjectItemCaseSensitive(prim, "extensions");
+            cJSON *dx = cJSON_IsObject(ext) ? cJSON_GetObjectItemCaseSensitive(ext, "KHR_draco_mesh_compression") : nullptr;
+            if (!cJSON_IsObject(dx) || !cJSON_GetObjectItemCaseSensitive(prim, "indices")) continue;
+            cJSON_DeleteItemFromObjectCaseSensitive(dx, "prw_indices");
+            cJSON_AddItemToObject(dx, "prw_indices", cJSON_DetachItemFromObjectCaseSensitive(prim, "indices"));
+            changed = true;
+        }
+    }
+    if (changed) {
+        char *t = cJSON_PrintUnformatted(root);
+        if (t) *out = t;
+        else changed = false;
+        cJSON_free(t);
+    }
+    cJSON_Delete(root);
+    return changed;
+}
+
+// The same for a GLB container: a new container with the rewritten JSON chunk and the other chunks
+// as they were.  False when the container is not well-formed (tinygltf then says why) or unchanged.
+bool draco_rewrite_glb(const std::string &d, std::string *out)
+{
+    const unsigned char *p = (const unsigned char *)d.data();
+    if (d.size() < 20) return false;
+    uint32_t jlen = le32(p + 12);
+    if (le32(p + 16) != 0x4E4F534Au || jlen > d.size() - 20) return false;
+    std::string json;
+    if (!draco_rewrite_json(d.data() + 20, jlen, &json)) return false;
+    while (json.size() % 4) json += ' ';
+    size_t rest = 20 + (size_t)jlen;
+    size_t total = 20 + json.size() + (d.size() - rest);
+    if (total > 0xffffffffu) return false;
+    out->clear();
+    out->reserve(total);
+    unsigned char h[20];
+    memcpy(h, p, 8);
+    uint32_t w[3] = {(uint32_t)total, (uint32_t)json.size(), 0x4E4F534Au};
+    for (int i = 0; i < 3; i++)
+        for (int b = 0; b < 4; b++) h[8 + 4 * i + b] = (unsigned char)(w[i] >> (8 * b));
+    out->append((const char *)h, 20);
+    out->append(json);
+    out->append(d, rest, std::string::npos);
+    return true;
+}
+
+// After tinygltf refused a .gltf: is it a glTF 1.0 file (asset.version 1.x, or dictionaries where
+// 2.0 has arrays)?  Then that is the message a user needs, not tinygltf's.
+std::string diagnose_v1(const char *path)
+{
+    char *text = nullptr;
+    size_t size = 0;
+    prw_error e;
+    if (!prw_read_file(path, &text, &size, &e)) return "";
+    cJSON *root = cJSON_ParseWithLength(text, size);
+    free(text);
+    if (!root) return "";
+    std::string r;
+    const cJSON *asset = cJSON_GetObjectItemCaseSensitive(root, "asset");
+    const cJSON *ver = cJSON_IsObject(asset) ? cJSON_GetObjectItemCaseSensitive(asset, "version") : nullptr;
+    if (cJSON_IsString(ver) && ver->valuestring[0] == '1')
+        r = "glTF 1.0 (asset.version \"" + one_line(ver->valuestring, 20) + "\") is not supported; convert to 2.0";
+    else if (cJSON_IsNumber(ver) && ver->valuedouble >= 1 && ver->valuedouble < 2)
+        r = format("glTF 1.0 (asset.version %g) is not supported; convert to 2.0", ver->valuedouble);
+    else if (cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, "meshes")) ||
+             cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, "accessors")))
+        r = "glTF 1.0 (objects keyed by id instead of arrays) is not supported; convert to 2.0";
+    cJSON_Delete(root);
+    return r;
 }
 
 bool import(prw_scene *s, const char *path, int parent, prw_error *e)
@@ -555,23 +1165,63 @@ bool import(prw_scene *s, const char *path, int parent, prw_error *e)
     if (parent < -1 || (parent >= 0 && (uint32_t)parent >= s->node_count))
         return prw_fail(e, "%s: parent node %d does not exist", path, parent);
 
+    std::string data;
+    {
+        char *text = nullptr;
+        size_t size = 0;
+        if (!prw_read_file(path, &text, &size, e)) return false;
+        if (size > 0xffffffffu) {
+            free(text);
+            return prw_fail(e, "%s: %zu bytes is too large for a glTF file (at most 4 GiB)", path, size);
+        }
+        data.assign(text, size);
+        free(text);
+    }
+    uint32_t glb = glb_version(data);
+    if (glb == 1) return prw_fail(e, "%s: glTF 1.0 binary (GLB version 1) is not supported; convert to 2.0", path);
+    if (glb != 0 && glb != 2) return prw_fail(e, "%s: GLB container version %u is not supported (glTF 2.0 is GLB 2)", path, glb);
+    if (glb) {
+        std::string why = glb_layout(data);
+        if (!why.empty()) return prw_fail(e, "%s: %s", path, why.c_str());
+    }
+    {
+        size_t jo = glb ? 20 : 0, jn = glb ? le32((const unsigned char *)data.data() + 12) : data.size();
+        std::string why = image_views(data.data() + jo, jn);
+        if (!why.empty()) return prw_fail(e, "%s: %s", path, why.c_str());
+    }
+    if (data.find("KHR_draco_mesh_compression") != std::string::npos) {
+        std::string fixed;
+        if (glb ? draco_rewrite_glb(data, &fixed) : draco_rewrite_json(data.data(), data.size(), &fixed)) data.swap(fixed);
+    }
+
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(guarded_image_loader, nullptr);
     std::string err, warn;
-    bool ok = is_glb(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok) return prw_fail(e, "%s: %s", path, one_line(err.empty() ? "cannot parse glTF" : err, 600).c_str());
+    std::string p(path), base = p.find_last_of('/') == std::string::npos ? "" : p.substr(0, p.find_last_of('/'));
+    bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)data.data(),
+                                                (unsigned)data.size(), base)
+                  : loader.LoadASCIIFromString(&model, &err, &warn, data.data(), (unsigned)data.size(), base);
+    if (!ok) {
+        std::string v1 = glb ? "" : diagnose_v1(path);
+        if (!v1.empty()) return prw_fail(e, "%s: %s", path, v1.c_str());
+        return prw_fail(e, "%s: %s", path, one_line(err.empty() ? "cannot parse glTF" : err, 600).c_str());
+    }
 
     Importer im(s, path, model);
+    im.check_asset();
+    im.check_extensions();
     im.import_materials();
     im.import_meshes();
     im.import_nodes(parent);
+    im.note_ignored();
+    im.finish_warnings();
     return true;
 }
 
 } // namespace
 
-extern "C" bool prw_scene_import_gltf(prw_scene *s, const char *path, int parent, prw_error *e)
+extern "C" bool prw_gltf_import(prw_scene *s, const char *path, int parent, prw_error *e)
 {
     if (!path) return prw_fail(e, "(null): no glTF path");
     prw_scene_mark mark = prw_scene_mark_get(s);
@@ -592,5 +1242,12 @@ extern "C" bool prw_scene_import_gltf(prw_scene *s, const char *path, int parent
         return false;
     }
     prw_scene_update(s);
+    return true;
+}
+
+extern "C" bool prw_scene_import_gltf(prw_scene *s, const char *path, int parent, prw_error *e)
+{
+    if (!prw_gltf_import(s, path, parent, e)) return false;
+    prw_scene_note_missing(s, path);
     return true;
 }

@@ -527,7 +527,7 @@ static bool parse_gltf(ctx *c, const cJSON *arr)
         else snprintf(full, sizeof full, "%s%s", c->dir, file);
         prw_copy_name(n.name, basename_of(full));
         int node = prw_scene_add_node(c->s, &n);
-        if (!prw_scene_import_gltf(c->s, full, node, c->e)) return prw_fail_wrap(c->e, "%s:%s", c->file, pl);
+        if (!prw_gltf_import(c->s, full, node, c->e)) return prw_fail_wrap(c->e, "%s:%s", c->file, pl);
     }
     return true;
 }
@@ -711,6 +711,7 @@ bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const
     snprintf(s->source, sizeof s->source, "%s", c.file);
     if (env.present) s->environment = env; /* set only on success: all-or-nothing */
     prw_scene_update(s);
+    prw_scene_note_missing(s, c.file);
     return true;
 }
 

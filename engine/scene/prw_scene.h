@@ -33,6 +33,7 @@ typedef struct prw_mesh {
     float *normals;   /* 3 per vertex, unit */
     float *uvs;       /* 2 per vertex (zeros when the source has none) */
     float *tangents;  /* 4 per vertex: xyz unit, w = bitangent sign (+-1) */
+    float *uvs1;      /* 2 per vertex, the second uv set (glTF TEXCOORD_1); NULL when the source has none */
     uint32_t *indices;/* triangle list, counter-clockwise front faces */
     int material;     /* index into materials */
     prw_dvec3 bounds_min, bounds_max; /* object space */
@@ -51,6 +52,44 @@ typedef struct prw_texture {
     bool srgb;      /* base colour and emissive: true */
 } prw_texture;
 
+/* How a material's alpha (base_color[3] x the base-colour texture's alpha) is used (glTF alphaMode). */
+typedef enum prw_alpha_mode {
+    PRW_ALPHA_OPAQUE = 0, /* alpha is ignored */
+    PRW_ALPHA_MASK,       /* alpha < alpha_cutoff: no surface there; otherwise opaque */
+    PRW_ALPHA_BLEND,      /* alpha is the coverage, blended over what lies behind */
+} prw_alpha_mode;
+
+/* A material's texture slots, for the per-slot data below (uv set and transform). */
+typedef enum prw_tex_slot {
+    PRW_TEX_BASE_COLOR = 0,
+    PRW_TEX_METAL_ROUGH,
+    PRW_TEX_NORMAL,
+    PRW_TEX_EMISSIVE,
+    PRW_TEX_CLEARCOAT,           /* R channel */
+    PRW_TEX_CLEARCOAT_ROUGHNESS, /* G channel */
+    PRW_TEX_CLEARCOAT_NORMAL,
+    PRW_TEX_SLOT_COUNT
+} prw_tex_slot;
+
+/* Which uv set a texture slot reads and how it transforms it (KHR_texture_transform):
+ *   uv' = offset + R(rotation) (scale . uv),  R(r) = [cos r  sin r; -sin r  cos r]
+ * i.e. u' = offset[0] + cos r * scale[0] * u + sin r * scale[1] * v,
+ *      v' = offset[1] - sin r * scale[0] * u + cos r * scale[1] * v
+ * (u right, v down the image: a positive rotation turns the uvs counter-clockwise as drawn in uv
+ * space, as the extension's example and its implementations do; the GLSL listing in the extension
+ * has the opposite sign).  Identity: offset 0, rotation 0, scale 1 (prw_material_default). */
+typedef struct prw_tex_transform {
+    float offset[2];
+    float rotation; /* radians */
+    float scale[2];
+    int tex_coord;  /* uv set: 0 = prw_mesh.uvs, 1 = prw_mesh.uvs1 (textureInfo.texCoord, or the extension's) */
+} prw_tex_transform;
+
+/* uv' of the formula above (in and out may alias). */
+void prw_tex_transform_apply(const prw_tex_transform *t, const float uv[2], float out[2]);
+/* True when t leaves every uv unchanged (it may still name uv set 1). */
+bool prw_tex_transform_is_identity(const prw_tex_transform *t);
+
 typedef struct prw_material {
     char name[PRW_NAME_MAX];
     float base_color[4];    /* linear */
@@ -64,6 +103,19 @@ typedef struct prw_material {
     float emission[3];      /* cd/m^2, linear RGB */
     int emissive_tex;       /* -1: none (multiplies emission) */
     bool double_sided;
+    /* Stored for the renderers, not drawn yet (the fields above are all they read today): */
+    prw_alpha_mode alpha_mode; /* OPAQUE */
+    float alpha_cutoff;        /* MASK threshold, 0.5 */
+    prw_tex_transform tex_xf[PRW_TEX_SLOT_COUNT]; /* per slot: uv set 0, identity */
+    /* KHR_materials_clearcoat: a clear dielectric coat (IOR 1.5, F0 0.04, GGX) over the base layer,
+     * weighted by clearcoat x clearcoat_tex.R; its own roughness (perceptual, x roughness_tex.G) and
+     * normal map.  clearcoat 0 (default) = no coat. */
+    float clearcoat;
+    int clearcoat_tex;           /* -1: none; linear */
+    float clearcoat_roughness;   /* 0 */
+    int clearcoat_roughness_tex; /* -1: none; linear */
+    int clearcoat_normal_tex;    /* -1: none; linear */
+    float clearcoat_normal_scale;/* 1 */
 } prw_material;
 
 typedef struct prw_node {
@@ -148,6 +200,21 @@ typedef struct prw_scene_nurbs {
     prw_dvec3 model_min, model_max; /* model-space bounds (control hulls), set by the loader */
 } prw_scene_nurbs;
 
+/* Import warnings: data for the caller (the app prints them; loaders never print).  Each is one line
+ * "<file>: <what>" and has a kind so a caller can act on it. */
+typedef enum prw_warning_kind {
+    PRW_WARN_EXTENSION = 1, /* a glTF extension in extensionsUsed that prw does not implement (ignored) */
+    PRW_WARN_SKIPPED,       /* content that is not drawn: line/point primitives, primitives without triangles */
+    PRW_WARN_NO_LIGHT,      /* after the load nothing emits light: no light, emissive material or environment */
+    PRW_WARN_NO_CAMERA,     /* after the load there is no camera (prw_scene_add_framing_camera makes one) */
+    PRW_WARN_OTHER,
+} prw_warning_kind;
+
+typedef struct prw_scene_warning {
+    prw_warning_kind kind;
+    char msg[PRW_ERROR_MAX];
+} prw_scene_warning;
+
 typedef struct prw_scene {
     prw_mesh *meshes;
     uint32_t mesh_count;
@@ -172,6 +239,8 @@ typedef struct prw_scene {
     /* per NURBS entry, what the baker attached (prw_lod_node.h: prw_scene_nurbs_attach / _baked);
        owned by the scene */
     struct prw_scene_nurbs_baked *nurbs_baked;
+    prw_scene_warning *warnings; /* what the loaders noticed but did not refuse, in order */
+    uint32_t warning_count;
 } prw_scene;
 
 prw_scene *prw_scene_create(void);
@@ -202,6 +271,33 @@ prw_material prw_material_default(void);
 prw_node prw_node_look_at(const char *name, prw_dvec3 position, prw_dvec3 target, prw_dvec3 up);
 
 void prw_scene_update(prw_scene *s);
+
+/* Appends a warning (printf format, made one line, truncated to PRW_ERROR_MAX - 1 bytes); returns its
+ * index.  Failed loads remove the warnings they added. */
+int prw_scene_add_warning(prw_scene *s, prw_warning_kind kind, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Index of the first warning of that kind, -1 when there is none. */
+int prw_scene_find_warning(const prw_scene *s, prw_warning_kind kind);
+
+/* A camera placement that frames the scene's world bounds, for scenes without a camera.  The view
+ * looks at the centre c of the bounds' bounding sphere (radius r = half the diagonal, at least 1 mm)
+ * from the front-right, above: position = c + d (sin 30deg cos 25deg, sin 25deg, cos 30deg cos 25deg)
+ * (glTF: +Y up, +Z front), up = +Y, yfov = 50 deg.  d = r / sin(min(yfov, xfov) / 2) with
+ * tan(xfov / 2) = aspect tan(yfov / 2), so the whole sphere — hence every point of the bounds — is
+ * inside the view frustum and touches its tighter pair of planes; znear = (d - r) / 2, in front of
+ * everything.  aspect = width / height; <= 0 or not finite means 1 (then any image at least as wide
+ * as it is tall shows everything).  Call after prw_scene_update.  Returns false (out untouched)
+ * when the scene has no bounds. */
+typedef struct prw_framing {
+    prw_dvec3 position, target, up;
+    double yfov;   /* radians, vertical */
+    double znear;  /* metres */
+    double radius; /* of the framed sphere, metres */
+} prw_framing;
+bool prw_scene_frame_camera(const prw_scene *s, double aspect, prw_framing *out);
+/* Adds a node looking along prw_scene_frame_camera's framing and a camera on it (yfov, znear; aspect
+ * 0 = from the image, ev100 0) named `name` (NULL: "framing"); returns the camera index, or -1 when
+ * the scene has no bounds.  Runs prw_scene_update. */
+int prw_scene_add_framing_camera(prw_scene *s, double aspect, const char *name);
 
 /* Finds a camera by name (NULL or "" -> first camera); -1 when absent. */
 int prw_scene_find_camera(const prw_scene *s, const char *name);
@@ -248,9 +344,13 @@ prw_dquat prw_quat_from_axes(prw_dvec3 x, prw_dvec3 y, prw_dvec3 z);
 bool prw_scene_load_manifest(prw_scene *s, const char *path, prw_error *e);
 /* Manifest text already in memory (path is used for messages and relative paths). */
 bool prw_scene_parse_manifest(prw_scene *s, const char *text, size_t size, const char *path, prw_error *e);
-/* glTF 2.0 (.gltf or .glb) under node `parent` (-1: root); meshes, hierarchy, metallic-roughness
- * materials, textures, cameras, KHR_lights_punctual.  Conventions (matrix decomposition, emission
- * units, what is ignored): manifest.md, section "glTF import". */
+/* glTF 2.0 (.gltf or .glb) under node `parent` (-1: root); meshes (triangles, strips, fans; Draco),
+ * hierarchy, metallic-roughness materials, textures, cameras, KHR_lights_punctual.  Refuses glTF 1.0
+ * and files that require an extension prw does not implement.  Adds warnings (prw_scene.warnings)
+ * for ignored extensions and skipped line/point primitives and, when the scene has no light or no
+ * camera after the import, PRW_WARN_NO_LIGHT / PRW_WARN_NO_CAMERA.  Conventions (matrix decomposition,
+ * emission units, what is ignored): manifest.md, section "glTF import".  The manifest loader also
+ * ends with the no-light / no-camera check (for the whole manifest, not per glTF entry). */
 bool prw_scene_import_gltf(prw_scene *s, const char *path, int parent, prw_error *e);
 
 #ifdef __cplusplus

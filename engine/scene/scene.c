@@ -2,6 +2,9 @@
  * camera lookup, builder helpers (box, quad, sphere), TRS decomposition, rollback. */
 #include "scene_internal.h"
 
+#include <stdarg.h>
+#include <stdio.h>
+
 #include "prw_lod_node.h"
 
 #include <stdlib.h>
@@ -41,6 +44,7 @@ static void free_mesh(prw_mesh *m)
     free(m->normals);
     free(m->uvs);
     free(m->tangents);
+    free(m->uvs1);
     free(m->indices);
     memset(m, 0, sizeof *m);
 }
@@ -60,13 +64,14 @@ void prw_scene_destroy(prw_scene *s)
     for (uint32_t i = 0; i < s->nurbs_count; i++) prw_scene_nurbs_baked_free(&s->nurbs_baked[i]);
     free(s->nurbs);
     free(s->nurbs_baked);
+    free(s->warnings);
     free(s);
 }
 
 prw_scene_mark prw_scene_mark_get(const prw_scene *s)
 {
     prw_scene_mark m = {s->mesh_count, s->group_count, s->material_count, s->texture_count,
-                        s->node_count, s->camera_count, s->light_count, s->nurbs_count};
+                        s->node_count, s->camera_count, s->light_count, s->nurbs_count, s->warning_count};
     return m;
 }
 
@@ -86,6 +91,76 @@ void prw_scene_rollback(prw_scene *s, prw_scene_mark m)
     if (m.lights < s->light_count) s->light_count = m.lights;
     for (uint32_t i = m.nurbs; i < s->nurbs_count; i++) prw_scene_nurbs_baked_free(&s->nurbs_baked[i]);
     if (m.nurbs < s->nurbs_count) s->nurbs_count = m.nurbs;
+    if (m.warnings < s->warning_count) s->warning_count = m.warnings;
+}
+
+/* ---- warnings ---- */
+
+int prw_scene_add_warning(prw_scene *s, prw_warning_kind kind, const char *fmt, ...)
+{
+    s->warnings = grow(s->warnings, s->warning_count, sizeof *s->warnings);
+    prw_scene_warning *w = &s->warnings[s->warning_count];
+    memset(w, 0, sizeof *w);
+    w->kind = kind;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(w->msg, sizeof w->msg, fmt, ap);
+    va_end(ap);
+    for (char *c = w->msg; *c; c++) /* one line, printable */
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = *c == '\n' ? ';' : '?';
+    return (int)s->warning_count++;
+}
+
+int prw_scene_find_warning(const prw_scene *s, prw_warning_kind kind)
+{
+    for (uint32_t i = 0; i < s->warning_count; i++)
+        if (s->warnings[i].kind == kind) return (int)i;
+    return -1;
+}
+
+/* Something emits light: a light, an emissive material used by a mesh or NURBS model, or an environment. */
+static bool scene_has_light(const prw_scene *s)
+{
+    if (s->light_count || s->environment.present) return true;
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        int mi = s->meshes[i].material;
+        if (mi < 0 || (uint32_t)mi >= s->material_count) continue;
+        const float *em = s->materials[mi].emission;
+        if (em[0] > 0 || em[1] > 0 || em[2] > 0) return true;
+    }
+    for (uint32_t i = 0; i < s->nurbs_count; i++) {
+        int mi = s->nurbs[i].material;
+        if (mi < 0 || (uint32_t)mi >= s->material_count) continue;
+        const float *em = s->materials[mi].emission;
+        if (em[0] > 0 || em[1] > 0 || em[2] > 0) return true;
+    }
+    return false;
+}
+
+void prw_scene_note_missing(prw_scene *s, const char *file)
+{
+    if (!scene_has_light(s) && prw_scene_find_warning(s, PRW_WARN_NO_LIGHT) < 0)
+        prw_scene_add_warning(s, PRW_WARN_NO_LIGHT, "%s: no light (no light source, emissive material or environment)",
+                              file);
+    if (s->camera_count == 0 && prw_scene_find_warning(s, PRW_WARN_NO_CAMERA) < 0)
+        prw_scene_add_warning(s, PRW_WARN_NO_CAMERA, "%s: no camera", file);
+}
+
+/* ---- texture transforms ---- */
+
+void prw_tex_transform_apply(const prw_tex_transform *t, const float uv[2], float out[2])
+{
+    double c = cos((double)t->rotation), sn = sin((double)t->rotation);
+    double su = (double)t->scale[0] * uv[0], sv = (double)t->scale[1] * uv[1];
+    double u = t->offset[0] + c * su + sn * sv, v = t->offset[1] - sn * su + c * sv;
+    out[0] = (float)u;
+    out[1] = (float)v;
+}
+
+bool prw_tex_transform_is_identity(const prw_tex_transform *t)
+{
+    return t->offset[0] == 0.0f && t->offset[1] == 0.0f && t->rotation == 0.0f && t->scale[0] == 1.0f &&
+           t->scale[1] == 1.0f;
 }
 
 /* ---- meshes ---- */
@@ -152,6 +227,7 @@ int prw_scene_add_mesh(prw_scene *s, const prw_mesh *m, prw_error *e)
     if (m->normals && !all_finite(m->normals, 3 * nv)) return prw_fail(e, "mesh '%s': normals are not finite", nm), -1;
     if (m->uvs && !all_finite(m->uvs, 2 * nv)) return prw_fail(e, "mesh '%s': uvs are not finite", nm), -1;
     if (m->tangents && !all_finite(m->tangents, 4 * nv)) return prw_fail(e, "mesh '%s': tangents are not finite", nm), -1;
+    if (m->uvs1 && !all_finite(m->uvs1, 2 * nv)) return prw_fail(e, "mesh '%s': uvs (set 1) are not finite", nm), -1;
 
     prw_mesh d;
     memset(&d, 0, sizeof d);
@@ -163,6 +239,7 @@ int prw_scene_add_mesh(prw_scene *s, const prw_mesh *m, prw_error *e)
     d.indices = prw_malloc((size_t)m->index_count * sizeof *d.indices);
     memcpy(d.indices, m->indices, (size_t)m->index_count * sizeof *d.indices);
     d.uvs = m->uvs ? dup_floats(m->uvs, 2 * nv) : prw_calloc(2 * nv, sizeof(float));
+    d.uvs1 = m->uvs1 ? dup_floats(m->uvs1, 2 * nv) : NULL;
 
     /* Normals: given ones are renormalised; missing or zero-length ones are area-weighted. */
     d.normals = prw_malloc(3 * nv * sizeof(float));
@@ -330,6 +407,11 @@ prw_material prw_material_default(void)
     m.roughness = 1.0f;
     m.specular = 1.0f;
     m.normal_scale = 1.0f;
+    m.alpha_mode = PRW_ALPHA_OPAQUE;
+    m.alpha_cutoff = 0.5f;
+    for (int i = 0; i < PRW_TEX_SLOT_COUNT; i++) m.tex_xf[i].scale[0] = m.tex_xf[i].scale[1] = 1.0f;
+    m.clearcoat_tex = m.clearcoat_roughness_tex = m.clearcoat_normal_tex = -1;
+    m.clearcoat_normal_scale = 1.0f;
     return m;
 }
 
@@ -557,6 +639,36 @@ static uint64_t hash_v3(uint64_t h, prw_dvec3 v)
     return h;
 }
 
+/* The material fields no renderer reads yet: hashed only when one differs from the default, so the
+ * hashes (and reference cache keys) of scenes that do not use them stay as they were. */
+static uint64_t hash_material_extra(uint64_t h, const prw_material *m)
+{
+    prw_material d = prw_material_default();
+    bool plain = m->alpha_mode == d.alpha_mode && m->alpha_cutoff == d.alpha_cutoff && m->clearcoat == 0.0f &&
+                 m->clearcoat_tex == -1 && m->clearcoat_roughness == 0.0f && m->clearcoat_roughness_tex == -1 &&
+                 m->clearcoat_normal_tex == -1 && m->clearcoat_normal_scale == 1.0f;
+    for (int i = 0; i < PRW_TEX_SLOT_COUNT && plain; i++)
+        plain = prw_tex_transform_is_identity(&m->tex_xf[i]) && m->tex_xf[i].tex_coord == 0;
+    if (plain) return h;
+    int am = (int)m->alpha_mode;
+    H(h, am);
+    H(h, m->alpha_cutoff);
+    for (int i = 0; i < PRW_TEX_SLOT_COUNT; i++) {
+        const prw_tex_transform *t = &m->tex_xf[i];
+        HA(h, t->offset, sizeof t->offset);
+        H(h, t->rotation);
+        HA(h, t->scale, sizeof t->scale);
+        H(h, t->tex_coord);
+    }
+    H(h, m->clearcoat);
+    H(h, m->clearcoat_tex);
+    H(h, m->clearcoat_roughness);
+    H(h, m->clearcoat_roughness_tex);
+    H(h, m->clearcoat_normal_tex);
+    H(h, m->clearcoat_normal_scale);
+    return h;
+}
+
 uint64_t prw_scene_hash(const prw_scene *s)
 {
     uint64_t h = 0x7072772d7363656eull; /* "prw-scen" */
@@ -572,6 +684,7 @@ uint64_t prw_scene_hash(const prw_scene *s)
         HA(h, m->tangents, 4 * nv * sizeof(float));
         HA(h, m->indices, (size_t)m->index_count * sizeof(uint32_t));
         H(h, m->material);
+        if (m->uvs1) HA(h, m->uvs1, 2 * nv * sizeof(float)); /* only when present (older hashes unchanged) */
     }
     H(h, s->group_count);
     for (uint32_t i = 0; i < s->group_count; i++) {
@@ -593,6 +706,7 @@ uint64_t prw_scene_hash(const prw_scene *s)
         H(h, m->emissive_tex);
         uint8_t ds = m->double_sided;
         H(h, ds);
+        h = hash_material_extra(h, m);
     }
     H(h, s->texture_count);
     for (uint32_t i = 0; i < s->texture_count; i++) {

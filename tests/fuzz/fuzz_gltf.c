@@ -43,15 +43,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (s->nodes[i].parent < 0 || s->nodes[i].parent >= (int)i) die("node parent order", s->nodes[i].name);
         for (uint32_t i = 0; i < s->material_count; i++) {
             const prw_material *m = &s->materials[i];
-            int t[4] = {m->base_color_tex, m->metal_rough_tex, m->normal_tex, m->emissive_tex};
-            for (int k = 0; k < 4; k++)
+            int t[7] = {m->base_color_tex, m->metal_rough_tex,         m->normal_tex,          m->emissive_tex,
+                        m->clearcoat_tex,  m->clearcoat_roughness_tex, m->clearcoat_normal_tex};
+            for (int k = 0; k < 7; k++)
                 if (t[k] < -1 || t[k] >= (int)s->texture_count) die("material texture", m->name);
+            for (int k = 0; k < PRW_TEX_SLOT_COUNT; k++)
+                if (m->tex_xf[k].tex_coord < 0 || m->tex_xf[k].tex_coord > 1) die("texture uv set", m->name);
         }
+        for (uint32_t i = 0; i < s->warning_count; i++)
+            if (strncmp(s->warnings[i].msg, path, strlen(path)) != 0 || strchr(s->warnings[i].msg, '\n'))
+                die("warning is not one line starting with the path", s->warnings[i].msg);
     } else {
         if (strncmp(e.msg, path, strlen(path)) != 0) die("message does not start with the path", e.msg);
         if (strchr(e.msg, '\n')) die("message is not one line", e.msg);
         if (s->node_count != 1 || s->mesh_count || s->material_count || s->texture_count || s->light_count ||
-            s->camera_count || s->group_count)
+            s->camera_count || s->group_count || s->warning_count)
             die("failed import left content behind", e.msg);
     }
     prw_scene_destroy(s);

@@ -1,8 +1,11 @@
-/* glTF import: the test writes its own small .gltf (+ .bin + .png) and .glb files. */
+/* glTF import: the test writes its own small .gltf (+ .bin + .png) and .glb files, Draco streams
+ * included (libdraco's encoder, tests/scene/draco_encode.cpp). */
 #include <png.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "draco_encode.h"
 #include "prw_scene.h"
 #include "prw_test.h"
 
@@ -352,12 +355,639 @@ static void test_errors(void)
     expect_fail(junk, NULL, NULL);
 }
 
+/* ---- generated files for the import rules (primitive modes, extensions, versions, Draco, material
+ * extensions): one mesh 'm' on one node, its primitives' data in one .bin ---- */
+
+typedef struct gen_draco {
+    const uint8_t *data;
+    size_t size;
+    uint32_t uid_pos, uid_nrm, uid_uv;
+    bool nrm, uv;
+} gen_draco;
+
+typedef struct gen_prim {
+    int mode;              /* -1: no "mode" member (TRIANGLES) */
+    const float *pos;      /* 3 per vertex */
+    uint32_t nv;
+    const float *uv1;      /* TEXCOORD_1, 2 per vertex, or NULL */
+    const uint32_t *idx;   /* u32 indices or NULL */
+    uint32_t ni;
+    const char *extra;     /* more members of the primitive (",\"material\":0") or NULL */
+    const gen_draco *draco;/* KHR_draco_mesh_compression: positions/indices only declared (nv, ni) */
+} gen_prim;
+
+typedef struct gen_file {
+    const char *name;     /* file name in the scratch directory */
+    const char *top;      /* more top-level members, each followed by ',' (or NULL) */
+    const char *version;  /* asset.version (NULL: "2.0") */
+    const gen_prim *prims;
+    int prim_count;
+    const char *more;     /* more top-level members after the generated ones, each preceded by ',' */
+} gen_file;
+
+typedef struct strbuf {
+    char *p;
+    size_t n, cap;
+} strbuf;
+
+static void sb_printf(strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void sb_printf(strbuf *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    if (b->n + (size_t)k + 1 > b->cap) {
+        b->cap = (b->n + (size_t)k + 1) * 2;
+        b->p = realloc(b->p, b->cap);
+    }
+    va_start(ap, fmt);
+    vsnprintf(b->p + b->n, (size_t)k + 1, fmt, ap);
+    va_end(ap);
+    b->n += (size_t)k;
+}
+
+/* Appends bytes to the bin (4-aligned) and declares a bufferView; returns its index. */
+static int gen_view(uint8_t **bin, size_t *len, int *views, strbuf *bv, const void *data, size_t n)
+{
+    size_t off = (*len + 3) & ~(size_t)3;
+    *bin = realloc(*bin, off + n + 4);
+    memset(*bin + *len, 0, off - *len);
+    memcpy(*bin + off, data, n);
+    *len = off + n;
+    sb_printf(bv, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", *views ? "," : "", off, n);
+    return (*views)++;
+}
+
+static const char *gen_write(const gen_file *g)
+{
+    uint8_t *bin = NULL;
+    size_t len = 0;
+    int views = 0, accs = 0;
+    strbuf bv = {0}, ac = {0}, pr = {0};
+    char binname[128];
+    snprintf(binname, sizeof binname, "%s.bin", g->name);
+    for (int i = 0; i < g->prim_count; i++) {
+        const gen_prim *p = &g->prims[i];
+        float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+        for (uint32_t v = 0; p->pos && v < p->nv; v++)
+            for (int c = 0; c < 3; c++) {
+                lo[c] = fminf(lo[c], p->pos[3 * v + c]);
+                hi[c] = fmaxf(hi[c], p->pos[3 * v + c]);
+            }
+        sb_printf(&pr, "%s{\"attributes\":{", i ? "," : "");
+        if (p->draco) {
+            const gen_draco *d = p->draco;
+            int dv = gen_view(&bin, &len, &views, &bv, d->data, d->size);
+            int apos = accs++;
+            sb_printf(&ac, "%s{\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]}",
+                      apos ? "," : "", p->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+            sb_printf(&pr, "\"POSITION\":%d", apos);
+            if (d->nrm) {
+                sb_printf(&ac, ",{\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", p->nv);
+                sb_printf(&pr, ",\"NORMAL\":%d", accs++);
+            }
+            if (d->uv) {
+                sb_printf(&ac, ",{\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", p->nv);
+                sb_printf(&pr, ",\"TEXCOORD_0\":%d", accs++);
+            }
+            sb_printf(&ac, ",{\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", p->ni);
+            int aidx = accs++;
+            sb_printf(&pr, "},\"indices\":%d,\"extensions\":{\"KHR_draco_mesh_compression\":{\"bufferView\":%d,"
+                           "\"attributes\":{\"POSITION\":%u",
+                      aidx, dv, d->uid_pos);
+            if (d->nrm) sb_printf(&pr, ",\"NORMAL\":%u", d->uid_nrm);
+            if (d->uv) sb_printf(&pr, ",\"TEXCOORD_0\":%u", d->uid_uv);
+            sb_printf(&pr, "}}}");
+        } else {
+            int v = gen_view(&bin, &len, &views, &bv, p->pos, (size_t)p->nv * 12);
+            sb_printf(&ac, "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\","
+                           "\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]}",
+                      accs ? "," : "", v, p->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+            sb_printf(&pr, "\"POSITION\":%d", accs++);
+            if (p->uv1) {
+                v = gen_view(&bin, &len, &views, &bv, p->uv1, (size_t)p->nv * 8);
+                sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", v, p->nv);
+                sb_printf(&pr, ",\"TEXCOORD_1\":%d", accs++);
+            }
+            sb_printf(&pr, "}");
+            if (p->idx) {
+                v = gen_view(&bin, &len, &views, &bv, p->idx, (size_t)p->ni * 4);
+                sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", v, p->ni);
+                sb_printf(&pr, ",\"indices\":%d", accs++);
+            }
+        }
+        if (p->mode >= 0) sb_printf(&pr, ",\"mode\":%d", p->mode);
+        sb_printf(&pr, "%s}", p->extra ? p->extra : "");
+    }
+    strbuf j = {0};
+    sb_printf(&j,
+              "{\"asset\":{\"version\":\"%s\"},%s\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+              "\"nodes\":[{\"name\":\"n\",\"mesh\":0}],\"meshes\":[{\"name\":\"m\",\"primitives\":[%s]}],"
+              "\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],\"bufferViews\":[%s],\"accessors\":[%s]%s}\n",
+              g->version ? g->version : "2.0", g->top ? g->top : "", pr.p ? pr.p : "", binname, len, bv.p ? bv.p : "",
+              ac.p ? ac.p : "", g->more ? g->more : "");
+    write_file(tmp_path(binname), bin ? bin : (uint8_t *)"", len);
+    char *path = tmp_path(g->name);
+    write_file(path, j.p, j.n);
+    free(bin);
+    free(bv.p);
+    free(ac.p);
+    free(pr.p);
+    free(j.p);
+    return path;
+}
+
+static const prw_mesh *only_mesh(const prw_scene *s)
+{
+    CHECK(s->mesh_count == 1);
+    return s->mesh_count ? &s->meshes[0] : NULL;
+}
+
+/* Face normal of triangle t from the positions, by its winding. */
+static prw_dvec3 face_normal(const prw_mesh *m, uint32_t t)
+{
+    prw_dvec3 p[3];
+    for (int k = 0; k < 3; k++) {
+        const float *q = m->positions + 3 * m->indices[3 * t + (uint32_t)k];
+        p[k] = prw_v3(q[0], q[1], q[2]);
+    }
+    return prw_v3_cross(prw_v3_sub(p[1], p[0]), prw_v3_sub(p[2], p[0]));
+}
+
+/* Every triangle faces +Z and so do the (computed) vertex normals. */
+static void check_faces_up(const prw_mesh *m)
+{
+    for (uint32_t t = 0; t < m->index_count / 3; t++) CHECK_MSG(face_normal(m, t).z > 0, "triangle %u faces -Z", t);
+    for (uint32_t v = 0; v < m->vertex_count; v++) CHECK_NEAR(m->normals[3 * v + 2], 1.0, 1e-6);
+}
+
+static bool has_warning(const prw_scene *s, prw_warning_kind kind, const char *text)
+{
+    for (uint32_t i = 0; i < s->warning_count; i++)
+        if (s->warnings[i].kind == kind && (!text || strstr(s->warnings[i].msg, text))) return true;
+    return false;
+}
+
+/* Imports; on failure prints the message and fails the check. */
+static prw_scene *load_ok(const char *path)
+{
+    prw_scene *s = prw_scene_create();
+    prw_error e = {{0}};
+    bool ok = prw_scene_import_gltf(s, path, -1, &e);
+    CHECK_MSG(ok, "%s", e.msg);
+    if (ok && getenv("PRW_TEST_VERBOSE"))
+        for (uint32_t i = 0; i < s->warning_count; i++) printf("  warning: %s\n", s->warnings[i].msg);
+    return s;
+}
+
+/* A strip of four triangles in the z = 0 plane (2 x 1 quads), ordered so that glTF's strip rule
+ * makes every triangle face +Z: v0 (0,1) v1 (0,0) v2 (1,1) v3 (1,0) v4 (2,1) v5 (2,0). */
+static const float k_strip[18] = {0, 1, 0, 0, 0, 0, 1, 1, 0, 1, 0, 0, 2, 1, 0, 2, 0, 0};
+
+static void test_triangle_strip(void)
+{
+    /* glTF 2.0 3.7.2.1: triangle i = (v_i, v_{i+1+i%2}, v_{i+2-i%2}) */
+    static const uint32_t want[12] = {0, 1, 2, 1, 3, 2, 2, 3, 4, 3, 5, 4};
+    gen_prim p = {.mode = 5, .pos = k_strip, .nv = 6};
+    gen_file g = {.name = "strip.gltf", .prims = &p, .prim_count = 1};
+    prw_scene *s = load_ok(gen_write(&g));
+    const prw_mesh *m = only_mesh(s);
+    if (m) {
+        CHECK(m->index_count == 12);
+        if (m->index_count == 12) CHECK(memcmp(m->indices, want, sizeof want) == 0);
+        check_faces_up(m);
+    }
+    prw_scene_destroy(s);
+
+    /* indexed, with a degenerate tail (repeated index): those triangles are dropped, parity kept */
+    static const uint32_t idx[8] = {0, 1, 2, 3, 4, 5, 5, 5};
+    gen_prim q = {.mode = 5, .pos = k_strip, .nv = 6, .idx = idx, .ni = 8};
+    g = (gen_file){.name = "strip_indexed.gltf", .prims = &q, .prim_count = 1};
+    s = load_ok(gen_write(&g));
+    m = only_mesh(s);
+    if (m) {
+        CHECK(m->index_count == 12);
+        if (m->index_count == 12) CHECK(memcmp(m->indices, want, sizeof want) == 0);
+        check_faces_up(m);
+    }
+    prw_scene_destroy(s);
+}
+
+static void test_triangle_fan(void)
+{
+    /* centre, then four rim vertices counter-clockwise seen from +Z */
+    static const float pos[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0};
+    /* glTF 2.0 3.7.2.1: triangle i = (v_{i+1}, v_{i+2}, v_0) */
+    static const uint32_t want[9] = {1, 2, 0, 2, 3, 0, 3, 4, 0};
+    static const uint32_t idx[5] = {0, 1, 2, 3, 4};
+    for (int indexed = 0; indexed < 2; indexed++) {
+        gen_prim p = {.mode = 6, .pos = pos, .nv = 5, .idx = indexed ? idx : NULL, .ni = indexed ? 5 : 0};
+        gen_file g = {.name = indexed ? "fan_indexed.gltf" : "fan.gltf", .prims = &p, .prim_count = 1};
+        prw_scene *s = load_ok(gen_write(&g));
+        const prw_mesh *m = only_mesh(s);
+        if (m) {
+            CHECK(m->index_count == 9);
+            if (m->index_count == 9) CHECK(memcmp(m->indices, want, sizeof want) == 0);
+            check_faces_up(m);
+        }
+        prw_scene_destroy(s);
+    }
+    /* an index out of range in a fan: the place and the index are named */
+    static const uint32_t bad[5] = {0, 1, 2, 9, 4};
+    gen_prim p = {.mode = 6, .pos = pos, .nv = 5, .idx = bad, .ni = 5};
+    gen_file g = {.name = "fan_badindex.gltf", .prims = &p, .prim_count = 1};
+    expect_fail(gen_write(&g), "mesh 'm' primitive 0: index 9 at position 3 is out of range (vertex count 5)", NULL);
+}
+
+static void test_lines_points(void)
+{
+    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    /* lines next to triangles: skipped, one warning naming each */
+    gen_prim p[3] = {{.mode = 4, .pos = tri, .nv = 3}, {.mode = 1, .pos = tri, .nv = 2}, {.mode = 0, .pos = tri, .nv = 3}};
+    gen_file g = {.name = "with_lines.gltf", .prims = p, .prim_count = 3};
+    prw_scene *s = load_ok(gen_write(&g));
+    CHECK(s->mesh_count == 1 && s->group_count == 1 && s->groups[0].count == 1);
+    int w = prw_scene_find_warning(s, PRW_WARN_SKIPPED);
+    CHECK(w >= 0);
+    if (w >= 0) {
+        CHECK_MSG(strstr(s->warnings[w].msg, "LINES (mesh 'm', primitive 1)") != NULL, "%s", s->warnings[w].msg);
+        CHECK_MSG(strstr(s->warnings[w].msg, "POINTS (mesh 'm', primitive 2)") != NULL, "%s", s->warnings[w].msg);
+        CHECK(strchr(s->warnings[w].msg, '\n') == NULL);
+    }
+    int n = 0;
+    for (uint32_t i = 0; i < s->warning_count; i++) n += s->warnings[i].kind == PRW_WARN_SKIPPED;
+    CHECK(n == 1);
+    prw_scene_destroy(s);
+
+    /* nothing but lines: refused, naming the mode and the place */
+    gen_prim l[2] = {{.mode = 3, .pos = tri, .nv = 3}, {.mode = 1, .pos = tri, .nv = 2}};
+    g = (gen_file){.name = "only_lines.gltf", .prims = l, .prim_count = 2};
+    expect_fail(gen_write(&g), "primitive mode LINE_STRIP is not supported (mesh 'm', primitive 0)", "no triangles");
+    /* a mode number glTF does not have */
+    gen_prim x = {.mode = 9, .pos = tri, .nv = 3};
+    g = (gen_file){.name = "bad_mode.gltf", .prims = &x, .prim_count = 1};
+    expect_fail(gen_write(&g), "mesh 'm' primitive 0: mode 9 is not a glTF primitive mode", NULL);
+}
+
+static const float k_tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+
+static void test_extensions(void)
+{
+    gen_prim p = {.mode = 4, .pos = k_tri, .nv = 3};
+    /* required but not implemented: refused, naming it */
+    gen_file g = {.name = "requires.gltf",
+                  .top = "\"extensionsUsed\":[\"KHR_techniques_webgl\",\"KHR_lights_punctual\"],"
+                         "\"extensionsRequired\":[\"KHR_techniques_webgl\",\"KHR_lights_punctual\"],",
+                  .prims = &p, .prim_count = 1};
+    expect_fail(gen_write(&g), "requires extension KHR_techniques_webgl, which prw does not implement", NULL);
+    /* required and implemented: loads */
+    g = (gen_file){.name = "requires_ok.gltf",
+                   .top = "\"extensionsUsed\":[\"KHR_texture_transform\"],\"extensionsRequired\":[\"KHR_texture_transform\"],",
+                   .prims = &p, .prim_count = 1};
+    prw_scene *s = load_ok(gen_write(&g));
+    CHECK(prw_scene_find_warning(s, PRW_WARN_EXTENSION) < 0);
+    prw_scene_destroy(s);
+    /* used, not implemented: one warning per extension (listed twice: still one) */
+    g = (gen_file){.name = "uses.gltf",
+                   .top = "\"extensionsUsed\":[\"KHR_materials_unlit\",\"EXT_example\",\"KHR_materials_unlit\","
+                          "\"KHR_materials_clearcoat\"],",
+                   .prims = &p, .prim_count = 1};
+    s = load_ok(gen_write(&g));
+    int n = 0;
+    for (uint32_t i = 0; i < s->warning_count; i++) n += s->warnings[i].kind == PRW_WARN_EXTENSION;
+    CHECK(n == 2);
+    CHECK(has_warning(s, PRW_WARN_EXTENSION, "extension KHR_materials_unlit is not supported"));
+    CHECK(has_warning(s, PRW_WARN_EXTENSION, "extension EXT_example is not supported"));
+    CHECK(!has_warning(s, PRW_WARN_EXTENSION, "clearcoat"));
+    prw_scene_destroy(s);
+}
+
+static void test_versions(void)
+{
+    gen_prim p = {.mode = 4, .pos = k_tri, .nv = 3};
+    gen_file g = {.name = "v1.gltf", .version = "1.0", .prims = &p, .prim_count = 1};
+    expect_fail(gen_write(&g), "glTF 1.0 (asset.version \"1.0\") is not supported; convert to 2.0", NULL);
+    g = (gen_file){.name = "v3.gltf", .version = "3.0", .prims = &p, .prim_count = 1};
+    expect_fail(gen_write(&g), "glTF version \"3.0\"", "not supported");
+    /* a 1.0 file tinygltf cannot parse at all (objects keyed by id, numeric version) */
+    const char *v1 = "{\"asset\":{\"version\":1},\"meshes\":{\"box\":{\"primitives\":[]}},"
+                     "\"accessors\":{\"a\":{\"count\":3}}}";
+    const char *path = tmp_path("v1_dict.gltf");
+    write_file(path, v1, strlen(v1));
+    expect_fail(path, "glTF 1.0 (asset.version 1) is not supported; convert to 2.0", NULL);
+    /* a GLB version 1 container */
+    uint8_t glb[32] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 32, 0, 0, 0, 12, 0, 0, 0, 0, 0, 0, 0, '{', '}'};
+    path = tmp_path("v1.glb");
+    write_file(path, glb, sizeof glb);
+    expect_fail(path, "glTF 1.0 binary (GLB version 1) is not supported; convert to 2.0", NULL);
+}
+
+/* A 3 x 3 grid of quads, z = 0.25 sin(x) cos(y), with normals and uvs: the Draco test mesh. */
+#define GRID 4
+static void grid_mesh(float *pos, float *nrm, float *uv, uint32_t *idx)
+{
+    for (int j = 0; j < GRID; j++)
+        for (int i = 0; i < GRID; i++) {
+            int v = j * GRID + i;
+            float x = (float)i * 0.7f - 1.0f, y = (float)j * 0.6f - 0.9f;
+            pos[3 * v] = x;
+            pos[3 * v + 1] = y;
+            pos[3 * v + 2] = 0.25f * sinf(x) * cosf(y);
+            float n[3] = {-0.25f * cosf(x) * cosf(y), 0.25f * sinf(x) * sinf(y), 1.0f};
+            float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int c = 0; c < 3; c++) nrm[3 * v + c] = n[c] / l;
+            uv[2 * v] = (float)i / (GRID - 1);
+            uv[2 * v + 1] = 1.0f - (float)j / (GRID - 1);
+        }
+    int k = 0;
+    for (int j = 0; j + 1 < GRID; j++)
+        for (int i = 0; i + 1 < GRID; i++) {
+            uint32_t a = (uint32_t)(j * GRID + i), b = a + 1, c = a + GRID, d = c + 1;
+            uint32_t t[6] = {a, b, d, a, d, c};
+            memcpy(idx + k, t, sizeof t);
+            k += 6;
+        }
+}
+
+/* The decoded triangle (corner by corner, rotation allowed, winding kept) matches the original. */
+static bool same_triangle(const prw_mesh *m, uint32_t t, const float *pos, const float *nrm, const float *uv,
+                          const uint32_t *idx, uint32_t ot, double tol_p)
+{
+    for (int r = 0; r < 3; r++) {
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; k++) {
+            uint32_t dv = m->indices[3 * t + (uint32_t)k], ov = idx[3 * ot + (uint32_t)((k + r) % 3)];
+            for (int c = 0; c < 3; c++) ok = ok && fabs(m->positions[3 * dv + c] - pos[3 * ov + c]) <= tol_p;
+            for (int c = 0; c < 3; c++) ok = ok && fabs(m->normals[3 * dv + c] - nrm[3 * ov + c]) <= 0.01;
+            for (int c = 0; c < 2; c++) ok = ok && fabs(m->uvs[2 * dv + c] - uv[2 * ov + c]) <= 1e-3;
+        }
+        if (ok) return true;
+    }
+    return false;
+}
+
+static void test_draco(void)
+{
+    float pos[3 * GRID * GRID], nrm[3 * GRID * GRID], uv[2 * GRID * GRID];
+    uint32_t idx[6 * (GRID - 1) * (GRID - 1)];
+    grid_mesh(pos, nrm, uv, idx);
+    uint32_t nv = GRID * GRID, ni = 6 * (GRID - 1) * (GRID - 1), nt = ni / 3;
+    const int bits = 14;
+    double tol = 2.1 / (double)(1 << bits); /* extent 2.1 m over 2^14 steps */
+    for (int eb = 0; eb < 2; eb++) {
+        test_draco_input in = {pos, nrm, uv, nv, idx, ni, bits, eb != 0};
+        test_draco_output out = {0};
+        CHECK(test_draco_encode(&in, &out));
+        if (!out.data) return;
+        gen_draco d = {out.data, out.size, out.uid_position, out.uid_normal, out.uid_uv, true, true};
+        gen_prim p = {.mode = -1, .pos = pos, .nv = nv, .ni = ni, .draco = &d};
+        gen_file g = {.name = eb ? "draco_eb.gltf" : "draco_seq.gltf",
+                      .top = "\"extensionsUsed\":[\"KHR_draco_mesh_compression\"],"
+                             "\"extensionsRequired\":[\"KHR_draco_mesh_compression\"],",
+                      .prims = &p, .prim_count = 1};
+        const char *path = gen_write(&g);
+        prw_scene *s = load_ok(path);
+        const prw_mesh *m = only_mesh(s);
+        if (m) {
+            CHECK(m->index_count == ni);
+            CHECK(m->vertex_count >= 3);
+            /* every decoded triangle is one of the original's, with its winding; each used once */
+            bool used[6 * (GRID - 1) * (GRID - 1) / 3] = {0};
+            for (uint32_t t = 0; t < m->index_count / 3; t++) {
+                bool found = false;
+                for (uint32_t o = 0; o < nt && !found; o++)
+                    if (!used[o] && same_triangle(m, t, pos, nrm, uv, idx, o, tol)) used[o] = found = true;
+                CHECK_MSG(found, "%s: decoded triangle %u matches no original triangle", g.name, t);
+            }
+        }
+        prw_scene_destroy(s);
+
+        /* the stream cut short: libdraco refuses it, the message names the extension and place */
+        d.size = out.size / 2;
+        g.name = eb ? "draco_eb_cut.gltf" : "draco_seq_cut.gltf";
+        expect_fail(gen_write(&g), "mesh 'm' primitive 0: KHR_draco_mesh_compression", NULL);
+        /* indices accessor count disagreeing with the stream */
+        d.size = out.size;
+        p.ni = ni - 3;
+        g.name = "draco_badcount.gltf";
+        expect_fail(gen_write(&g), "indices): count", "differs from the Draco stream's");
+        free(out.data);
+    }
+    /* a 20-byte stream that claims 2^27 faces: refused before libdraco allocates */
+    uint8_t huge[20] = {'D', 'R', 'A', 'C', 'O', 2, 2, 1, 0, 0, 0, 0x80, 0x80, 0x80, 0x40, 0x80, 0x80, 0x80, 0x40, 0};
+    gen_draco d = {huge, sizeof huge, 0, 0, 0, false, false};
+    gen_prim p = {.mode = -1, .pos = pos, .nv = 3, .ni = 3u << 27, .draco = &d};
+    gen_file g = {.name = "draco_huge.gltf", .prims = &p, .prim_count = 1};
+    expect_fail(gen_write(&g), "the stream claims 134217728 faces in 20 bytes", NULL);
+    /* not a Draco stream at all */
+    d.data = (const uint8_t *)"NOT DRACO DATA......";
+    g.name = "draco_junk.gltf";
+    expect_fail(gen_write(&g), "KHR_draco_mesh_compression (bufferView 0): not a Draco stream", NULL);
+}
+
+static void test_material_extensions(void)
+{
+    CHECK(write_png(tmp_path("tex.png")));
+    static const float uv1[6] = {0, 0, 1, 0, 0, 1};
+    gen_prim p = {.mode = 4, .pos = k_tri, .nv = 3, .uv1 = uv1, .extra = ",\"material\":0"};
+    gen_prim p2 = {.mode = 4, .pos = k_tri, .nv = 3, .extra = ",\"material\":1"};
+    gen_prim p3 = {.mode = 4, .pos = k_tri, .nv = 3, .extra = ",\"material\":2"};
+    gen_prim ps[3] = {p, p2, p3};
+    gen_file g = {
+        .name = "materials.gltf",
+        .top = "\"extensionsUsed\":[\"KHR_texture_transform\",\"KHR_materials_clearcoat\"],",
+        .prims = ps,
+        .prim_count = 3,
+        .more =
+            ",\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"tex.png\"}],\"materials\":["
+            "{\"name\":\"masked\",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.3,\"pbrMetallicRoughness\":{"
+            "\"baseColorTexture\":{\"index\":0,\"texCoord\":0,\"extensions\":{\"KHR_texture_transform\":"
+            "{\"offset\":[0.5,-0.25],\"rotation\":0.75,\"scale\":[2,3],\"texCoord\":1}}}},"
+            "\"normalTexture\":{\"index\":0,\"texCoord\":1,\"scale\":0.5},"
+            "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":0.8,\"clearcoatRoughnessFactor\":0.2,"
+            "\"clearcoatTexture\":{\"index\":0},\"clearcoatRoughnessTexture\":{\"index\":0,\"texCoord\":1},"
+            "\"clearcoatNormalTexture\":{\"index\":0,\"scale\":0.7,\"extensions\":{\"KHR_texture_transform\":"
+            "{\"scale\":[4,4]}}}}}},"
+            "{\"name\":\"glass\",\"alphaMode\":\"BLEND\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,1,1,0.25],"
+            "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":{\"offset\":\"left\"}}}},"
+            "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":2}}},"
+            "{\"name\":\"plain\"}]"};
+    prw_scene *s = load_ok(gen_write(&g));
+    CHECK(s->material_count == 3 && s->mesh_count == 3);
+    if (s->material_count == 3 && s->mesh_count == 3) {
+        const prw_material *a = &s->materials[0], *b = &s->materials[1], *c = &s->materials[2];
+        CHECK(a->alpha_mode == PRW_ALPHA_MASK && a->alpha_cutoff == 0.3f);
+        const prw_tex_transform *t = &a->tex_xf[PRW_TEX_BASE_COLOR];
+        CHECK(t->offset[0] == 0.5f && t->offset[1] == -0.25f && t->rotation == 0.75f && t->scale[0] == 2.0f &&
+              t->scale[1] == 3.0f && t->tex_coord == 1);
+        CHECK(a->tex_xf[PRW_TEX_NORMAL].tex_coord == 1 && prw_tex_transform_is_identity(&a->tex_xf[PRW_TEX_NORMAL]));
+        CHECK(a->normal_scale == 0.5f);
+        CHECK(a->clearcoat == 0.8f && a->clearcoat_roughness == 0.2f && a->clearcoat_normal_scale == 0.7f);
+        CHECK(a->clearcoat_tex >= 0 && a->clearcoat_roughness_tex >= 0 && a->clearcoat_normal_tex >= 0);
+        if (a->clearcoat_tex >= 0) CHECK(!s->textures[a->clearcoat_tex].srgb);
+        CHECK(a->tex_xf[PRW_TEX_CLEARCOAT_ROUGHNESS].tex_coord == 1);
+        CHECK(a->tex_xf[PRW_TEX_CLEARCOAT_NORMAL].scale[0] == 4.0f);
+        /* malformed extension data: ignored with a warning, the rest of the material as given */
+        CHECK(b->alpha_mode == PRW_ALPHA_BLEND && b->base_color[3] == 0.25f && b->base_color_tex >= 0);
+        CHECK(prw_tex_transform_is_identity(&b->tex_xf[PRW_TEX_BASE_COLOR]) && b->clearcoat == 0.0f);
+        CHECK(has_warning(s, PRW_WARN_OTHER, "material 1 ('glass') baseColorTexture: KHR_texture_transform ignored: offset"));
+        CHECK(has_warning(s, PRW_WARN_OTHER, "material 1 ('glass'): KHR_materials_clearcoat ignored: clearcoatFactor"));
+        /* defaults */
+        prw_material d = prw_material_default();
+        CHECK(c->alpha_mode == PRW_ALPHA_OPAQUE && c->alpha_cutoff == 0.5f && c->clearcoat == 0.0f &&
+              c->clearcoat_tex == -1 && c->clearcoat_normal_tex == -1);
+        CHECK(memcmp(c->tex_xf, d.tex_xf, sizeof d.tex_xf) == 0);
+        /* TEXCOORD_1 imported */
+        CHECK(s->meshes[0].uvs1 != NULL && s->meshes[1].uvs1 == NULL);
+        if (s->meshes[0].uvs1) CHECK(memcmp(s->meshes[0].uvs1, uv1, sizeof uv1) == 0);
+    }
+    prw_scene_destroy(s);
+
+    /* a bad alphaMode is refused */
+    gen_prim q = {.mode = 4, .pos = k_tri, .nv = 3, .extra = ",\"material\":0"};
+    g = (gen_file){.name = "bad_alpha.gltf", .prims = &q, .prim_count = 1,
+                   .more = ",\"materials\":[{\"name\":\"x\",\"alphaMode\":\"CUTOUT\"}]"};
+    expect_fail(gen_write(&g), "material 0 ('x'): alphaMode 'CUTOUT' is not OPAQUE, MASK or BLEND", NULL);
+}
+
+static void test_texture_transform_apply(void)
+{
+    /* the extension's example: "only the lower left quadrant of the source image, rotated clockwise
+     * 90 degrees": offset (0, 1), rotation pi/2, scale 0.5 */
+    prw_tex_transform t = {{0, 1}, (float)(PRW_PI / 2), {0.5f, 0.5f}, 0};
+    const float in[4][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    const float want[4][2] = {{0, 1}, {0, 0.5f}, {0.5f, 1}, {0.5f, 0.5f}};
+    for (int i = 0; i < 4; i++) {
+        float o[2];
+        prw_tex_transform_apply(&t, in[i], o);
+        CHECK_NEAR(o[0], want[i][0], 1e-6);
+        CHECK_NEAR(o[1], want[i][1], 1e-6);
+    }
+    /* "inverts the T axis": offset (0, 1), scale (1, -1) */
+    prw_tex_transform f = {{0, 1}, 0, {1, -1}, 0};
+    float o[2], q[2] = {0.25f, 0.125f};
+    prw_tex_transform_apply(&f, q, o);
+    CHECK(o[0] == 0.25f && o[1] == 0.875f);
+    prw_material d = prw_material_default();
+    for (int i = 0; i < PRW_TEX_SLOT_COUNT; i++) CHECK(prw_tex_transform_is_identity(&d.tex_xf[i]));
+}
+
+static void test_no_light_no_camera(void)
+{
+    gen_prim p = {.mode = 4, .pos = k_tri, .nv = 3};
+    gen_file g = {.name = "bare.gltf", .prims = &p, .prim_count = 1};
+    const char *path = gen_write(&g);
+    prw_scene *s = load_ok(path);
+    CHECK(has_warning(s, PRW_WARN_NO_LIGHT, "no light") && has_warning(s, PRW_WARN_NO_CAMERA, "no camera"));
+    prw_scene_destroy(s);
+    /* the test scene of import_gltf has lights and a camera */
+    uint8_t bin[140];
+    write_file(tmp_path("quad.bin"), bin, make_bin(bin));
+    CHECK(write_png(tmp_path("tex.png")));
+    static char json[8192];
+    make_json(json, sizeof json, "quad.bin", 4, "{\"uri\":\"tex.png\"}", 0);
+    write_file(tmp_path("scene.gltf"), json, strlen(json));
+    s = load_ok(tmp_path("scene.gltf"));
+    CHECK(prw_scene_find_warning(s, PRW_WARN_NO_LIGHT) < 0 && prw_scene_find_warning(s, PRW_WARN_NO_CAMERA) < 0);
+    prw_scene_destroy(s);
+    /* through a manifest: judged for the whole manifest, once */
+    char man[512];
+    snprintf(man, sizeof man,
+             "{\"prw_manifest\":1,\"gltf\":[{\"file\":\"bare.gltf\"}],\"lights\":[{\"type\":\"point\","
+             "\"position\":[0,1,0],\"intensity\":10}]}");
+    s = prw_scene_create();
+    prw_error e = {{0}};
+    CHECK_OK(prw_scene_parse_manifest(s, man, strlen(man), tmp_path("m.json"), &e), &e);
+    CHECK(prw_scene_find_warning(s, PRW_WARN_NO_LIGHT) < 0);
+    int nc = 0;
+    for (uint32_t i = 0; i < s->warning_count; i++) nc += s->warnings[i].kind == PRW_WARN_NO_CAMERA;
+    CHECK(nc == 1);
+    prw_scene_destroy(s);
+}
+
+/* PNG bytes: signature, IHDR (w x h, RGBA8), a dummy IDAT, IEND (CRCs not checked by stb_image). */
+static size_t png_header(uint8_t *out, uint32_t w, uint32_t h)
+{
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    size_t n = 0;
+    memcpy(out, sig, 8);
+    n = 8;
+    const uint8_t ihdr[25] = {0,    0,    0,    13,   'I',  'H',  'D',  'R',  (uint8_t)(w >> 24), (uint8_t)(w >> 16),
+                              (uint8_t)(w >> 8), (uint8_t)w, (uint8_t)(h >> 24), (uint8_t)(h >> 16), (uint8_t)(h >> 8),
+                              (uint8_t)h, 8, 6, 0, 0, 0, 0, 0, 0, 0};
+    memcpy(out + n, ihdr, 25);
+    n += 25;
+    const uint8_t idat[12] = {0, 0, 0, 0, 'I', 'D', 'A', 'T', 0, 0, 0, 0};
+    memcpy(out + n, idat, 12);
+    n += 12;
+    const uint8_t iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0, 0, 0, 0};
+    memcpy(out + n, iend, 12);
+    return n + 12;
+}
+
+static void test_limits(void)
+{
+    /* an accessor without a bufferView (all zeros) claims no bytes: a huge count is refused */
+    const char *j = "{\"asset\":{\"version\":\"2.0\"},\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                    "\"accessors\":[{\"componentType\":5126,\"count\":200000000,\"type\":\"VEC3\"}],"
+                    "\"nodes\":[{\"mesh\":0}]}";
+    const char *path = tmp_path("zeros.gltf");
+    write_file(path, j, strlen(j));
+    expect_fail(path, "accessor 0 (mesh 'mesh0' POSITION): has no bufferView (all zeros) and count 200000000", NULL);
+
+    /* an image whose header claims 16000 x 16000 pixels: refused before stb_image allocates */
+    uint8_t png[64];
+    size_t n = png_header(png, 16000, 16000);
+    write_file(tmp_path("huge.png"), png, n);
+    const char *ji = "{\"asset\":{\"version\":\"2.0\"},\"images\":[{\"uri\":\"huge.png\"}],\"textures\":[{\"source\":0}],"
+                     "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]}";
+    path = tmp_path("huge_image.gltf");
+    write_file(path, ji, strlen(ji));
+    expect_fail(path, "image 0: 16000 x 16000 pixels is too large", NULL);
+
+    /* a GLB whose BIN chunk runs past the container (tinygltf would read 8 bytes beyond it) */
+    const char *js = "{\"asset\":{\"version\":\"2.0\"}}   ";
+    uint32_t jl = (uint32_t)strlen(js);
+    uint8_t glb[128];
+    uint32_t total = 20 + jl + 8 + 8;
+    uint32_t hdr[5] = {0x46546C67u, 2, total, jl, 0x4E4F534Au};
+    memcpy(glb, hdr, 20);
+    memcpy(glb + 20, js, jl);
+    uint32_t bh[2] = {16, 0x004E4942u}; /* claims 16 bytes, 8 present */
+    memcpy(glb + 20 + jl, bh, 8);
+    memset(glb + 28 + jl, 0, 8);
+    path = tmp_path("bin_overrun.glb");
+    write_file(path, glb, total);
+    expect_fail(path, "GLB: chunk of 16 bytes at offset", "exceeds the container");
+
+    /* an image in a bufferView that runs past its buffer (tinygltf would hand stb_image the overrun) */
+    uint8_t bin[140];
+    write_file(tmp_path("quad.bin"), bin, make_bin(bin));
+    const char *jv = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"quad.bin\",\"byteLength\":140}],"
+                     "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":100,\"byteLength\":64}],"
+                     "\"images\":[{\"bufferView\":0,\"mimeType\":\"image/png\"}]}";
+    path = tmp_path("image_view_overrun.gltf");
+    write_file(path, jv, strlen(jv));
+    expect_fail(path, "image 0: bufferView 0 (bytes 100..164) exceeds buffer 0 length 140", NULL);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"import_gltf", test_import_gltf},
         {"import_glb", test_import_glb},
         {"errors", test_errors},
+        {"triangle_strip", test_triangle_strip},
+        {"triangle_fan", test_triangle_fan},
+        {"lines_points", test_lines_points},
+        {"extensions", test_extensions},
+        {"versions", test_versions},
+        {"draco", test_draco},
+        {"material_extensions", test_material_extensions},
+        {"texture_transform_apply", test_texture_transform_apply},
+        {"no_light_no_camera", test_no_light_no_camera},
+        {"limits", test_limits},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
