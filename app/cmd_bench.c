@@ -24,7 +24,7 @@ static void bench_usage(void)
     char knobs[4096];
     prw_quality_describe(knobs, sizeof knobs);
     printf("usage: prw bench [SCENE] [PATH.json | --path demo] [options]\n"
-           "  SCENE                  manifest (.json) or 'demo' (default)\n"
+           "  SCENE                  manifest (.json), a model (.gltf, .glb, .igs, .iges) or 'demo' (default)\n"
            "  PATH.json, --path P    camera path file, or 'demo': the built-in 60-frame demo walk (default)\n"
            "  --preset NAME          low | medium | high | ultra (default high), optionally followed by\n"
            "                         knobs: \"high;tonemap=selective\"\n"

@@ -14,7 +14,7 @@
 static void reference_usage(void)
 {
     printf("usage: prw reference [SCENE] [options]\n"
-           "  SCENE                manifest (.json) or 'demo' (default)\n"
+           "  SCENE                manifest (.json), a model (.gltf, .glb, .igs, .iges) or 'demo' (default)\n"
            "  --camera NAME        scene camera (default: the first)\n"
            "  --spp N              samples per pixel, 1..10000000 (default 64): samples [0, N)\n"
            "  --out FILE.exr       mean radiance, linear cd/m^2 (default prw-out/reference.exr unless --acc);\n"

@@ -22,7 +22,7 @@
 static void render_usage(void)
 {
     printf("usage: prw render [SCENE] [options]\n"
-           "  SCENE              manifest (.json) or 'demo' (default)\n"
+           "  SCENE              manifest (.json), a model (.gltf, .glb, .igs, .iges) or 'demo' (default)\n"
            "  --out FILE.exr     linear HDR output in cd/m^2 (default prw-out/render.exr)\n"
            "  --png FILE.png     display-encoded output (default: --out with .png)\n"
            "  --size WxH         image size (default 1280x720)\n"

@@ -1,4 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,12 +10,58 @@
 
 prw_global_opts g_prw_opts;
 
+/* Illuminance of the announced headlight at the scene centre (lux): a white Lambert surface there
+ * shows about 16 cd/m^2, mid grey at the framing camera's EV100 7. */
+#define HEADLIGHT_LUX 100.0
+#define FRAMING_EV100 7.0
+
+/* What a scene without a camera or a light gets, said on stderr; the loaders' other warnings too. */
+static void scene_defaults(prw_scene *s, const char *path)
+{
+    for (uint32_t i = 0; i < s->warning_count; i++)
+        if (s->warnings[i].kind != PRW_WARN_NO_LIGHT && s->warnings[i].kind != PRW_WARN_NO_CAMERA)
+            prw_log(PRW_LOG_WARN, "%s", s->warnings[i].msg);
+    if (s->camera_count == 0) {
+        int c = prw_scene_add_framing_camera(s, 1.0, "framing");
+        if (c >= 0) {
+            s->cameras[c].ev100 = FRAMING_EV100;
+            const prw_dmat4 *w = &s->nodes[s->cameras[c].node].world;
+            prw_log(PRW_LOG_INFO, "%s: no camera: added 'framing' at (%.3g, %.3g, %.3g) m looking at the centre of the "
+                    "bounds, yfov %.0f deg, EV100 %.0f", path, w->m[12], w->m[13], w->m[14],
+                    s->cameras[c].yfov * 180.0 / PRW_PI, FRAMING_EV100);
+        }
+    }
+    if (prw_scene_find_warning(s, PRW_WARN_NO_LIGHT) >= 0 && s->light_count == 0 && s->camera_count > 0 &&
+        s->has_bounds) {
+        /* a point light at the first camera, the same for the rasterizer and the path tracer */
+        const prw_dmat4 *w = &s->nodes[s->cameras[0].node].world;
+        prw_dvec3 eye = prw_v3(w->m[12], w->m[13], w->m[14]);
+        prw_dvec3 c = prw_v3_scale(prw_v3_add(s->bounds_min, s->bounds_max), 0.5);
+        double d = fmax(prw_v3_len(prw_v3_sub(c, eye)), 1e-3);
+        prw_light l = {.type = PRW_LIGHT_POINT, .color = {1, 1, 1}, .intensity = HEADLIGHT_LUX * d * d};
+        snprintf(l.name, sizeof l.name, "headlight");
+        prw_node n = prw_node_default();
+        snprintf(n.name, sizeof n.name, "headlight");
+        n.translation = eye;
+        l.node = prw_scene_add_node(s, &n);
+        if (l.node >= 0 && prw_scene_add_light(s, &l) >= 0) {
+            prw_scene_update(s);
+            prw_log(PRW_LOG_INFO, "%s: no light: added a headlight at camera '%s': a point light of %.4g cd (%.0f lux "
+                    "at the scene centre, %.3g m away), no shadows; the reference renders it too",
+                    path, s->cameras[0].name, l.intensity, HEADLIGHT_LUX, d);
+        }
+    }
+}
+
 bool prw_app_load_scene(const char *path, prw_scene **out, prw_error *e)
 {
     prw_scene *s = prw_scene_create();
-    bool ok = (!path || strcmp(path, "demo") == 0) ? prw_demo_build(s, prw_v3(0, 0, 0), e)
-                                                  : prw_scene_load_manifest(s, path, e);
+    bool demo = !path || strcmp(path, "demo") == 0;
+    bool ok = demo                            ? prw_demo_build(s, prw_v3(0, 0, 0), e)
+              : prw_scene_is_model_file(path) ? prw_scene_open_model(s, path, e)
+                                              : prw_scene_load_manifest(s, path, e);
     if (ok) prw_scene_update(s);
+    if (ok && !demo) scene_defaults(s, path);
     if (!ok) {
         prw_scene_destroy(s);
         return false;

@@ -29,7 +29,7 @@ static void usage(FILE *f)
             "  tmbench         selective vs full local tone mapping: quality and speed of the passes alone\n"
             "  bake MODEL      build / cache the LOD hierarchy of a trimmed-NURBS model (.igs, .iges, .json)\n"
             "  cache clear [KIND]  remove cached entries (LOD hierarchies, references, ...); rebuilt on demand\n"
-            "  SCENE is a manifest (.json) or 'demo' (the default).  'prw COMMAND --help' for options.\n"
+            "  SCENE is a manifest (.json), a model (.gltf, .glb, .igs, .iges) or 'demo' (the default).  'prw COMMAND --help' for options.\n"
             "\n"
             "global options:\n"
             "  --threads N      thread budget for every pool (lavapipe, Embree/TBB, OpenMP); default: all cores\n"

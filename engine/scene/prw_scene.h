@@ -299,6 +299,14 @@ bool prw_scene_frame_camera(const prw_scene *s, double aspect, prw_framing *out)
  * the scene has no bounds.  Runs prw_scene_update. */
 int prw_scene_add_framing_camera(prw_scene *s, double aspect, const char *name);
 
+/* Opens a model file as (part of) a scene: .gltf / .glb through prw_scene_import_gltf, .igs / .iges as
+ * one trimmed-NURBS entry (its own node, a light grey double-sided material; the hierarchy is baked
+ * later, engine/bake).  Warnings as the loaders add them ("no light", "no camera").  Errors name the
+ * file; a failed open leaves the scene as it was. */
+bool prw_scene_open_model(prw_scene *s, const char *path, prw_error *e);
+/* Whether prw_scene_open_model takes this path (by its extension, case-insensitive). */
+bool prw_scene_is_model_file(const char *path);
+
 /* Finds a camera by name (NULL or "" -> first camera); -1 when absent. */
 int prw_scene_find_camera(const prw_scene *s, const char *name);
 
