@@ -11,7 +11,9 @@
  *  2. speed: 3 interleaved frames per backend at 256x144 per eye, medians of the wall time of
  *     prw_renderer_render (which waits for the frame); multiview is chosen only if correct and at
  *     least 3 % faster.
- * A cache entry that cannot be read or parsed is measured again and rewritten (atomic rename).
+ * A cache entry that cannot be read or parsed is measured again and rewritten (atomic rename); an entry
+ * that chooses multiview is trusted only after the correctness probe (1.) passes again, else the loop is
+ * chosen and the entry rewritten (a forged or stale entry cannot pick a backend that is wrong here).
  */
 #include <errno.h>
 #include <math.h>
@@ -67,8 +69,9 @@ static double rel_l1(const prw_image *a, const prw_image *b)
     return s > 0 ? d / s : (d > 0 ? INFINITY : 0);
 }
 
-/* Renders the pair with both backends; fills rel (worst eye) and the median times. */
-static bool measure(prw_gpu *gpu, prw_views_choice *c, prw_error *e)
+/* Renders the probe pair with both backends; fills rel (worst eye) and, unless correctness_only, the
+ * median times. */
+static bool measure(prw_gpu *gpu, prw_views_choice *c, bool correctness_only, prw_error *e)
 {
     prw_scene *s = prw_scene_create();
     prw_renderer *r[2] = {NULL, NULL};
@@ -94,6 +97,10 @@ static bool measure(prw_gpu *gpu, prw_views_choice *c, prw_error *e)
         r[b] = NULL;
         prw_image_free(&img[b][0]);
         prw_image_free(&img[b][1]);
+    }
+    if (correctness_only) {
+        prw_scene_destroy(s);
+        return ok;
     }
     /* speed at a size where per-pixel work is visible, interleaved so load drift hits both */
     enum { FRAMES = 3 };
@@ -207,10 +214,24 @@ bool prw_views_backend_choose(prw_gpu *gpu, prw_views_choice *out, prw_error *e)
         cache_path(gpu, dir, path, sizeof path);
         if (cache_read(path, out)) {
             out->from_cache = true;
+            if (out->backend != PRW_VIEWS_MULTIVIEW) return true; /* the loop is always right */
+            /* anyone can write the cache: an entry choosing multiview is only trusted after the
+             * correctness probe (the cheap half of the measurement) passes again on this device */
+            prw_views_choice probe = *out;
+            if (!measure(gpu, &probe, true, e)) return prw_fail_wrap(e, "views backend auto: checking the cache");
+            if (probe.multiview_ok) return true;
+            out->from_cache = false;
+            out->multiview_ok = false;
+            out->multiview_rel_l1 = probe.multiview_rel_l1;
+            decide(out);
+            snprintf(out->reason, sizeof out->reason,
+                     "the cached choice multiview failed the correctness probe (relative L1 %.2g > %.0e): loop",
+                     probe.multiview_rel_l1, PROBE_TOL);
+            cache_write(path, out);
             return true;
         }
     }
-    if (!measure(gpu, out, e)) return prw_fail_wrap(e, "views backend auto: measuring the backends");
+    if (!measure(gpu, out, false, e)) return prw_fail_wrap(e, "views backend auto: measuring the backends");
     decide(out);
     if (have_dir) cache_write(path, out);
     return true;

@@ -245,6 +245,23 @@ static void test_multiview_eyes(void)
         CHECK_MSG(!c1.multiview_ok && c1.backend == PRW_VIEWS_LOOP && c1.multiview_rel_l1 > 1e-5,
                   "llvmpipe multiview probe: rel L1 %.3g", c1.multiview_rel_l1);
     CHECK(!prw_views_backend_resolve(g_gpu, "fast", &b, &e) && strstr(e.msg, "'fast'"));
+    /* a forged cache entry choosing multiview (consistent with its own numbers) is checked, not trusted */
+    if (!c1.multiview_ok) {
+        char dir[1024];
+        CHECK_OK(prw_cache_dir("views", "views backend cache", true, dir, sizeof dir, &e), &e);
+        char cmd[1400];
+        snprintf(cmd, sizeof cmd,
+                 "for f in '%s'/*.json; do printf '%%s\\n' '{\"prw_views_choice\": 1, \"backend\": \"multiview\", "
+                 "\"multiview_ok\": 1, \"multiview_rel_l1\": 0, \"loop_ms\": 10.000, \"multiview_ms\": 1.000}' > \"$f\"; done",
+                 dir);
+        CHECK(system(cmd) == 0);
+        prw_views_choice c3, c4;
+        CHECK_OK(prw_views_backend_choose(g_gpu, &c3, &e), &e);
+        printf("forged cache entry: %s (%s)\n", prw_views_backend_name(c3.backend), c3.reason);
+        CHECK(c3.backend == PRW_VIEWS_LOOP && !c3.from_cache && strstr(c3.reason, "failed the correctness probe"));
+        CHECK_OK(prw_views_backend_choose(g_gpu, &c4, &e), &e); /* and the entry is rewritten */
+        CHECK(c4.from_cache && c4.backend == PRW_VIEWS_LOOP);
+    }
     prw_view centre;
     CHECK_OK(prw_view_from_camera(g_scene, 0, 128, 96, &centre, &e), &e);
     prw_stereo_setup st;
