@@ -129,16 +129,11 @@ static float half_to_float(uint16_t h)
     return sign ? -v : v;
 }
 
-bool prw_image_readback(prw_gpu *gpu, prw_gpu_image *img, float *rgba, prw_error *e)
+/* Copies mip 0 / layer 0 (aspect) of a single-sample image into a new READBACK buffer *rb (texel bytes a
+ * pixel) and waits; the image keeps its layout. */
+static bool copy_out(prw_gpu *gpu, prw_gpu_image *img, VkImageAspectFlags aspect, uint32_t texel, prw_buffer *rb,
+                     prw_error *e)
 {
-    uint32_t texel;
-    switch (img->format) {
-    case VK_FORMAT_R16G16B16A16_SFLOAT: texel = 8; break;
-    case VK_FORMAT_R32G32B32A32_SFLOAT: texel = 16; break;
-    case VK_FORMAT_R8G8B8A8_UNORM:
-    case VK_FORMAT_R8G8B8A8_SRGB: texel = 4; break;
-    default: return prw_fail(e, "gpu: image readback: unsupported format %d", (int)img->format);
-    }
     if (img->samples != VK_SAMPLE_COUNT_1_BIT)
         return prw_fail(e, "gpu: image readback of a multisampled image (resolve it first)");
     if (!(img->usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT))
@@ -146,21 +141,20 @@ bool prw_image_readback(prw_gpu *gpu, prw_gpu_image *img, float *rgba, prw_error
     if (img->layout == VK_IMAGE_LAYOUT_UNDEFINED)
         return prw_fail(e, "gpu: image readback of an image that was never written (layout UNDEFINED)");
     size_t n = (size_t)img->width * img->height;
-    prw_buffer rb;
-    if (!prw_buffer_create(gpu, n * texel, VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_READBACK, &rb, e))
+    if (!prw_buffer_create(gpu, n * texel, VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_READBACK, rb, e))
         return prw_fail_wrap(e, "gpu: image readback buffer");
     VkCommandBuffer cmd;
     if (!prw_cmd_begin(gpu, &cmd, e)) {
-        prw_buffer_destroy(gpu, &rb);
+        prw_buffer_destroy(gpu, rb);
         return false;
     }
     VkImageLayout restore = img->layout;
     prw_cmd_transition(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkBufferImageCopy region = {
-        .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+        .imageSubresource = {aspect, 0, 0, 1},
         .imageExtent = {img->width, img->height, 1},
     };
-    vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer, 1, &region);
+    vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb->buffer, 1, &region);
     /* The copy's writes must be available to the host before the fence wait returns. */
     VkMemoryBarrier2 mb = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
@@ -175,9 +169,25 @@ bool prw_image_readback(prw_gpu *gpu, prw_gpu_image *img, float *rgba, prw_error
     prw_cmd_transition(cmd, img, restore);
     uint32_t orphans = gpu->orphan_count;
     if (!prw_cmd_submit_wait(gpu, cmd, e)) {
-        if (gpu->orphan_count == orphans) prw_buffer_destroy(gpu, &rb);
+        if (gpu->orphan_count == orphans) prw_buffer_destroy(gpu, rb);
         return false;
     }
+    return true;
+}
+
+bool prw_image_readback(prw_gpu *gpu, prw_gpu_image *img, float *rgba, prw_error *e)
+{
+    uint32_t texel;
+    switch (img->format) {
+    case VK_FORMAT_R16G16B16A16_SFLOAT: texel = 8; break;
+    case VK_FORMAT_R32G32B32A32_SFLOAT: texel = 16; break;
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB: texel = 4; break;
+    default: return prw_fail(e, "gpu: image readback: unsupported format %d", (int)img->format);
+    }
+    prw_buffer rb;
+    if (!copy_out(gpu, img, VK_IMAGE_ASPECT_COLOR_BIT, texel, &rb, e)) return false;
+    size_t n = (size_t)img->width * img->height;
     const unsigned char *src = rb.mapped;
     for (size_t i = 0; i < n * 4; i++) {
         switch (texel) {
@@ -204,44 +214,9 @@ bool prw_image_readback_r32(prw_gpu *gpu, prw_gpu_image *img, void *out, prw_err
     case VK_FORMAT_R32_SFLOAT: aspect = VK_IMAGE_ASPECT_COLOR_BIT; break;
     default: return prw_fail(e, "gpu: 32-bit readback: unsupported format %d", (int)img->format);
     }
-    if (img->samples != VK_SAMPLE_COUNT_1_BIT) return prw_fail(e, "gpu: 32-bit readback of a multisampled image");
-    if (!(img->usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT))
-        return prw_fail(e, "gpu: 32-bit readback needs VK_IMAGE_USAGE_TRANSFER_SRC_BIT");
-    if (img->layout == VK_IMAGE_LAYOUT_UNDEFINED)
-        return prw_fail(e, "gpu: 32-bit readback of an image that was never written (layout UNDEFINED)");
-    size_t n = (size_t)img->width * img->height;
     prw_buffer rb;
-    if (!prw_buffer_create(gpu, n * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_READBACK, &rb, e))
-        return prw_fail_wrap(e, "gpu: 32-bit readback buffer");
-    VkCommandBuffer cmd;
-    if (!prw_cmd_begin(gpu, &cmd, e)) {
-        prw_buffer_destroy(gpu, &rb);
-        return false;
-    }
-    VkImageLayout restore = img->layout;
-    prw_cmd_transition(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    VkBufferImageCopy region = {
-        .imageSubresource = {aspect, 0, 0, 1},
-        .imageExtent = {img->width, img->height, 1},
-    };
-    vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer, 1, &region);
-    VkMemoryBarrier2 mb = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-        .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
-        .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
-        .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
-        .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT,
-    };
-    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
-                            .pMemoryBarriers = &mb};
-    vkCmdPipelineBarrier2(cmd, &dep);
-    prw_cmd_transition(cmd, img, restore);
-    uint32_t orphans = gpu->orphan_count;
-    if (!prw_cmd_submit_wait(gpu, cmd, e)) {
-        if (gpu->orphan_count == orphans) prw_buffer_destroy(gpu, &rb);
-        return false;
-    }
-    memcpy(out, rb.mapped, n * 4);
+    if (!copy_out(gpu, img, aspect, 4, &rb, e)) return false;
+    memcpy(out, rb.mapped, (size_t)img->width * img->height * 4);
     prw_buffer_destroy(gpu, &rb);
     return true;
 }

@@ -495,6 +495,19 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
     }
 }
 
+/* The camera ray through image point (x, y): origin (camera-relative), unit direction, and the ray
+ * distance of the near plane. */
+static void camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, double y, double o[3], double d[3],
+                       double *tnear)
+{
+    prw_dvec3 dd = prw_view_ray_dir(v, x, y);
+    o[0] = v->eye.x - r->origin.x, o[1] = v->eye.y - r->origin.y, o[2] = v->eye.z - r->origin.z;
+    d[0] = dd.x, d[1] = dd.y, d[2] = dd.z;
+    const double *m = v->view.m;
+    double fwd[3] = {-m[2], -m[6], -m[10]};
+    *tnear = v->znear > 0 ? v->znear / fmax(dot3(d, fwd), 1e-6) : 0;
+}
+
 void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filter f, double x, double y,
                       ref_rng *rng, double out[3], uint64_t *rays)
 {
@@ -508,12 +521,8 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
     const int kmax = max_depth(f);
     const uint32_t S = 9 + 2 * r->rect_count;
 
-    prw_dvec3 dd = prw_view_ray_dir(v, x, y);
-    double o[3] = {v->eye.x - r->origin.x, v->eye.y - r->origin.y, v->eye.z - r->origin.z};
-    double d[3] = {dd.x, dd.y, dd.z};
-    const double *m = v->view.m;
-    double fwd[3] = {-m[2], -m[6], -m[10]};
-    double tnear = v->znear > 0 ? v->znear / fmax(dot3(d, fwd), 1e-6) : 0;
+    double o[3], d[3], tnear;
+    camera_ray(r, v, x, y, o, d, &tnear);
     double pdf_prev = 0; /* solid-angle density of the BSDF sample that made the current ray */
 
     for (;;) {
@@ -607,12 +616,8 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
 
 bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *v, double x, double y, prw_ref_hit *out)
 {
-    prw_dvec3 dd = prw_view_ray_dir(v, x, y);
-    double o[3] = {v->eye.x - r->origin.x, v->eye.y - r->origin.y, v->eye.z - r->origin.z};
-    double d[3] = {dd.x, dd.y, dd.z};
-    const double *m = v->view.m;
-    double fwd[3] = {-m[2], -m[6], -m[10]};
-    double tnear = v->znear > 0 ? v->znear / fmax(dot3(d, fwd), 1e-6) : 0;
+    double o[3], d[3], tnear;
+    camera_ray(r, v, x, y, o, d, &tnear);
     struct RTCRayHit rh;
     surf s;
     bool hit = false;
