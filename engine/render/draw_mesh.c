@@ -45,7 +45,7 @@ static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
             const prw_gpu_mesh *dm = &sg->meshes[k];
             uint32_t mi = prw_scene_gpu_slot(s, dm->material);
             bool two = s->material_count && s->materials[mi].double_sided;
-            if (!prw_draw_bind(c, 0, two, mirrored)) return;
+            if (!prw_draw_bind(c, s->material_count ? s->materials[mi].kind : 0, two, mirrored)) return;
             vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, pc);
             vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1, &sg->material_sets[mi],
                                     0, NULL);

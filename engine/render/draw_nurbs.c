@@ -49,7 +49,8 @@ static void record_shaded(prw_lod_scene *ls, const prw_render_env *env, prw_draw
             vkCmdBindIndexBuffer(c->cmd, prw_lod_gpu_index_buffer(g, k), 0, VK_INDEX_TYPE_UINT32);
             float pc[28];
             prw_draw_push_model(prw_lod_gpu_draw_matrix(g, prw_lod_scene_instance_world(ls, i, k)), origin, pc);
-            if (!prw_draw_bind(c, 0, two, pc[19] < 0.0f)) break; /* normal_m[0].w: the mirrored flag */
+            uint32_t kind = s->material_count ? s->materials[mi].kind : 0;
+            if (!prw_draw_bind(c, kind, two, pc[19] < 0.0f)) break; /* normal_m[0].w: the mirrored flag */
             vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, pc);
             vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1, &sg->material_sets[mi],
                                     0, NULL);

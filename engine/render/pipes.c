@@ -19,7 +19,9 @@ static const VkVertexInputAttributeDescription k_attrs[4] = {
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e)
 {
-    if (k->material_kind != 0) return prw_fail(e, "render: material kind %u has no shader", k->material_kind);
+    /* one fragment shader variant per material kind (material_gltf.glsl is kind 0) */
+    if (k->material_kind != PRW_MATERIAL_GLTF_MR)
+        return prw_fail(e, "render: material kind %u has no shader", k->material_kind);
     bool mv = k->view_mask != 0;
     if (mv && k->clip) return prw_fail(e, "render: multiview with a clip plane has no shader variant");
     if (k->clip && !prw_gpu_features_enabled(env->gpu)->clip_distance)

@@ -90,8 +90,16 @@ void prw_tex_transform_apply(const prw_tex_transform *t, const float uv[2], floa
 /* True when t leaves every uv unchanged (it may still name uv set 1). */
 bool prw_tex_transform_is_identity(const prw_tex_transform *t);
 
+/* How a material is evaluated: each kind has its model in materials/ (C and one GLSL include, shared by
+ * the rasterizer and the path tracer).  The BTF kind arrives with the BTF issue. */
+typedef enum prw_material_kind {
+    PRW_MATERIAL_GLTF_MR = 0, /* glTF metallic-roughness (materials/prw_brdf.h, shaders/material_gltf.glsl) */
+    PRW_MATERIAL_KIND_COUNT
+} prw_material_kind;
+
 typedef struct prw_material {
     char name[PRW_NAME_MAX];
+    prw_material_kind kind; /* 0: glTF metallic-roughness, the fields below */
     float base_color[4];    /* linear */
     int base_color_tex;     /* -1: none */
     float metallic, roughness; /* roughness is perceptual (alpha = roughness^2) */

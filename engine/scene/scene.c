@@ -644,13 +644,14 @@ static uint64_t hash_v3(uint64_t h, prw_dvec3 v)
 static uint64_t hash_material_extra(uint64_t h, const prw_material *m)
 {
     prw_material d = prw_material_default();
-    bool plain = m->alpha_mode == d.alpha_mode && m->alpha_cutoff == d.alpha_cutoff && m->clearcoat == 0.0f &&
+    bool plain = m->kind == PRW_MATERIAL_GLTF_MR && m->alpha_mode == d.alpha_mode && m->alpha_cutoff == d.alpha_cutoff && m->clearcoat == 0.0f &&
                  m->clearcoat_tex == -1 && m->clearcoat_roughness == 0.0f && m->clearcoat_roughness_tex == -1 &&
                  m->clearcoat_normal_tex == -1 && m->clearcoat_normal_scale == 1.0f;
     for (int i = 0; i < PRW_TEX_SLOT_COUNT && plain; i++)
         plain = prw_tex_transform_is_identity(&m->tex_xf[i]) && m->tex_xf[i].tex_coord == 0;
     if (plain) return h;
-    int am = (int)m->alpha_mode;
+    int kind = (int)m->kind, am = (int)m->alpha_mode;
+    H(h, kind);
     H(h, am);
     H(h, m->alpha_cutoff);
     for (int i = 0; i < PRW_TEX_SLOT_COUNT; i++) {
