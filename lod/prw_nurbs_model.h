@@ -56,6 +56,10 @@ void prw_trimmed_surface_free(prw_trimmed_surface *t);
 prw_trim_loop *prw_trimmed_surface_add_loop(prw_trimmed_surface *t);
 /* Appends a segment taking ownership of *uv (and of *model when not NULL; it is heap-copied). */
 void prw_trim_loop_add(prw_trim_loop *l, prw_nurbs_curve *uv, prw_nurbs_curve *model);
+/* Reverses the surface's u direction (knots mirrored about the domain, columns reversed) and
+ * mirrors every trim curve with it, u -> u0 + u1 - u: the same trimmed face, exactly, with the
+ * opposite normal Su x Sv. */
+void prw_trimmed_surface_reverse_u(prw_trimmed_surface *t);
 /* World-space bounding box of all surfaces (control hulls). false when the model is empty. */
 bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
 

@@ -15,7 +15,8 @@ char *iges_model_sphere_rev(size_t *len);
 char *iges_model_trimmed_plate(size_t *len);
 /* Independent 108 (bounded by a circle r 20 at z = 5), 118 (line to semicircle), 122 (quarter
  * arc extruded 30 along z), 128 (bilinear, with a 124 rotation about z by 90° and shift), an
- * independent 126 curve, and unsupported 143, 186, 212, 406, 502. */
+ * independent 126 curve, a 143 without boundaries on a dependent unit-square 128, and
+ * unsupported 116, 123, 212, 406, 410. */
 char *iges_model_all_entities(size_t *len);
 /* One 128 unit square (0..1 in x, y) written with the given unit flag / name / model scale, and
  * `subord` for its DE; `used_by_144` adds a 144 (natural outer) that references it. */

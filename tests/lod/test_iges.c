@@ -107,8 +107,8 @@ static void test_all_entities(void)
     CHECK_OK(parse(s, n, &m, &info, &e), &e);
     free(s);
     printf("  warning: %s\n", info.warning);
-    CHECK(strstr(info.warning, "skipped 5 unsupported entities: 143 x1, 186 x1, 212 x1, 406 x1, 502 x1") != NULL);
-    CHECK(m.count == 4); /* 108, 118, 122, 128; the 143's 128 is dependent; 126 is a curve */
+    CHECK(strstr(info.warning, "skipped 5 unsupported entities: 116 x1, 123 x1, 212 x1, 406 x1, 410 x1") != NULL);
+    CHECK(m.count == 5); /* 108, 118, 122, 128, 143; the 143's 128 is dependent; 126 is a curve */
     CHECK(info.metres_per_unit == 1.0);
     for (size_t i = 0; i < m.count; i++) {
         const prw_trimmed_surface *t = &m.surfaces[i];
