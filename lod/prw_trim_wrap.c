@@ -72,41 +72,120 @@ void prw_trim_shift_loop(const prw_nurbs_surface *s, int dir, double a, prw_nurb
         for (int k = 0; k < n; k++) move_piece(&pieces[k], dir, by);
 }
 
+/* Is the row through parameter x (in direction `across`, the other one than `dir`) collapsed to a
+ * point, so a straight (u, v) edge along it is a point in 3-D (a pole)? */
+static bool pole_row(const prw_nurbs_surface *s, int dir, double x, double tol)
+{
+    double d0, d1;
+    domain(s, dir, &d0, &d1);
+    prw_dvec3 a = dir == 0 ? prw_nurbs_surface_eval(s, d0, x) : prw_nurbs_surface_eval(s, x, d0);
+    for (int k = 1; k <= 3; k++) {
+        double t = d0 + (d1 - d0) * k / 3.0;
+        prw_dvec3 b = dir == 0 ? prw_nurbs_surface_eval(s, t, x) : prw_nurbs_surface_eval(s, x, t);
+        if (!(prw_v3_len(prw_v3_sub(a, b)) <= tol)) return false;
+    }
+    return true;
+}
+
+/* Shoelace area of the loop's control polygon (degree-1 pieces: exactly the loop). */
+static double loop_area(const prw_nurbs_curve *pieces, int n, const double *by, int dir)
+{
+    double a = 0, x0 = 0, y0 = 0, px = 0, py = 0;
+    bool first = true;
+    for (int k = 0; k < n; k++)
+        for (int i = 0; i < pieces[k].n; i++) {
+            double u = coord(&pieces[k], i, 0) + (dir == 0 ? by[k] : 0), v = coord(&pieces[k], i, 1) + (dir == 1 ? by[k] : 0);
+            if (first) x0 = u, y0 = v, first = false;
+            else a += (px - x0) * (v - y0) - (u - x0) * (py - y0);
+            px = u, py = v;
+        }
+    return 0.5 * a;
+}
+
+#define MAX_POLE_JUNCTIONS 4
+
 void prw_trim_unwrap_loop(const prw_nurbs_surface *s, const bool closed[2], prw_nurbs_curve *pieces, int n,
                           double range[2][2])
 {
+    prw_dvec3 hl, hh;
+    prw_nurbs_surface_bounds(s, &hl, &hh);
+    double tol = 1e-9 * prw_v3_len(prw_v3_sub(hh, hl));
+    double *by = prw_calloc((size_t)n + 1, sizeof(double));
     for (int dir = 0; dir < 2; dir++) {
         double d0, d1;
         domain(s, dir, &d0, &d1);
         double P = d1 - d0;
-        if (closed[dir] && P > 0) {
-            bool have = false;
-            double prev = 0;
+        if (closed[dir] && P > 0 && n > 0) {
+            /* 1. each degree-1 piece continuous on its own */
             for (int k = 0; k < n; k++) {
                 prw_nurbs_curve *c = &pieces[k];
-                if (c->degree != 1) { /* a curve: moved as a whole, its start next to prev */
-                    if (have) {
-                        double x = coord(c, 0, dir), by = P * round((prev - x) / P);
-                        if (by != 0) move_piece(c, dir, by);
-                    }
-                    prev = coord(c, c->n - 1, dir);
-                    have = true;
-                    continue;
-                }
-                for (int i = 0; i < c->n; i++) {
-                    double x = coord(c, i, dir);
-                    if (have) {
-                        double by = P * round((prev - x) / P); /* nearest copy of x to prev */
-                        if (by != 0) c->pw[4 * i + dir] += by * c->pw[4 * i + 3], x += by;
-                    }
-                    prev = x;
-                    have = true;
+                if (c->degree != 1) continue;
+                for (int i = 1; i < c->n; i++) {
+                    double d = P * round((coord(c, i - 1, dir) - coord(c, i, dir)) / P);
+                    if (d != 0) c->pw[4 * i + dir] += d * c->pw[4 * i + 3];
                 }
             }
+            /* 2. each piece next to its predecessor; junctions on a pole row may also take the
+             * copies one period either side (the edge along the pole is a point in 3-D) */
+            int poles[MAX_POLE_JUNCTIONS], np = 0;
+            for (int k = 1; k < n; k++) {
+                const prw_nurbs_curve *a = &pieces[k - 1], *b = &pieces[k];
+                double pe = coord(a, a->n - 1, dir), bs = coord(b, 0, dir);
+                double d = P * round((pe - bs) / P);
+                if (d != 0) move_piece(&pieces[k], dir, d);
+                double other = coord(b, 0, 1 - dir);
+                if (np < MAX_POLE_JUNCTIONS && pole_row(s, dir, other, tol)) poles[np++] = k;
+            }
+            const prw_nurbs_curve *last = &pieces[n - 1];
+            bool closing_pole = pole_row(s, dir, coord(&pieces[0], 0, 1 - dir), tol);
+            double start = coord(&pieces[0], 0, dir);
+            /* 3. among the admissible choices (the loop closes in (u, v), or through a pole; its
+             * range at most one period) the one enclosing the largest area */
+            int combos = 1;
+            for (int j = 0; j < np; j++) combos *= 3;
+            double best = -1, *tb = prw_calloc((size_t)n + 1, sizeof(double));
+            int bestc = -1;
+            for (int c = 0; c < combos; c++) {
+                int cc = c, sh = 0;
+                for (int k = 0, j = 0; k < n; k++) {
+                    if (j < np && poles[j] == k) {
+                        int pick = cc % 3;
+                        cc /= 3;
+                        sh += pick == 0 ? 0 : pick == 1 ? -1 : 1;
+                        j++;
+                    }
+                    tb[k] = sh * P;
+                }
+                double end = coord(last, last->n - 1, dir) + tb[n - 1];
+                if (!closing_pole && fabs(end - start) > 1e-9 * P) continue;
+                double lo = INFINITY, hi = -INFINITY;
+                for (int k = 0; k < n; k++)
+                    for (int i = 0; i < pieces[k].n; i++) {
+                        double x = coord(&pieces[k], i, dir) + tb[k];
+                        lo = fmin(lo, x), hi = fmax(hi, x);
+                    }
+                if (hi - lo > P * (1 + 1e-9)) continue;
+                double area = fabs(loop_area(pieces, n, tb, dir));
+                if (area > best * (1 + 1e-9) + 1e-300) best = area, bestc = c;
+            }
+            if (bestc > 0) {
+                int cc = bestc, sh = 0;
+                for (int k = 0, j = 0; k < n; k++) {
+                    if (j < np && poles[j] == k) {
+                        int pick = cc % 3;
+                        cc /= 3;
+                        sh += pick == 0 ? 0 : pick == 1 ? -1 : 1;
+                        j++;
+                    }
+                    if (sh) move_piece(&pieces[k], dir, sh * P);
+                }
+            }
+            free(tb);
             prw_trim_shift_loop(s, dir, d0, pieces, n);
         }
         range_of(pieces, n, dir, &range[dir][0], &range[dir][1]);
     }
+    free(by);
 }
 
 /* Net transposition (u <-> v), so the re-seating below is written for v only. */

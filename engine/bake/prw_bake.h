@@ -64,7 +64,7 @@ extern "C" {
 #define PRW_LOD_FILE_MAGIC "PRWLOD01"
 #define PRW_LOD_FILE_VERSION 3u
 #define PRW_LOD_HEADER_SIZE 32u
-#define PRW_BAKE_ALGO_VERSION "lod-2026-12-01c" /* b: pole combs, flips in the level-0 refinement;
+#define PRW_BAKE_ALGO_VERSION "lod-2026-12-01d" /* b: pole combs, flips in the level-0 refinement; d: target valence cap;
                                                     c: whole-model proxy levels in the file */
 
 typedef struct prw_baked_lod {

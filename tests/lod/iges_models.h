@@ -22,4 +22,16 @@ char *iges_model_all_entities(size_t *len);
  * `subord` for its DE; `used_by_144` adds a 144 (natural outer) that references it. */
 char *iges_model_units(int unit_flag, const char *unit, double scale, int subord, int used_by_144, size_t *len);
 
+/* B-rep solids as MSBO (186) files: a shell (514, closed) of faces (510) with loops (508) of edges
+ * (504) between vertices (502); every face's surface is larger than the face (really trimmed), and
+ * some faces' surfaces point inward with face orientation flag 0 (exercises the flags).
+ *  - box 100 x 60 x 40 mm: six bilinear 128 planes extending 10 mm beyond the faces (bottom inward);
+ *  - cylinder r 30, h 80 mm about z: lateral 120 in two halves (line revolved, inward) and two 108
+ *    disks bounded by two half circles each (bottom inward);
+ *  - free-form: a bicubic Bézier bump (128) over 120 x 90 mm trimmed to its part over 80 x 60 mm
+ *    (isoparametric 126 edges), four 118 ruled sides down to z = 0 (two inward), a 128 bottom. */
+char *iges_model_brep_box(size_t *len);
+char *iges_model_brep_cylinder(size_t *len);
+char *iges_model_brep_freeform(size_t *len);
+
 #endif
