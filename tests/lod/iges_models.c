@@ -26,6 +26,25 @@ char *iges_model_sphere_rev(size_t *len)
     return s;
 }
 
+char *iges_model_sphere_zone(double t0, double t1, double th0, double th1, size_t *len)
+{
+    igw w;
+    igw_init(&w);
+    int axis = igw_add(&w, 110, 0, DEP, 0, 0, "0.,-1000.,0.,0.,1000.,0.");
+    int gen = igw_add(&w, 100, 0, DEP, 0, 0, "0.,0.,0.,0.,-1000.,0.,1000.");
+    int rev = igw_add(&w, 120, 0, DEP, 0, 0, "%d,%d,0.,6.283185307179586", axis, gen);
+    double c[5][2] = {{t0, th0}, {t1, th0}, {t1, th1}, {t0, th1}, {t0, th0}};
+    int l[4];
+    for (int i = 0; i < 4; i++)
+        l[i] = igw_add(&w, 110, 0, DEP, 0, 0, "%.17g,%.17g,0.,%.17g,%.17g,0.", c[i][0], c[i][1], c[i + 1][0], c[i + 1][1]);
+    int b = igw_add(&w, 102, 0, DEP, 0, 0, "4,%d,%d,%d,%d", l[0], l[1], l[2], l[3]);
+    int cos_ = igw_add(&w, 142, 0, DEP, 0, 0, "1,%d,%d,0,1", rev, b);
+    igw_add(&w, 144, 0, 0, 0, 0, "%d,1,0,%d", rev, cos_);
+    char *r = igw_finish(&w, len);
+    igw_free(&w);
+    return r;
+}
+
 char *iges_model_trimmed_plate(size_t *len)
 {
     igw w;

@@ -8,6 +8,10 @@
 /* 120: a 100 semicircle (radius 1000 mm) revolved about a 110 axis -> sphere of radius 1 m;
  * colour from a 314 (30 %, 60 %, 90 %). */
 char *iges_model_sphere_rev(size_t *len);
+/* The sphere of iges_model_sphere_rev (its 100 generatrix: t = the arc's angle, -pi/2 .. pi/2,
+ * from y = -1 m to y = 1 m; revolved about y) trimmed by a 144 whose 142 gives only the
+ * parameter-space rectangle t0..t1 x th0..th1 in IGES (t, theta). */
+char *iges_model_sphere_zone(double t0, double t1, double th0, double th1, size_t *len);
 /* 144 on a 100 x 100 mm 128 plate (physically dependent): outer 142 along the domain boundary
  * (102 of 110s in (u, v) + 102 of 110s in model space), inner 142 with a (u, v) circle hole at
  * (30, 50) r 15 mm, inner 142 given only in model space (circle at (70, 50) r 10 mm, projected);
