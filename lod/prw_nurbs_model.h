@@ -60,8 +60,21 @@ void prw_trim_loop_add(prw_trim_loop *l, prw_nurbs_curve *uv, prw_nurbs_curve *m
  * mirrors every trim curve with it, u -> u0 + u1 - u: the same trimmed face, exactly, with the
  * opposite normal Su x Sv. */
 void prw_trimmed_surface_reverse_u(prw_trimmed_surface *t);
-/* World-space bounding box of all surfaces (control hulls). false when the model is empty. */
+/* World-space bounding box of all surfaces (control hulls, untrimmed: what tolerances scale
+ * from). false when the model is empty. */
 bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
+/* World-space bounding box of the TRIMMED faces (prw_nurbs_model_bounds.c), for display and scene
+ * bounds:
+ *  - conservative: it contains every point of every face's trimmed region (the closed even-odd
+ *    region of the loops closed as prw_trim closes them, within the domain): it is a union of
+ *    control hulls of sub-patches cut out by knot insertion (convex hull property) over the
+ *    rectangles of the domain that the trim curves — each piece enclosed with the hull of its
+ *    control points — do not show to lie outside;
+ *  - tight: each side exceeds the box of points on the faces by at most 1e-4 x that box's diagonal
+ *    (unless a face's subdivision budget, 200000 rectangles, or depth ran out: then the side is
+ *    still conservative, only looser);
+ *  - false when the model is empty; when no loop encloses anything, prw_nurbs_model_bounds. */
+bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
 
 #ifdef __cplusplus
 }

@@ -2,13 +2,16 @@
  * oracles (scripts/oracle_iges_gmsh.py) and for looking at real files.
  *
  * usage: iges_measure MODEL [--faces]
- * Prints one line "area A bbox X0 Y0 Z0 X1 Y1 Z1 faces N model_bounds X0 .. Z1" (metres):
+ * Prints one line "area A bbox X0 Y0 Z0 X1 Y1 Z1 faces N failed F model_bounds X0 .. Z1
+ * trimmed_bounds X0 .. Z1" (metres):
  *  - area: the trimmed surface area, the integral of |S_u x S_v| over each face's trimmed (u, v)
  *    region (the region triangulated by prw_tess at a fine tolerance, each triangle integrated by
  *    an adaptive 7-point rule);
  *  - bbox: the box of the tessellation's vertices (points on the trimmed faces) and of dense
  *    samples of every trim loop mapped through its surface;
- *  - model_bounds: prw_nurbs_model_bounds (what `prw info` shows: conservative, trimmed).
+ *  - model_bounds: prw_nurbs_model_bounds (the untrimmed surfaces' control hulls);
+ *  - trimmed_bounds: prw_nurbs_model_trimmed_bounds (conservative and tight box of the trimmed
+ *    faces).
  * --faces adds one line per face: index, source DE, loops, (u, v) domain and the trim loops'
  * (u, v) range, area, box. */
 #include <math.h>
@@ -131,9 +134,13 @@ int main(int argc, char **argv)
     }
     prw_dvec3 ml, mh;
     bool have = prw_nurbs_model_bounds(&m, &ml, &mh);
-    printf("area %.12g bbox %.9g %.9g %.9g %.9g %.9g %.9g faces %zu failed %d model_bounds %.9g %.9g %.9g %.9g %.9g %.9g\n",
+    prw_dvec3 tl, th;
+    bool have_t = prw_nurbs_model_trimmed_bounds(&m, &tl, &th);
+    printf("area %.12g bbox %.9g %.9g %.9g %.9g %.9g %.9g faces %zu failed %d model_bounds %.9g %.9g %.9g %.9g %.9g %.9g"
+           " trimmed_bounds %.9g %.9g %.9g %.9g %.9g %.9g\n",
            total, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], m.count, failed, have ? ml.x : 0, have ? ml.y : 0,
-           have ? ml.z : 0, have ? mh.x : 0, have ? mh.y : 0, have ? mh.z : 0);
+           have ? ml.z : 0, have ? mh.x : 0, have ? mh.y : 0, have ? mh.z : 0, have_t ? tl.x : 0, have_t ? tl.y : 0,
+           have_t ? tl.z : 0, have_t ? th.x : 0, have_t ? th.y : 0, have_t ? th.z : 0);
     prw_nurbs_model_free(&m);
     return failed ? 3 : 0;
 }

@@ -68,8 +68,10 @@ static double mesh_area(const prw_lod_mesh *m)
     return a;
 }
 
+/* want_box (lo, hi) when given: the exact solid's box, which prw_nurbs_model_trimmed_bounds must give
+ * within its promise (conservative, 1e-4 x diagonal per side), while the surfaces' hulls are larger. */
 static void closed_model(const char *name, char *(*make)(size_t *), int faces, double want_area, double area_tol,
-                         prw_dvec3 inside)
+                         prw_dvec3 inside, const prw_dvec3 *want_box)
 {
     size_t n;
     char *s = make(&n);
@@ -81,6 +83,21 @@ static void closed_model(const char *name, char *(*make)(size_t *), int faces, d
     printf("  %s: %zu faces, %d trimmed, warning '%s'\n", name, m.count, info.trimmed, info.warning);
     CHECK((int)m.count == faces && info.trimmed == faces);
     CHECK(info.warning[0] == 0);
+    if (want_box) {
+        prw_dvec3 lo, hi, ulo, uhi;
+        CHECK(prw_nurbs_model_trimmed_bounds(&m, &lo, &hi) && prw_nurbs_model_bounds(&m, &ulo, &uhi));
+        double d = prw_v3_len(prw_v3_sub(want_box[1], want_box[0])), ex = 0;
+        double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, wl[3] = {want_box[0].x, want_box[0].y, want_box[0].z},
+               wh[3] = {want_box[1].x, want_box[1].y, want_box[1].z};
+        for (int k = 0; k < 3; k++) {
+            CHECK(l[k] <= wl[k] + 1e-12 * d && h[k] >= wh[k] - 1e-12 * d);
+            ex = fmax(ex, fmax(wl[k] - l[k], h[k] - wh[k]));
+        }
+        printf("  %s: trimmed bounds %.6g x %.6g x %.6g mm (excess %.2g x diagonal), surfaces' hulls %.6g x %.6g x %.6g mm\n",
+               name, 1e3 * (hi.x - lo.x), 1e3 * (hi.y - lo.y), 1e3 * (hi.z - lo.z), ex / d, 1e3 * (uhi.x - ulo.x),
+               1e3 * (uhi.y - ulo.y), 1e3 * (uhi.z - ulo.z));
+        CHECK(ex <= 1e-4 * d);
+    }
     int inward = inward_faces(&m, inside);
     printf("  %s: faces with an inward normal %d\n", name, inward);
     CHECK(inward == 0);
@@ -126,14 +143,17 @@ static void closed_model(const char *name, char *(*make)(size_t *), int faces, d
 
 static void test_box(void)
 {
-    closed_model("box.igs", iges_model_brep_box, 6, 2e-6 * (100 * 60 + 100 * 40 + 60 * 40), 1e-9, prw_v3(0.05, 0.03, 0.02));
+    const prw_dvec3 box[2] = {prw_v3(0, 0, 0), prw_v3(0.1, 0.06, 0.04)};
+    closed_model("box.igs", iges_model_brep_box, 6, 2e-6 * (100 * 60 + 100 * 40 + 60 * 40), 1e-9, prw_v3(0.05, 0.03, 0.02),
+                 box);
 }
 
 static void test_cylinder(void)
 {
     double r = 0.03, h = 0.08;
+    const prw_dvec3 box[2] = {prw_v3(-r, -r, 0), prw_v3(r, r, h)};
     closed_model("cylinder.igs", iges_model_brep_cylinder, 4, 2 * PRW_PI * r * h + 2 * PRW_PI * r * r, 2e-3,
-                 prw_v3(0, 0, 0.04));
+                 prw_v3(0, 0, 0.04), box);
 }
 
 static void test_freeform(void)
@@ -151,7 +171,7 @@ static void test_freeform(void)
     prw_nurbs_model_free(&m);
     /* area: the dense (u, v) integral of |S_u x S_v| is not needed — the mesh sum converges; the
      * bottom alone is 80 x 60 mm, the sides and the top each exceed their projections */
-    closed_model("freeform.igs", iges_model_brep_freeform, 6, 0, INFINITY, prw_v3(0, 0, 0.02));
+    closed_model("freeform.igs", iges_model_brep_freeform, 6, 0, INFINITY, prw_v3(0, 0, 0.02), NULL);
 }
 
 static void test_bare_records(void)
