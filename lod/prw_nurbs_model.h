@@ -71,8 +71,9 @@ bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *
  *    rectangles of the domain that the trim curves — each piece enclosed with the hull of its
  *    control points — do not show to lie outside;
  *  - tight: each side exceeds the box of points on the faces by at most 1e-4 x that box's diagonal
- *    (unless a face's subdivision budget, 200000 rectangles, or depth ran out: then the side is
- *    still conservative, only looser);
+ *    (unless a subdivision budget ran out — 200000 rectangles per face, 4e8 control-point x degree
+ *    operations per model — or the depth: then the side is still conservative, only looser);
+ *  - within prw_nurbs_model_bounds (sub-patch control points are convex combinations);
  *  - false when the model is empty; when no loop encloses anything, prw_nurbs_model_bounds. */
 bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
 

@@ -23,6 +23,7 @@
 #define MAX_CHORDS 1000000    /* per face (curve pieces beyond it keep a larger radius) */
 #define MAX_CURVE_DEPTH 24
 #define MAX_SAMPLES 200000    /* model-space points per face's trim curves */
+#define MAX_WORK 400000000L   /* per model: control points of all cut-out patches x their degrees */
 
 typedef struct chord {
     double a[2], b[2], r;
@@ -41,6 +42,7 @@ typedef struct face_ctx {
     /* chords by v: bucket b holds (CSR) the chords whose v range meets [vb0 + b·dvb, vb0 + (b+1)·dvb] */
     int nb, *bstart, *bidx;
     double vb0, dvb;
+    long *work; /* model-wide cost so far (MAX_WORK) */
     box *inner; /* points on faces (model-wide) */
     box *outer; /* the result (model-wide) */
     double eps;
@@ -327,6 +329,7 @@ static void visit(face_ctx *f, const prw_nurbs_surface *P, double u0, double u1,
                   int nidx, int depth)
 {
     f->rects++;
+    *f->work += (long)P->nu * P->nv * (P->degree_u + P->degree_v + 2);
     int *sub = nidx ? prw_malloc(sizeof(int) * (size_t)nidx) : NULL, ns = 0;
     for (int i = 0; i < nidx; i++)
         if (touches(&f->ch[idx[i]], u0, u1, v0, v1)) sub[ns++] = idx[i];
@@ -339,7 +342,7 @@ static void visit(face_ctx *f, const prw_nurbs_surface *P, double u0, double u1,
     }
     prw_dvec3 lo, hi;
     prw_nurbs_surface_bounds(P, &lo, &hi);
-    bool last = depth >= (f->pass2 ? MAX_DEPTH : PASS1_DEPTH) || f->rects >= MAX_RECTS ||
+    bool last = depth >= (f->pass2 ? MAX_DEPTH : PASS1_DEPTH) || f->rects >= MAX_RECTS || *f->work > MAX_WORK ||
                 (u1 - u0 <= 1e-12 * (f->u1 - f->u0) && v1 - v0 <= 1e-12 * (f->v1 - f->v0));
     if (f->pass2 && (last || within(f, lo, hi))) {
         if (!within(f, lo, hi)) f->capped = true;
@@ -463,10 +466,11 @@ bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw
     box inner, outer;
     box_empty(&inner);
     box_empty(&outer);
+    long work = 0;
     for (size_t i = 0; i < m->count; i++) {
         face_ctx *f = &fc[i];
         f->t = &m->surfaces[i];
-        f->outer = &outer;
+        f->outer = &outer, f->work = &work;
         prw_nurbs_surface_domain(&f->t->surface, &f->u0, &f->u1, &f->v0, &f->v1);
         bad[i] = !face_setup(f, &inner);
     }
