@@ -34,10 +34,12 @@ extern "C" {
 #endif
 
 typedef struct prw_iges_info {
-    char warning[1024]; /* "" when nothing was skipped; else "skipped N entities: 143 x2, 186 x1" */
+    char warning[1024]; /* "" when nothing was skipped; else one line: "<name>: skipped N unsupported
+                           entities: 212 x2, 406 x1; M faces left out, they need 140 x1" */
     int entities;       /* directory entries */
     int trimmed, untrimmed;
-    int skipped;
+    int skipped;       /* directory entries of types this reader does not convert */
+    int faces_skipped; /* faces left out because they need such an entity (e.g. a 140 surface) */
     double metres_per_unit; /* unit factor / model space scale, as applied */
     double max_projection_distance; /* largest distance of a projected 142 curve point (metres) */
 } prw_iges_info;

@@ -22,38 +22,53 @@
 #include "prw_invert.h"
 #include "prw_nurbs_make.h"
 #include "prw_trim.h"
+#include "prw_trim_wrap.h"
 
 #define MAX_DEPTH 32
 
-typedef struct clist {
-    prw_nurbs_curve *c;
-    int n, cap;
-} clist;
-
-static void clist_push(clist *l, prw_nurbs_curve *c)
+/* Appends c (ownership taken) with the IGES parameter range of the entity it came from. */
+static void push_param(iges_clist *l, prw_nurbs_curve *c, double it0, double it1, bool arc)
 {
     if (l->n == l->cap) {
         l->cap = l->cap ? 2 * l->cap : 8;
         l->c = prw_realloc(l->c, sizeof *l->c * (size_t)l->cap);
+        l->it0 = prw_realloc(l->it0, sizeof(double) * (size_t)l->cap);
+        l->it1 = prw_realloc(l->it1, sizeof(double) * (size_t)l->cap);
+        l->arc = prw_realloc(l->arc, (size_t)l->cap);
     }
+    l->it0[l->n] = it0, l->it1[l->n] = it1, l->arc[l->n] = arc;
     l->c[l->n++] = *c;
     memset(c, 0, sizeof *c);
 }
 
-static void clist_free(clist *l)
+void iges_clist_push(iges_clist *l, prw_nurbs_curve *c)
+{
+    double t0, t1;
+    prw_nurbs_curve_domain(c, &t0, &t1);
+    push_param(l, c, t0, t1, false);
+}
+
+void iges_clist_free(iges_clist *l)
 {
     for (int i = 0; i < l->n; i++) prw_nurbs_curve_free(&l->c[i]);
     free(l->c);
+    free(l->it0);
+    free(l->it1);
+    free(l->arc);
     memset(l, 0, sizeof *l);
 }
 
-typedef enum { MAP_IDENTITY, MAP_REVOLUTION, MAP_NONE } param_map;
+void iges_surf_free_map(iges_surf *S)
+{
+    iges_clist_free(&S->gen);
+    S->gen_joined = false;
+}
 
-typedef struct isurf {
-    prw_nurbs_surface s;
-    param_map map;
-    double th0, th1; /* MAP_REVOLUTION */
-} isurf;
+bool iges_unsupported(iges_ctx *x, const iges_de *d, const char *what)
+{
+    x->unsupported = d->type;
+    return iges_fail(x->f, d, 0, x->e, "entity type %d cannot be used as %s (not supported)", d->type, what);
+}
 
 static bool enter(iges_ctx *x, const iges_de *d)
 {
@@ -69,7 +84,7 @@ static bool spend(iges_ctx *x, const iges_de *d, long n)
 }
 
 /* The entity's own transformation chain (124 → its 124 → …), identity when none. */
-static bool own_xform(iges_ctx *x, const iges_de *d, prw_dmat4 *m)
+bool iges_own_xform(iges_ctx *x, const iges_de *d, prw_dmat4 *m)
 {
     *m = prw_dm4_identity();
     int ptr = d->xform;
@@ -155,7 +170,56 @@ fail:
     return false;
 }
 
-static bool curve_100(iges_ctx *x, const iges_de *d, int dim, prw_nurbs_curve *c)
+/* 112 parametric spline: N cubic (or lower) polynomial pieces X(s) = A + B s + C s² + D s³,
+ * s = t − T(i) on [T(i), T(i+1)]; each piece in Bézier form, joined C0 with knots at T(i): exact,
+ * and the IGES parameter t is kept. */
+static bool curve_112(iges_ctx *x, const iges_de *d, int dim, prw_nurbs_curve *c)
+{
+    int ctype, h, ndim, n;
+    if (!iges_need(x->f, d, 4, x->e) || !iges_int(x->f, d, 1, 0, &ctype, x->e) || !iges_int(x->f, d, 2, 0, &h, x->e) ||
+        !iges_int(x->f, d, 3, 3, &ndim, x->e) || !iges_int(x->f, d, 4, 0, &n, x->e))
+        return false;
+    if (n < 1 || n > PRW_NURBS_MAX_CTRL / 4) return iges_fail(x->f, d, 4, x->e, "%d spline segments", n);
+    if (ndim != 2 && ndim != 3) return iges_fail(x->f, d, 3, x->e, "dimension %d is not 2 or 3", ndim);
+    if (!iges_need(x->f, d, 4 + (n + 1) + 12 * n, x->e)) return false;
+    if (!prw_nurbs_curve_alloc(c, dim, 3, 3 * n + 1, x->e)) return false;
+    double t0 = 0;
+    for (int i = 0; i < n; i++) {
+        double ta, tb, k[12];
+        if (!iges_real(x->f, d, 5 + i, 0, &ta, x->e) || !iges_real(x->f, d, 6 + i, 0, &tb, x->e) ||
+            !read_reals(x, d, 6 + n + 12 * i, 12, k))
+            goto fail;
+        if (!(tb > ta)) {
+            iges_fail(x->f, d, 6 + i, x->e, "break points %g, %g do not increase", ta, tb);
+            goto fail;
+        }
+        if (i == 0) t0 = ta;
+        double hh = tb - ta, b[4][3];
+        for (int a = 0; a < 3; a++) { /* power basis in tau = s / h, then Bézier points */
+            double a0 = k[4 * a], a1 = k[4 * a + 1] * hh, a2 = k[4 * a + 2] * hh * hh, a3 = k[4 * a + 3] * hh * hh * hh;
+            b[0][a] = a0;
+            b[1][a] = a0 + a1 / 3;
+            b[2][a] = a0 + 2 * a1 / 3 + a2 / 3;
+            b[3][a] = a0 + a1 + a2 + a3;
+        }
+        for (int q = i == 0 ? 0 : 1; q < 4; q++) prw_nurbs_curve_set(c, 3 * i + q, prw_v3(b[q][0], b[q][1], b[q][2]), 1);
+        for (int q = 0; q < 3; q++) c->knots[3 * i + 1 + q] = ta; /* knots 1..3 of piece i */
+        c->knots[3 * i + 4] = tb;
+    }
+    c->knots[0] = t0;
+    for (int q = 2; q <= 4; q++) c->knots[3 * n + q] = c->knots[3 * n + 1];
+    prw_error sub;
+    if (!prw_nurbs_curve_validate(c, &sub)) {
+        iges_fail(x->f, d, 5, x->e, "%s", sub.msg);
+        goto fail;
+    }
+    return true;
+fail:
+    prw_nurbs_curve_free(c);
+    return false;
+}
+
+static bool curve_100(iges_ctx *x, const iges_de *d, int dim, prw_nurbs_curve *c, double *a0, double *a1)
 {
     double v[7];
     if (!iges_need(x->f, d, 7, x->e) || !read_reals(x, d, 1, 7, v)) return false;
@@ -170,16 +234,17 @@ static bool curve_100(iges_ctx *x, const iges_de *d, int dim, prw_nurbs_curve *c
     prw_error sub;
     if (!prw_nurbs_make_arc(c, dim, prw_v3(cx, cy, zt), prw_v3(1, 0, 0), prw_v3(0, 1, 0), r, ths, the, &sub))
         return iges_fail(x->f, d, 1, x->e, "%s", sub.msg);
+    *a0 = ths, *a1 = the;
     return true;
 }
 
 /* All curve pieces of entity k (a 102 gives several), transformed by parent · own. */
-static bool curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, clist *out)
+bool iges_curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, iges_clist *out)
 {
     const iges_de *d = &x->f->de[k];
     if (!enter(x, d) || !spend(x, d, 1)) return false;
     prw_dmat4 own, m;
-    bool ok = own_xform(x, d, &own);
+    bool ok = iges_own_xform(x, d, &own);
     if (!ok) goto out;
     m = prw_dm4_mul(*parent, own);
     int first = out->n;
@@ -193,16 +258,22 @@ static bool curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, clist *
             ok = prw_nurbs_make_line(&c, dim, prw_v3(v[0], v[1], v[2]), prw_v3(v[3], v[4], v[5]), &sub) ||
                  iges_fail(x->f, d, 1, x->e, "%s", sub.msg);
         }
-        if (ok) clist_push(out, &c);
+        if (ok) iges_clist_push(out, &c);
         break;
     }
-    case 100:
-        ok = curve_100(x, d, dim, &c);
-        if (ok) clist_push(out, &c);
+    case 100: {
+        double a0 = 0, a1 = 0;
+        ok = curve_100(x, d, dim, &c, &a0, &a1);
+        if (ok) push_param(out, &c, a0, a1, true);
         break;
+    }
     case 126:
         ok = curve_126(x, d, dim, &c);
-        if (ok) clist_push(out, &c);
+        if (ok) iges_clist_push(out, &c);
+        break;
+    case 112:
+        ok = curve_112(x, d, dim, &c);
+        if (ok) iges_clist_push(out, &c);
         break;
     case 102: {
         int n;
@@ -212,12 +283,12 @@ static bool curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, clist *
         prw_dmat4 id = prw_dm4_identity();
         for (int i = 0; ok && i < n; i++) {
             int kk;
-            ok = iges_ptr(x->f, d, 2 + i, false, &kk, x->e) && curves(x, kk, dim, &id, out);
+            ok = iges_ptr(x->f, d, 2 + i, false, &kk, x->e) && iges_curves(x, kk, dim, &id, out);
         }
         break;
     }
     default:
-        ok = iges_fail(x->f, d, 0, x->e, "entity type %d cannot be used as a curve", d->type);
+        ok = iges_unsupported(x, d, "a curve");
     }
     if (ok)
         for (int i = first; i < out->n; i++) {
@@ -231,18 +302,18 @@ out:
 
 /* Joins curve pieces end to end into one curve (degree raised to the highest, C0 joints, piece i
  * on [i, i+1]); weights of each piece rescaled so the shared control point keeps one weight. */
-static bool join(const clist *l, prw_nurbs_curve *out, prw_error *e)
+static bool join(const iges_clist *l, prw_nurbs_curve *out, prw_error *e)
 {
     int q = 1;
     for (int i = 0; i < l->n; i++) q = l->c[i].degree > q ? l->c[i].degree : q;
-    clist el = {0};
+    iges_clist el = {0};
     bool ok = true;
     for (int i = 0; i < l->n && ok; i++) {
         prw_nurbs_curve t;
         ok = prw_nurbs_curve_elevate(&l->c[i], q, &t, e);
         if (ok) {
             prw_nurbs_curve_reparam(&t, i, i + 1);
-            clist_push(&el, &t);
+            iges_clist_push(&el, &t);
         }
     }
     if (ok) {
@@ -264,15 +335,15 @@ static bool join(const clist *l, prw_nurbs_curve *out, prw_error *e)
             for (int j = 0; j <= q; j++) out->knots[ki++] = el.n;
         }
     }
-    clist_free(&el);
+    iges_clist_free(&el);
     return ok;
 }
 
 /* One curve for entity k (pieces joined), model space, transformed by parent · own. */
 static bool one_curve(iges_ctx *x, int k, const prw_dmat4 *parent, prw_nurbs_curve *c)
 {
-    clist l = {0};
-    bool ok = curves(x, k, 3, parent, &l);
+    iges_clist l = {0};
+    bool ok = iges_curves(x, k, 3, parent, &l);
     if (ok) {
         if (l.n == 1) {
             *c = l.c[0];
@@ -282,7 +353,7 @@ static bool one_curve(iges_ctx *x, int k, const prw_dmat4 *parent, prw_nurbs_cur
             ok = join(&l, c, &sub) || iges_fail(x->f, &x->f->de[k], 0, x->e, "%s", sub.msg);
         }
     }
-    clist_free(&l);
+    iges_clist_free(&l);
     return ok;
 }
 
@@ -369,12 +440,12 @@ static bool surface_108(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, in
     } while (0)
     for (int i = 0; i < nhint; i++) ADD_PT(hint[i]);
     if (bptr >= 0) {
-        clist l = {0};
+        iges_clist l = {0};
         prw_dmat4 id = prw_dm4_identity();
-        if (!curves(x, bptr, 3, &id, &l)) return false;
+        if (!iges_curves(x, bptr, 3, &id, &l)) return false;
         for (int i = 0; i < l.n; i++)
             for (int j = 0; j < l.c[i].n; j++) ADD_PT(prw_nurbs_curve_point_at(&l.c[i], j));
-        clist_free(&l);
+        iges_clist_free(&l);
     }
     if (v[8] > 0) {
         prw_dvec3 c = prw_v3(v[5], v[6], v[7]);
@@ -394,13 +465,13 @@ static bool surface_108(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, in
     return true;
 }
 
-static bool surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, isurf *out)
+bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_surf *out)
 {
     const iges_de *d = &x->f->de[k];
     memset(out, 0, sizeof *out);
     if (!enter(x, d)) return false;
     prw_dmat4 own, id = prw_dm4_identity();
-    bool ok = own_xform(x, d, &own);
+    bool ok = iges_own_xform(x, d, &own);
     prw_error sub;
     if (!ok) goto out;
     switch (d->type) {
@@ -408,7 +479,7 @@ static bool surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, isurf 
         ok = surface_128(x, d, &out->s);
         break;
     case 108:
-        out->map = MAP_NONE;
+        out->map = IGES_MAP_NONE;
         ok = surface_108(x, d, hint, nhint, &out->s);
         break;
     case 118: {
@@ -439,15 +510,24 @@ static bool surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, isurf 
         }
         if (ang[1] - ang[0] > 2 * PRW_PI) ang[1] = ang[0] + 2 * PRW_PI;
         prw_nurbs_curve axis = {0}, g = {0};
-        ok = one_curve(x, la, &id, &axis) && one_curve(x, gc, &id, &g);
+        ok = one_curve(x, la, &id, &axis) && iges_curves(x, gc, 3, &id, &out->gen);
+        if (ok && out->gen.n == 1) {
+            g = out->gen.c[0];
+            memset(&out->gen.c[0], 0, sizeof g);
+        } else if (ok) {
+            ok = join(&out->gen, &g, &sub) || iges_fail(x->f, &x->f->de[gc], 0, x->e, "%s", sub.msg);
+            out->gen_joined = true;
+        }
+        for (int i = 0; i < out->gen.n; i++) prw_nurbs_curve_free(&out->gen.c[i]); /* ranges kept */
         if (ok) {
             prw_dvec3 s0 = prw_nurbs_curve_point_at(&axis, 0), s1 = prw_nurbs_curve_point_at(&axis, axis.n - 1);
             ok = prw_nurbs_make_revolution(&out->s, &g, s0, prw_v3_sub(s1, s0), ang[0], ang[1], &sub) ||
                  iges_fail(x->f, d, 1, x->e, "%s", sub.msg);
-            out->map = MAP_REVOLUTION;
+            out->map = IGES_MAP_REVOLUTION;
             out->th0 = ang[0];
             out->th1 = ang[1];
         }
+        if (!ok) iges_surf_free_map(out);
         prw_nurbs_curve_free(&axis);
         prw_nurbs_curve_free(&g);
         break;
@@ -467,7 +547,7 @@ static bool surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, isurf 
         break;
     }
     default:
-        ok = iges_fail(x->f, d, 0, x->e, "entity type %d is not a supported surface", d->type);
+        ok = iges_unsupported(x, d, "a surface");
     }
     if (ok) prw_nurbs_surface_transform(&out->s, &own);
 out:
@@ -498,7 +578,25 @@ static double theta_to_v(double th0, double th1, double th)
     return (k + 0.5 * (lo + hi)) / narcs;
 }
 
-static void hint_points(const clist *l, prw_dvec3 **pts, int *n)
+/* IGES generatrix parameter t (the composite's concatenated ranges, an arc's angle) -> our u. */
+static double gen_u(const iges_surf *S, double t)
+{
+    const iges_clist *g = &S->gen;
+    if (g->n == 0) return t;
+    double start = g->it0[0];
+    int i = 0;
+    for (; i + 1 < g->n && t > start + (g->it1[i] - g->it0[i]); i++) start += g->it1[i] - g->it0[i];
+    double tl = fmin(fmax(t - start + g->it0[i], g->it0[i]), g->it1[i]);
+    double f; /* fraction along piece i in our parameter */
+    if (g->arc[i]) f = theta_to_v(g->it0[i], g->it1[i], tl);
+    else f = g->it1[i] > g->it0[i] ? (tl - g->it0[i]) / (g->it1[i] - g->it0[i]) : 0;
+    if (S->gen_joined) return i + f;
+    double u0, u1, v0, v1;
+    prw_nurbs_surface_domain(&S->s, &u0, &u1, &v0, &v1);
+    return u0 + f * (u1 - u0);
+}
+
+void iges_hint_points(const iges_clist *l, prw_dvec3 **pts, int *n)
 {
     for (int i = 0; i < l->n; i++) {
         *pts = prw_realloc(*pts, sizeof(prw_dvec3) * (size_t)(*n + l->c[i].n));
@@ -507,17 +605,64 @@ static void hint_points(const clist *l, prw_dvec3 **pts, int *n)
 }
 
 /* Model-space curves of a 142 (in the 144's space), or none. */
-static bool c142_model(iges_ctx *x, int k, clist *out)
+static bool c142_model(iges_ctx *x, int k, iges_clist *out)
 {
     const iges_de *d = &x->f->de[k];
     int cptr;
     prw_dmat4 own;
-    if (!iges_need(x->f, d, 4, x->e) || !iges_ptr(x->f, d, 4, true, &cptr, x->e) || !own_xform(x, d, &own)) return false;
+    if (!iges_need(x->f, d, 4, x->e) || !iges_ptr(x->f, d, 4, true, &cptr, x->e) || !iges_own_xform(x, d, &own)) return false;
     if (cptr < 0) return true;
-    return curves(x, cptr, 3, &own, out);
+    return iges_curves(x, cptr, 3, &own, out);
 }
 
-static bool loop_142(iges_ctx *x, int k, const isurf *S, prw_trimmed_surface *t)
+bool iges_project_loop(iges_ctx *x, const iges_de *d, int param, iges_clist *model, prw_trimmed_surface *t)
+{
+    prw_dvec3 lo, hi;
+    prw_nurbs_surface_bounds(&t->surface, &lo, &hi);
+    /* 1e-7 of the surface: the projected loop (a polyline in (u, v)) then stays well within the seam
+     * graph's adjacency tolerance (1e-6 x model diagonal) of its partner's exact boundary */
+    double size = prw_v3_len(prw_v3_sub(hi, lo)), tol = 1e-7 * size;
+    iges_clist uv = {0};
+    bool ok = true;
+    for (int i = 0; ok && i < model->n; i++) {
+        prw_nurbs_curve c;
+        double dist = 0;
+        prw_error sub;
+        ok = spend(x, d, 64) && (prw_nurbs_surface_project_curve(&t->surface, &model->c[i], tol, &c, &dist, &sub) ||
+                                 iges_fail(x->f, d, param, x->e, "%s", sub.msg));
+        if (ok) {
+            ok = spend(x, d, c.n);
+            iges_clist_push(&uv, &c);
+            x->max_proj = fmax(x->max_proj, dist);
+        }
+    }
+    if (ok && uv.n > 0) {
+        bool closed[2] = {prw_nurbs_surface_closed(&t->surface, 0, 1e-9 * size),
+                          prw_nurbs_surface_closed(&t->surface, 1, 1e-9 * size)};
+        double range[2][2];
+        prw_trim_unwrap_loop(&t->surface, closed, uv.c, uv.n, range);
+        double dom[2][2];
+        prw_nurbs_surface_domain(&t->surface, &dom[0][0], &dom[0][1], &dom[1][0], &dom[1][1]);
+        for (int dir = 0; dir < 2; dir++) {
+            double P = dom[dir][1] - dom[dir][0], eps = 1e-9 * P;
+            bool straddles = range[dir][0] < dom[dir][0] - eps || range[dir][1] > dom[dir][1] + eps;
+            if (!closed[dir] || !straddles || range[dir][1] - range[dir][0] > P + eps || t->nloops > 0) continue;
+            prw_error sub; /* not fatal: without it the loop is clamped into the domain */
+            if (prw_nurbs_surface_reseat(&t->surface, dir, range[dir][0], &sub))
+                prw_trim_shift_loop(&t->surface, dir, range[dir][0], uv.c, uv.n);
+        }
+    }
+    if (ok) {
+        prw_trim_loop *l = prw_trimmed_surface_add_loop(t);
+        bool pair = model->n == uv.n;
+        for (int i = 0; i < uv.n; i++) prw_trim_loop_add(l, &uv.c[i], pair ? &model->c[i] : NULL);
+    }
+    iges_clist_free(&uv);
+    iges_clist_free(model);
+    return ok;
+}
+
+static bool loop_142(iges_ctx *x, int k, const iges_surf *S, prw_trimmed_surface *t)
 {
     const iges_de *d = &x->f->de[k];
     if (d->type != 142) return iges_fail(x->f, d, 0, x->e, "trim boundary must be a curve on surface (142), not %d", d->type);
@@ -525,17 +670,20 @@ static bool loop_142(iges_ctx *x, int k, const isurf *S, prw_trimmed_surface *t)
     if (!iges_need(x->f, d, 4, x->e) || !iges_ptr(x->f, d, 3, true, &bptr, x->e) || !iges_ptr(x->f, d, 4, true, &cptr, x->e))
         return false;
     if (bptr < 0 && cptr < 0) return iges_fail(x->f, d, 3, x->e, "curve on surface has neither a parameter-space nor a model-space curve");
-    clist model = {0}, uv = {0};
+    iges_clist model = {0}, uv = {0};
     bool ok = c142_model(x, k, &model);
     prw_dmat4 id = prw_dm4_identity();
     prw_error sub;
     double u0, u1, v0, v1;
     prw_nurbs_surface_domain(&S->s, &u0, &u1, &v0, &v1);
-    if (ok && bptr >= 0 && S->map != MAP_NONE) {
-        ok = curves(x, bptr, 2, &id, &uv);
-        if (ok && S->map == MAP_REVOLUTION) {
-            /* (t, θ) → (u, v): flatten in IGES parameters, map each point */
-            double tol = 1e-5 * fmax(u1 - u0, S->th1 - S->th0);
+    if (ok && bptr >= 0 && S->map != IGES_MAP_NONE) {
+        ok = iges_curves(x, bptr, 2, &id, &uv);
+        if (ok && S->map == IGES_MAP_REVOLUTION) {
+            /* (t, θ) → (u, v): flatten in IGES parameters, map each point (the generatrix's IGES
+             * parameter through gen_u, θ through theta_to_v) */
+            double tspan = 0;
+            for (int i = 0; i < S->gen.n; i++) tspan += S->gen.it1[i] - S->gen.it0[i];
+            double tol = 1e-5 * fmax(fabs(tspan) > 0 ? fabs(tspan) : u1 - u0, S->th1 - S->th0);
             for (int i = 0; ok && i < uv.n; i++) {
                 double *pts = NULL;
                 int n = 0, cap = 0;
@@ -543,7 +691,8 @@ static bool loop_142(iges_ctx *x, int k, const isurf *S, prw_trimmed_surface *t)
                      iges_fail(x->f, d, 3, x->e, "%s", sub.msg);
                 if (ok) ok = spend(x, d, n);
                 prw_dvec3 *q = ok ? prw_malloc(sizeof(prw_dvec3) * (size_t)n) : NULL;
-                for (int j = 0; ok && j < n; j++) q[j] = prw_v3(pts[2 * j], theta_to_v(S->th0, S->th1, pts[2 * j + 1]), 0);
+                for (int j = 0; ok && j < n; j++)
+                    q[j] = prw_v3(gen_u(S, pts[2 * j]), theta_to_v(S->th0, S->th1, pts[2 * j + 1]), 0);
                 if (ok && n >= 2) {
                     prw_nurbs_curve pl;
                     ok = prw_nurbs_make_polyline(&pl, 2, q, n, &sub) || iges_fail(x->f, d, 3, x->e, "%s", sub.msg);
@@ -557,32 +706,19 @@ static bool loop_142(iges_ctx *x, int k, const isurf *S, prw_trimmed_surface *t)
             }
         }
     } else if (ok) {
-        if (cptr < 0) {
-            ok = iges_fail(x->f, d, 4, x->e, "a curve on a plane (108) needs a model-space curve");
-        } else {
-            prw_dvec3 lo, hi;
-            prw_nurbs_surface_bounds(&S->s, &lo, &hi);
-            double tol = 1e-5 * prw_v3_len(prw_v3_sub(hi, lo));
-            for (int i = 0; ok && i < model.n; i++) {
-                prw_nurbs_curve c;
-                double dist = 0;
-                ok = spend(x, d, 64) && (prw_nurbs_surface_project_curve(&S->s, &model.c[i], tol, &c, &dist, &sub) ||
-                                         iges_fail(x->f, d, 4, x->e, "%s", sub.msg));
-                if (ok) {
-                    ok = spend(x, d, c.n);
-                    clist_push(&uv, &c);
-                    x->max_proj = fmax(x->max_proj, dist);
-                }
-            }
-        }
+        if (cptr < 0) ok = iges_fail(x->f, d, 4, x->e, "a curve on a plane (108) needs a model-space curve");
+        else ok = iges_project_loop(x, d, 4, &model, t);
+        iges_clist_free(&uv);
+        iges_clist_free(&model);
+        return ok;
     }
     if (ok) {
         prw_trim_loop *l = prw_trimmed_surface_add_loop(t);
         bool pair = model.n == uv.n;
         for (int i = 0; i < uv.n; i++) prw_trim_loop_add(l, &uv.c[i], pair ? &model.c[i] : NULL);
     }
-    clist_free(&uv);
-    clist_free(&model);
+    iges_clist_free(&uv);
+    iges_clist_free(&model);
     return ok;
 }
 
@@ -602,8 +738,7 @@ bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
     if (n2 < 0 || n2 > 100000) return iges_fail(x->f, d, 3, x->e, "%d inner boundaries", n2);
     if (!iges_need(x->f, d, 4 + n2, x->e)) return false;
     if (n1 == 1 && !iges_ptr(x->f, d, 4, false, &pto, x->e)) return false;
-    if (!iges_is_surface_type(x->f->de[pts].type))
-        return iges_fail(x->f, d, 1, x->e, "surface pointer is entity %d, not a supported surface", x->f->de[pts].type);
+    if (!iges_is_surface_type(x->f->de[pts].type)) return iges_unsupported(x, &x->f->de[pts], "a surface");
     int *inner = prw_malloc(sizeof(int) * (size_t)(n2 + 1));
     bool ok = true;
     for (int i = 0; ok && i < n2; i++) ok = iges_ptr(x->f, d, 5 + i, false, &inner[i], x->e);
@@ -614,26 +749,28 @@ bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
         for (int i = -1; ok && i < n2; i++) {
             int kk = i < 0 ? pto : inner[i];
             if (kk < 0) continue;
-            clist m = {0};
+            iges_clist m = {0};
             ok = x->f->de[kk].type == 142 && c142_model(x, kk, &m);
             if (!ok && x->f->de[kk].type != 142)
                 ok = iges_fail(x->f, d, i < 0 ? 4 : 5 + i, x->e, "trim boundary must be a 142, not %d", x->f->de[kk].type);
-            hint_points(&m, &hint, &nhint);
-            clist_free(&m);
+            iges_hint_points(&m, &hint, &nhint);
+            iges_clist_free(&m);
         }
     }
-    isurf S;
-    if (ok) ok = surface(x, pts, hint, nhint, &S);
+    iges_surf S;
+    memset(&S, 0, sizeof S);
+    if (ok) ok = iges_surface(x, pts, hint, nhint, &S);
     free(hint);
     if (ok) {
-        t->surface = S.s;
+        t->surface = S.s; /* owned by t from here (a projected loop may re-seat it) */
         t->natural_outer = n1 == 0;
         if (pto >= 0) ok = loop_142(x, pto, &S, t);
         for (int i = 0; ok && i < n2; i++) ok = loop_142(x, inner[i], &S, t);
     }
+    iges_surf_free_map(&S);
     free(inner);
     prw_dmat4 own;
-    if (ok) ok = own_xform(x, d, &own);
+    if (ok) ok = iges_own_xform(x, d, &own);
     if (ok) {
         prw_nurbs_surface_transform(&t->surface, &own);
         for (int l = 0; l < t->nloops; l++)
@@ -645,8 +782,9 @@ bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
 
 bool iges_plain_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
 {
-    isurf S;
-    if (!surface(x, k, NULL, 0, &S)) return false;
+    iges_surf S;
+    if (!iges_surface(x, k, NULL, 0, &S)) return false;
+    iges_surf_free_map(&S);
     t->surface = S.s;
     t->natural_outer = true;
     const iges_de *d = &x->f->de[k];
@@ -654,22 +792,11 @@ bool iges_plain_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
         int bptr;
         if (!iges_ptr(x->f, d, 5, true, &bptr, x->e)) return false;
         if (bptr >= 0) {
-            clist model = {0};
+            iges_clist model = {0};
             prw_dmat4 own;
-            bool ok = own_xform(x, d, &own) && curves(x, bptr, 3, &own, &model);
-            prw_dvec3 lo, hi;
-            prw_nurbs_surface_bounds(&S.s, &lo, &hi);
-            double tol = 1e-5 * prw_v3_len(prw_v3_sub(hi, lo));
-            prw_trim_loop *l = ok ? prw_trimmed_surface_add_loop(t) : NULL;
-            for (int i = 0; ok && i < model.n; i++) {
-                prw_nurbs_curve c;
-                double dist;
-                prw_error sub;
-                ok = spend(x, d, 64) && (prw_nurbs_surface_project_curve(&S.s, &model.c[i], tol, &c, &dist, &sub) ||
-                                         iges_fail(x->f, d, 5, x->e, "%s", sub.msg));
-                if (ok) prw_trim_loop_add(l, &c, &model.c[i]);
-            }
-            clist_free(&model);
+            bool ok = iges_own_xform(x, d, &own) && iges_curves(x, bptr, 3, &own, &model);
+            if (ok) ok = iges_project_loop(x, d, 5, &model, t);
+            iges_clist_free(&model);
             if (!ok) return false;
             t->natural_outer = false;
         }

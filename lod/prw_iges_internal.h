@@ -66,7 +66,58 @@ typedef struct iges_ctx {
     int depth;          /* nesting guard */
     long budget;        /* curve pieces + projected points left */
     double max_proj;    /* largest projection distance (file units) */
+    int unsupported;    /* set with the failure when a face needs an entity type this reader lacks:
+                           the driver then skips that face (counted) instead of failing the file */
 } iges_ctx;
+
+/* Fails like iges_fail and marks the failure as "unsupported entity type" (x->unsupported). */
+bool iges_unsupported(iges_ctx *x, const iges_de *d, const char *what);
+
+/* A list of curves (one entity may give several: 102), each with its IGES parameter range
+ * [it0, it1] (110: [0, 1]; 100: the angles; 126 / 112: the curve's own) and whether that
+ * parameter is an angle on a circular arc (our arc's parameter is not linear in it). */
+typedef struct iges_clist {
+    prw_nurbs_curve *c;
+    double *it0, *it1;
+    unsigned char *arc;
+    int n, cap;
+} iges_clist;
+void iges_clist_push(iges_clist *l, prw_nurbs_curve *c); /* takes ownership of *c */
+void iges_clist_free(iges_clist *l);
+
+typedef enum { IGES_MAP_IDENTITY, IGES_MAP_REVOLUTION, IGES_MAP_NONE } iges_param_map;
+
+/* A converted surface and how IGES parameter-space curves map onto its (u, v). */
+typedef struct iges_surf {
+    prw_nurbs_surface s;
+    iges_param_map map;
+    double th0, th1;    /* IGES_MAP_REVOLUTION: v in [0, 1] <-> theta in [th0, th1] */
+    iges_clist gen;     /* IGES_MAP_REVOLUTION: the generatrix pieces (ranges only, no curves) */
+    bool gen_joined;    /* pieces joined: piece i is u in [i, i + 1] */
+} iges_surf;
+void iges_surf_free_map(iges_surf *S);
+
+/* Every curve piece of entity k (a 102 gives several) in `dim` dimensions, transformed by
+ * parent · own. */
+bool iges_curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, iges_clist *out);
+/* Entity k as a surface; hint: model-space points a plane (108) must cover. */
+bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_surf *out);
+/* The entity's own 124 chain (identity when none). */
+bool iges_own_xform(iges_ctx *x, const iges_de *d, prw_dmat4 *m);
+/* Projects the model-space curves of one boundary (in order, end to end) onto t->surface into a
+ * new loop of t (uv polylines unwrapped across the seams of a closed surface — prw_trim_wrap.h —
+ * and, for the first loop of a face that straddles a seam, the surface re-seated; model curves
+ * kept); `d`/`param` name the entity and parameter in messages.  Takes the curves out of *model. */
+bool iges_project_loop(iges_ctx *x, const iges_de *d, int param, iges_clist *model, prw_trimmed_surface *t);
+/* Appends the control points of every curve in l to *pts (plane extents). */
+void iges_hint_points(const iges_clist *l, prw_dvec3 **pts, int *n);
+
+/* B-rep (prw_iges_brep.c): face 510 with its loops 508 (edges from 504 / 502), as a trimmed
+ * surface; flip: the shell / solid orientation says the face's normal is opposite the surface's
+ * (the face's own flag is combined by the caller). */
+bool iges_brep_face(iges_ctx *x, int k, bool flip, prw_trimmed_surface *t);
+/* Bounded surface 143 with its 141 boundaries. */
+bool iges_bounded_surface(iges_ctx *x, int k, prw_trimmed_surface *t);
 
 /* Converts an independent (or logically dependent) 144 / surface entity into t, in file units,
  * with the entity's transformation applied; the driver scales to metres. */

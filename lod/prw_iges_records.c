@@ -283,16 +283,25 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
     /* split into lines */
     line *lines = NULL;
     int nl = 0, cap = 0;
-    bool has_nl = memchr(data, '\n', size) != NULL;
+    /* Lines, or a bare run of 80-column records: no line end before the second record (a single
+     * trailing line end, or line ends only between some records, are allowed there) and column 73
+     * holding a section letter.  Records of a bare file are numbered 1, 2, ... in messages. */
+    const char *first_nl = memchr(data, '\n', size);
+    size_t first_len = first_nl ? (size_t)(first_nl - data) : size;
+    bool bare = first_len >= 160 && section_index(data[72]) >= 0;
     size_t pos = 0;
     int lineno = 0;
     while (pos < size) {
         size_t end;
-        if (has_nl) {
+        if (bare) {
+            while (pos < size && (data[pos] == '\n' || data[pos] == '\r')) pos++;
+            if (pos >= size) break;
+            end = pos + 80 < size ? pos + 80 : size;
+            const char *q = memchr(data + pos, '\n', end - pos); /* a short last record */
+            if (q) end = (size_t)(q - data);
+        } else {
             const char *q = memchr(data + pos, '\n', size - pos);
             end = q ? (size_t)(q - data) : size;
-        } else {
-            end = pos + 80 < size ? pos + 80 : size;
         }
         int len = (int)(end - pos);
         if (len > 0 && data[pos + len - 1] == '\r') len--;
@@ -302,7 +311,7 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
             lines = prw_realloc(lines, sizeof(line) * (size_t)cap);
         }
         lines[nl++] = (line){data + pos, len, lineno};
-        pos = has_nl ? end + 1 : end;
+        pos = bare ? end : end + 1;
     }
     while (nl > 0) { /* trailing blank lines */
         const line *l = &lines[nl - 1];

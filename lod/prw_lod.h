@@ -53,6 +53,8 @@
  *  - every new triangle keeps positive (u, v) orientation (exact predicate), a 3-D normal within
  *    90° of the exact surface normal at its (u, v) centroid and non-zero 3-D area (triangles joining
  *    two copies of one node are degenerate by construction and dropped at output);
+ *  - a collapse target has fewer than 96 triangles (bounds the 2-ring re-evaluation each collapse
+ *    costs), and a level's search stops after 2000 x (vertices + 64) candidates (capped_levels);
  *  - a triangle joining two copies of one node (not drawn) may not have a boundary edge that skips
  *    sewing points (it could not draw their fan);
  *  - a triangle with boundary edges must admit the centroid fan used at display time (below) with
@@ -95,6 +97,10 @@ typedef struct prw_lod_options {
                           lifted (unless max_patch_triangles is set) and, when levels is 0, enough levels
                           for the coarsest to reach the diagonal (at most PRW_LOD_MAX_LEVELS); the
                           seam graph's chord should be as fine, or the sewing chords bind level 0 */
+    /* optional progress: at most one line a second while patches are built (never a knob: not
+       part of any cache key); NULL: silent */
+    void (*progress)(void *user, const char *line);
+    void *progress_user;
 } prw_lod_options;
 
 typedef struct prw_lod_patch {
@@ -126,6 +132,8 @@ typedef struct prw_lod_model {
     int **ladder;   /* per segment: the curve-only ladder (subset of seg_keep) */
     int failed_patches;
     int refused_splits; /* level-0 triangles left above tau0 by the refinement (cap / invalid split) */
+    int capped_levels;  /* levels whose collapse search hit its iteration cap (2000 x (vertices + 64)
+                           candidates; still valid, see first_problem); 0 after reading a .lod file */
     char first_problem[256];
     size_t finest_triangles;
 } prw_lod_model;

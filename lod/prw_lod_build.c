@@ -57,10 +57,16 @@ static double seg_dist(prw_dvec3 x, prw_dvec3 a, prw_dvec3 b)
  * global id and bit-identical position as the ring copies of its node). */
 static bool interior_copy(const prw_lod_patch *p, int v) { return v >= p->nbound && p->gid[v] >= 0; }
 
+/* A collapse target never takes more triangles than this: each collapse re-evaluates the
+ * candidates of the target's 2-ring (quadratic in its valence), and a pole where every copy merged
+ * into one (the apex of a cone from a B-rep) took minutes per level. */
+#define LOD_MAX_TARGET_VALENCE 96
+
 /* May v move at all at the current level, and may it move onto w (topologically)? */
 static bool allowed(work *w, int v, int to)
 {
     const prw_lod_patch *p = w->p;
+    if (w->vt[to].n >= LOD_MAX_TARGET_VALENCE) return false;
     /* an interior pole copy only merges into another copy of its node (along the collapsed edge):
      * moving it anywhere else would open the (u, v) domain at the collapsed edge */
     if (interior_copy(p, v)) return p->gid[to] == p->gid[v];
@@ -820,12 +826,24 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
     p->err = prw_malloc(sizeof(double) * (size_t)lm->levels);
     lod_ivec tris = {0};
     snapshot(&w, &tris, 0);
+    /* an iteration cap per level (never reached on the procedural and test models: a hang guard);
+     * a level stopped by it is still valid (every collapse made was checked), only coarser ones
+     * keep more triangles than they could; reported in first_problem */
+    long cap = 2000L * (p->nverts + 64);
     for (int k = 1; k < lm->levels; k++) {
         w.level = k;
         double tau = lm->tau0 * ldexp(1.0, k);
         w.h.n = 0;
         for (int v = 0; v < p->nverts; v++) push_candidates(&w, v);
+        long pops = 0;
         while (w.h.n > 0) {
+            if (++pops > cap) {
+                lm->capped_levels++;
+                if (!lm->first_problem[0])
+                    snprintf(lm->first_problem, sizeof lm->first_problem,
+                             "patch %d level %d: collapse search stopped at its cap of %ld candidates", pi, k, cap);
+                break;
+            }
             lod_hent x = lod_heap_pop(&w.h);
             if (x.cost > tau) break;
             if (!w.active[x.v] || !w.active[x.w] || w.stamp[x.v] != x.sv || w.stamp[x.w] != x.sw) continue;
@@ -876,7 +894,15 @@ bool prw_lod_build(const prw_nurbs_model *m, const prw_seam_graph *g, const prw_
     }
     prw_lod_ladders(g, lm->levels, lm->tau0, lm->ladder);
     for (int s = 0; s < g->nsegs; s++) memcpy(lm->seg_keep[s], lm->ladder[s], sizeof(int) * (size_t)g->segs[s].npts);
+    double t_last = prw_now(), t_start = t_last;
     for (int pi = 0; pi < g->npatches; pi++) {
+        if (opt.progress && prw_now() - t_last >= 1.0) { /* at most one line a second */
+            char line[160];
+            snprintf(line, sizeof line, "hierarchy: patch %d of %d, %zu finest triangles so far, %.1f s", pi + 1,
+                     g->npatches, lm->finest_triangles, prw_now() - t_start);
+            opt.progress(opt.progress_user, line);
+            t_last = prw_now();
+        }
         prw_error pe;
         int cap = opt.max_patch_triangles > 0 ? opt.max_patch_triangles : opt.finest_rel > 0 ? INT32_MAX / 8 : 0;
         if (!build_patch(lm, m, pi, opt.max_cells > 0 ? opt.max_cells : 48, cap, &pe)) {

@@ -56,7 +56,13 @@ typedef struct bvh {
 
 static prw_dvec3 tv(const bvh *b, int t, int k) { return P3(b->pos + 3 * b->tris[3 * t + k]); }
 
-static int bvh_node(bvh *b, int first, int count)
+/* Depth <= BVH_FREE_DEPTH + 31: below BVH_FREE_DEPTH the split is the plain half of the range, so
+ * every deeper level halves the count (< 2^31 triangles).  bvh_nearest's stack holds at most one
+ * pending sibling per level plus the root, so BVH_STACK covers every tree this builds. */
+#define BVH_FREE_DEPTH 40
+#define BVH_STACK (BVH_FREE_DEPTH + 31 + 2)
+
+static int bvh_node(bvh *b, int first, int count, int depth)
 {
     int id = b->nnodes++;
     bnode *n = &b->nodes[id];
@@ -89,8 +95,8 @@ static int bvh_node(bvh *b, int first, int count)
         }
     }
     int nl = i - first;
-    if (nl == 0 || nl == count) nl = count / 2; /* all centroids equal along the axis */
-    int l = bvh_node(b, first, nl), r = bvh_node(b, first + nl, count - nl);
+    if (nl == 0 || nl == count || depth >= BVH_FREE_DEPTH) nl = count / 2; /* equal centroids / depth bound */
+    int l = bvh_node(b, first, nl, depth + 1), r = bvh_node(b, first + nl, count - nl, depth + 1);
     b->nodes[id].left = l, b->nodes[id].right = r;
     return id;
 }
@@ -107,7 +113,7 @@ static void bvh_build(bvh *b, const double *pos, const uint32_t *tris, int ntris
         prw_dvec3 c = prw_v3_scale(prw_v3_add(prw_v3_add(tv(b, t, 0), tv(b, t, 1)), tv(b, t, 2)), 1.0 / 3);
         b->cen[3 * t] = c.x, b->cen[3 * t + 1] = c.y, b->cen[3 * t + 2] = c.z;
     }
-    if (ntris > 0) bvh_node(b, 0, ntris);
+    if (ntris > 0) bvh_node(b, 0, ntris, 0);
 }
 
 static void bvh_free(bvh *b)
@@ -137,7 +143,7 @@ static double bvh_nearest(const bvh *b, prw_dvec3 p, int hint, int *tri)
     *tri = -1;
     if (!b->nnodes) return best;
     if (hint >= 0) best = tri_dist(p, tv(b, hint, 0), tv(b, hint, 1), tv(b, hint, 2)), *tri = hint;
-    int stack[128], sp = 0;
+    int stack[BVH_STACK], sp = 0;
     stack[sp++] = 0;
     while (sp) {
         const bnode *n = &b->nodes[stack[--sp]];
@@ -152,7 +158,7 @@ static double bvh_nearest(const bvh *b, prw_dvec3 p, int hint, int *tri)
             continue;
         }
         double dl = box_dist2(&b->nodes[n->left], p), dr = box_dist2(&b->nodes[n->right], p);
-        if (sp + 2 > 128) continue; /* cannot happen for a median-ish split of < 2^60 triangles */
+        if (sp + 2 > BVH_STACK) continue; /* cannot happen: see BVH_STACK */
         if (dl < dr)
             stack[sp++] = n->right, stack[sp++] = n->left;
         else
@@ -329,7 +335,7 @@ static bool manifold_star(work *w, int v, int *deg, bool *border)
 /* Cost of v -> to, or INFINITY when the collapse is not allowed. */
 static double collapse_cost(work *w, int v, int to)
 {
-    int deg[MAXVAL + 1], degw[MAXVAL + 1];
+    int deg[MAXVAL + 1], degw[4 * MAXVAL + 1]; /* degw: neighbours(.., 4 * MAXVAL) writes up to that many */
     bool border;
     if (w->fixed[v] || !manifold_star(w, v, deg, &border)) return INFINITY;
     const lod_ivec nb = w->nb; /* v's neighbours, from manifold_star */

@@ -70,6 +70,30 @@ void prw_trim_loop_add(prw_trim_loop *l, prw_nurbs_curve *uv, prw_nurbs_curve *m
     }
 }
 
+void prw_trimmed_surface_reverse_u(prw_trimmed_surface *t)
+{
+    prw_nurbs_surface *s = &t->surface;
+    int p = s->degree_u, nu = s->nu, m = nu + p; /* last knot index */
+    double c = s->knots_u[p] + s->knots_u[nu];
+    for (int i = 0; i <= m / 2; i++) {
+        double a = s->knots_u[i], b = s->knots_u[m - i];
+        s->knots_u[i] = c - b, s->knots_u[m - i] = c - a;
+    }
+    for (int j = 0; j < s->nv; j++)
+        for (int i = 0; i < nu / 2; i++) {
+            double *a = s->pw + 4 * ((size_t)j * (size_t)nu + (size_t)i), *b = s->pw + 4 * ((size_t)j * (size_t)nu + (size_t)(nu - 1 - i));
+            for (int k = 0; k < 4; k++) {
+                double x = a[k];
+                a[k] = b[k], b[k] = x;
+            }
+        }
+    for (int l = 0; l < t->nloops; l++)
+        for (int k = 0; k < t->loops[l].count; k++) {
+            prw_nurbs_curve *u = &t->loops[l].segs[k].uv;
+            for (int i = 0; i < u->n; i++) u->pw[4 * i] = c * u->pw[4 * i + 3] - u->pw[4 * i]; /* homogeneous */
+        }
+}
+
 bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi)
 {
     if (!m->count) return false;

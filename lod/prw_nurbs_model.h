@@ -56,8 +56,26 @@ void prw_trimmed_surface_free(prw_trimmed_surface *t);
 prw_trim_loop *prw_trimmed_surface_add_loop(prw_trimmed_surface *t);
 /* Appends a segment taking ownership of *uv (and of *model when not NULL; it is heap-copied). */
 void prw_trim_loop_add(prw_trim_loop *l, prw_nurbs_curve *uv, prw_nurbs_curve *model);
-/* World-space bounding box of all surfaces (control hulls). false when the model is empty. */
+/* Reverses the surface's u direction (knots mirrored about the domain, columns reversed) and
+ * mirrors every trim curve with it, u -> u0 + u1 - u: the same trimmed face, exactly, with the
+ * opposite normal Su x Sv. */
+void prw_trimmed_surface_reverse_u(prw_trimmed_surface *t);
+/* World-space bounding box of all surfaces (control hulls, untrimmed: what tolerances scale
+ * from). false when the model is empty. */
 bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
+/* World-space bounding box of the TRIMMED faces (prw_nurbs_model_bounds.c), for display and scene
+ * bounds:
+ *  - conservative: it contains every point of every face's trimmed region (the closed even-odd
+ *    region of the loops closed as prw_trim closes them, within the domain): it is a union of
+ *    control hulls of sub-patches cut out by knot insertion (convex hull property) over the
+ *    rectangles of the domain that the trim curves — each piece enclosed with the hull of its
+ *    control points — do not show to lie outside;
+ *  - tight: each side exceeds the box of points on the faces by at most 1e-4 x that box's diagonal
+ *    (unless a subdivision budget ran out — 200000 rectangles per face, 4e8 control-point x degree
+ *    operations per model — or the depth: then the side is still conservative, only looser);
+ *  - within prw_nurbs_model_bounds (sub-patch control points are convex combinations);
+ *  - false when the model is empty; when no loop encloses anything, prw_nurbs_model_bounds. */
+bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
 
 #ifdef __cplusplus
 }

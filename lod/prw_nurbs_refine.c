@@ -51,7 +51,7 @@ static bool insert_prepare(const double *U, int n, int p, double t, int *r, int 
 
 bool prw_nurbs_curve_insert_knot(prw_nurbs_curve *c, double t, int r, prw_error *e)
 {
-    int k, s, p = c->degree;
+    int k = 0, s = 0, p = c->degree; /* set by insert_prepare (initialised for -Wmaybe-uninitialized) */
     if (!insert_prepare(c->knots, c->n, p, t, &r, &k, &s, e)) return false;
     if (r == 0) return true;
     double *UQ = prw_malloc(sizeof(double) * (size_t)(c->n + p + 1 + r));
@@ -87,7 +87,7 @@ static void transpose(prw_nurbs_surface *s)
 bool prw_nurbs_surface_insert_knot(prw_nurbs_surface *s, int dir, double t, int r, prw_error *e)
 {
     if (dir) transpose(s);
-    int k, m, p = s->degree_u;
+    int k = 0, m = 0, p = s->degree_u;
     bool ok = insert_prepare(s->knots_u, s->nu, p, t, &r, &k, &m, e);
     if (ok && r > 0) {
         /* Rows (fixed j) are curves in u with consecutive points: A5.3 is A5.1 per row. */

@@ -31,7 +31,7 @@
 extern "C" {
 #endif
 
-#define PRW_BAKE_ALGO_VERSION "lod-2026-12-01c" /* b: pole combs, flips in the level-0 refinement;
+#define PRW_BAKE_ALGO_VERSION "lod-2026-12-01d" /* b: pole combs, flips in the level-0 refinement; d: target valence cap;
                                                     c: whole-model proxy levels in the file */
 
 typedef struct prw_bake_options {

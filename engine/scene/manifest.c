@@ -607,7 +607,7 @@ static bool parse_nurbs(ctx *c, const cJSON *arr)
         prw_copy_name(nb.name, n.name);
         prw_nurbs_model m;
         if (!prw_scene_nurbs_load(&nb, &m, c->e)) return prw_fail_wrap(c->e, "%s:%s", c->file, pl);
-        prw_nurbs_model_bounds(&m, &nb.model_min, &nb.model_max);
+        prw_nurbs_model_trimmed_bounds(&m, &nb.model_min, &nb.model_max);
         prw_nurbs_model_free(&m);
         nb.node = prw_scene_add_node(c->s, &n);
         if (nb.node < 0 || prw_scene_add_nurbs(c->s, &nb) < 0) return fail_at(c, pl, "cannot add the model");

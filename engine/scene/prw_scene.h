@@ -205,7 +205,7 @@ typedef struct prw_scene_nurbs {
                               sewing at half of it; 0: the finest level targets the sewing chord */
     double tol_px;         /* LOD screen-space tolerance in pixels (0: 0.5) */
     bool single_sided;     /* closed, outward-oriented: back-face culling of patches and triangles */
-    prw_dvec3 model_min, model_max; /* model-space bounds (control hulls), set by the loader */
+    prw_dvec3 model_min, model_max; /* model-space bounds of the trimmed faces, set by the loader */
 } prw_scene_nurbs;
 
 /* Import warnings: data for the caller (the app prints them; loaders never print).  Each is one line

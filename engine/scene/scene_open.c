@@ -45,7 +45,7 @@ bool prw_scene_open_model(prw_scene *s, const char *path, prw_error *e)
         prw_scene_rollback(s, mark);
         return nb.material < 0 ? prw_fail(e, "%s: cannot add its material", path) : false;
     }
-    prw_nurbs_model_bounds(&model, &nb.model_min, &nb.model_max);
+    prw_nurbs_model_trimmed_bounds(&model, &nb.model_min, &nb.model_max);
     prw_nurbs_model_free(&model);
     prw_node n = prw_node_default();
     prw_copy_name(n.name, nb.name);

@@ -1,6 +1,7 @@
 /* Fuzz target for the IGES reader: the input is parsed in memory; a success must give a model
- * whose surfaces validate and evaluate to finite points, a failure must leave one message of
- * the form "<file>:<line>: <reason>".  Violations abort. */
+ * whose surfaces validate and evaluate to finite points, and whose trimmed bounds are finite and
+ * inside the control hulls' bounds; a failure must leave one message of the form
+ * "<file>:<line>: <reason>".  Violations abort. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -31,6 +32,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         for (int l = 0; l < t->nloops; l++)
             for (int s = 0; s < t->loops[l].count; s++)
                 if (!prw_nurbs_curve_validate(&t->loops[l].segs[s].uv, NULL)) abort();
+    }
+    prw_dvec3 lo, hi, hlo, hhi;
+    if (prw_nurbs_model_trimmed_bounds(&m, &lo, &hi) != prw_nurbs_model_bounds(&m, &hlo, &hhi)) abort();
+    if (m.count) {
+        double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, hl[3] = {hlo.x, hlo.y, hlo.z}, hh[3] = {hhi.x, hhi.y, hhi.z};
+        for (int k = 0; k < 3; k++) {
+            double slack = 1e-9 * (fabs(hl[k]) + fabs(hh[k]));
+            if (!isfinite(l[k]) || !isfinite(h[k]) || !(l[k] <= h[k]) || l[k] < hl[k] - slack || h[k] > hh[k] + slack) abort();
+        }
     }
     prw_nurbs_model_free(&m);
     return 0;

@@ -1,6 +1,7 @@
 /* Writes the hand-made IGES test models into a directory: iges_assets_gen <dir>
  * (used to produce the assets/nurbs IGES files and the fuzz seed corpus). */
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "iges_models.h"
@@ -21,9 +22,21 @@ static int save(const char *dir, const char *name, char *data, size_t n)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: iges_assets_gen <dir>\n");
+    if (argc != 2 && !(argc == 3 && !strcmp(argv[2], "--brep"))) {
+        fprintf(stderr, "usage: iges_assets_gen <dir> [--brep]\n  --brep: the B-rep test solids instead (box, cylinder, "
+                        "free-form; not stored in assets/)\n");
         return 2;
+    }
+    if (argc == 3) {
+        size_t n;
+        int err = 0;
+        char *s = iges_model_brep_box(&n);
+        err |= save(argv[1], "brep_box.igs", s, n);
+        s = iges_model_brep_cylinder(&n);
+        err |= save(argv[1], "brep_cylinder.igs", s, n);
+        s = iges_model_brep_freeform(&n);
+        err |= save(argv[1], "brep_freeform.igs", s, n);
+        return err;
     }
     size_t n;
     int err = 0;

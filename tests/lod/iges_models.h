@@ -8,6 +8,10 @@
 /* 120: a 100 semicircle (radius 1000 mm) revolved about a 110 axis -> sphere of radius 1 m;
  * colour from a 314 (30 %, 60 %, 90 %). */
 char *iges_model_sphere_rev(size_t *len);
+/* The sphere of iges_model_sphere_rev (its 100 generatrix: t = the arc's angle, -pi/2 .. pi/2,
+ * from y = -1 m to y = 1 m; revolved about y) trimmed by a 144 whose 142 gives only the
+ * parameter-space rectangle t0..t1 x th0..th1 in IGES (t, theta). */
+char *iges_model_sphere_zone(double t0, double t1, double th0, double th1, size_t *len);
 /* 144 on a 100 x 100 mm 128 plate (physically dependent): outer 142 along the domain boundary
  * (102 of 110s in (u, v) + 102 of 110s in model space), inner 142 with a (u, v) circle hole at
  * (30, 50) r 15 mm, inner 142 given only in model space (circle at (70, 50) r 10 mm, projected);
@@ -15,10 +19,23 @@ char *iges_model_sphere_rev(size_t *len);
 char *iges_model_trimmed_plate(size_t *len);
 /* Independent 108 (bounded by a circle r 20 at z = 5), 118 (line to semicircle), 122 (quarter
  * arc extruded 30 along z), 128 (bilinear, with a 124 rotation about z by 90° and shift), an
- * independent 126 curve, and unsupported 143, 186, 212, 406, 502. */
+ * independent 126 curve, a 143 without boundaries on a dependent unit-square 128, and
+ * unsupported 116, 123, 212, 406, 410. */
 char *iges_model_all_entities(size_t *len);
 /* One 128 unit square (0..1 in x, y) written with the given unit flag / name / model scale, and
  * `subord` for its DE; `used_by_144` adds a 144 (natural outer) that references it. */
 char *iges_model_units(int unit_flag, const char *unit, double scale, int subord, int used_by_144, size_t *len);
+
+/* B-rep solids as MSBO (186) files: a shell (514, closed) of faces (510) with loops (508) of edges
+ * (504) between vertices (502); every face's surface is larger than the face (really trimmed), and
+ * some faces' surfaces point inward with face orientation flag 0 (exercises the flags).
+ *  - box 100 x 60 x 40 mm: six bilinear 128 planes extending 10 mm beyond the faces (bottom inward);
+ *  - cylinder r 30, h 80 mm about z: lateral 120 in two halves (line revolved, inward) and two 108
+ *    disks bounded by two half circles each (bottom inward);
+ *  - free-form: a bicubic Bézier bump (128) over 120 x 90 mm trimmed to its part over 80 x 60 mm
+ *    (isoparametric 126 edges), four 118 ruled sides down to z = 0 (two inward), a 128 bottom. */
+char *iges_model_brep_box(size_t *len);
+char *iges_model_brep_cylinder(size_t *len);
+char *iges_model_brep_freeform(size_t *len);
 
 #endif

@@ -1,0 +1,42 @@
+/* prw_trim_wrap — trim loops projected onto CLOSED surfaces (cylinders, cones, spheres, tori, any
+ * NURBS whose opposite domain edges coincide): point inversion returns a parameter inside the
+ * domain, so a loop that runs along or across the seam jumps by a period.  These functions undo
+ * that, so the loop is one continuous (u, v) polygon.
+ *
+ * Promises:
+ *  - prw_nurbs_surface_closed: true when S(u0, v) = S(u1, v) (dir 0) or S(u, v0) = S(u, v1)
+ *    (dir 1) within tol at 33 samples along the edge.
+ *  - prw_trim_unwrap_loop: the loop's degree-1 pieces (in loop order, end to end) are unwrapped in
+ *    every closed direction (a point more than half a period away from its predecessor — the last
+ *    point of the previous piece for a first point — is moved by whole periods to the nearest
+ *    copy), then the whole loop is moved by the whole number of periods that overlaps the domain
+ *    most.  Pieces of higher degree are moved as a whole (their start to the copy nearest the
+ *    previous end).  range[dir] gets the loop's parameter range after the move.  Exact in 3-D:
+ *    S(u + k·P, v) = S(u, v) on a closed surface, so every point still maps to the same place.
+ *  - prw_nurbs_surface_reseat: a surface closed in dir gets the domain [a, a + P] in that
+ *    direction, exactly (two copies joined C0 at the seam, then cut by knot insertion): for a loop
+ *    that straddles the seam.  Fails (surface unchanged) when the seam rows' weights are not
+ *    proportional (the copies cannot be joined without changing the surface).
+ *  - Nothing prints; only prw_nurbs_surface_reseat allocates.
+ */
+#ifndef PRW_TRIM_WRAP_H
+#define PRW_TRIM_WRAP_H
+
+#include "prw_nurbs_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+bool prw_nurbs_surface_closed(const prw_nurbs_surface *s, int dir, double tol);
+/* closed[2]: the surface's closed directions (prw_nurbs_surface_closed). */
+void prw_trim_unwrap_loop(const prw_nurbs_surface *s, const bool closed[2], prw_nurbs_curve *pieces, int n,
+                          double range[2][2]);
+/* Moves every piece of a loop by whole periods in dir so its range overlaps [a, a + P] most. */
+void prw_trim_shift_loop(const prw_nurbs_surface *s, int dir, double a, prw_nurbs_curve *pieces, int n);
+bool prw_nurbs_surface_reseat(prw_nurbs_surface *s, int dir, double a, prw_error *e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,146 @@
+/* iges_measure — not a test: what prw makes of an IGES (or NURBS JSON) model, for outside
+ * oracles (scripts/oracle_iges_gmsh.py) and for looking at real files.
+ *
+ * usage: iges_measure MODEL [--faces]
+ * Prints one line "area A bbox X0 Y0 Z0 X1 Y1 Z1 faces N failed F model_bounds X0 .. Z1
+ * trimmed_bounds X0 .. Z1" (metres):
+ *  - area: the trimmed surface area, the integral of |S_u x S_v| over each face's trimmed (u, v)
+ *    region (the region triangulated by prw_tess at a fine tolerance, each triangle integrated by
+ *    an adaptive 7-point rule);
+ *  - bbox: the box of the tessellation's vertices (points on the trimmed faces) and of dense
+ *    samples of every trim loop mapped through its surface;
+ *  - model_bounds: prw_nurbs_model_bounds (the untrimmed surfaces' control hulls);
+ *  - trimmed_bounds: prw_nurbs_model_trimmed_bounds (conservative and tight box of the trimmed
+ *    faces).
+ * --faces adds one line per face: index, source DE, loops, (u, v) domain and the trim loops'
+ * (u, v) range, area, box. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "prw_iges.h"
+#include "prw_nurbs_json.h"
+#include "prw_tess.h"
+#include "prw_trim.h"
+
+static double jac(const prw_nurbs_surface *s, double u, double v)
+{
+    prw_dvec3 d[4];
+    prw_nurbs_surface_derivs(s, u, v, 1, d);
+    return prw_v3_len(prw_v3_cross(d[2], d[1]));
+}
+
+/* 7-point degree-5 rule (Dunavant) on the (u, v) triangle a, b, c. */
+static double tri7(const prw_nurbs_surface *s, const double *a, const double *b, const double *c)
+{
+    static const double w[7] = {0.225, 0.132394152788506, 0.132394152788506, 0.132394152788506,
+                                0.125939180544827, 0.125939180544827, 0.125939180544827};
+    static const double l[7][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                   {0.059715871789770, 0.470142064105115, 0.470142064105115},
+                                   {0.470142064105115, 0.059715871789770, 0.470142064105115},
+                                   {0.470142064105115, 0.470142064105115, 0.059715871789770},
+                                   {0.797426985353087, 0.101286507323456, 0.101286507323456},
+                                   {0.101286507323456, 0.797426985353087, 0.101286507323456},
+                                   {0.101286507323456, 0.101286507323456, 0.797426985353087}};
+    double area = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])), sum = 0;
+    for (int i = 0; i < 7; i++) {
+        double u = l[i][0] * a[0] + l[i][1] * b[0] + l[i][2] * c[0], v = l[i][0] * a[1] + l[i][1] * b[1] + l[i][2] * c[1];
+        sum += w[i] * jac(s, u, v);
+    }
+    return area * sum;
+}
+
+static double tri_adapt(const prw_nurbs_surface *s, const double *a, const double *b, const double *c, double whole,
+                        int depth)
+{
+    double ab[2] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])}, bc[2] = {0.5 * (b[0] + c[0]), 0.5 * (b[1] + c[1])},
+           ca[2] = {0.5 * (c[0] + a[0]), 0.5 * (c[1] + a[1])};
+    double q[4] = {tri7(s, a, ab, ca), tri7(s, ab, b, bc), tri7(s, ca, bc, c), tri7(s, ab, bc, ca)};
+    double parts = q[0] + q[1] + q[2] + q[3];
+    if (depth >= 6 || fabs(parts - whole) <= 1e-9 * fabs(parts) + 1e-300) return parts;
+    return tri_adapt(s, a, ab, ca, q[0], depth + 1) + tri_adapt(s, ab, b, bc, q[1], depth + 1) +
+           tri_adapt(s, ca, bc, c, q[2], depth + 1) + tri_adapt(s, ab, bc, ca, q[3], depth + 1);
+}
+
+static void grow(double *lo, double *hi, prw_dvec3 p)
+{
+    lo[0] = fmin(lo[0], p.x), lo[1] = fmin(lo[1], p.y), lo[2] = fmin(lo[2], p.z);
+    hi[0] = fmax(hi[0], p.x), hi[1] = fmax(hi[1], p.y), hi[2] = fmax(hi[2], p.z);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "--help")) {
+        printf("usage: iges_measure MODEL.(igs|iges|json) [--faces]\n");
+        return argc < 2 ? 2 : 0;
+    }
+    bool faces = argc > 2 && !strcmp(argv[2], "--faces");
+    prw_nurbs_model m;
+    prw_error e = {{0}};
+    size_t n = strlen(argv[1]);
+    bool json = n > 5 && !strcmp(argv[1] + n - 5, ".json");
+    prw_iges_info info;
+    memset(&info, 0, sizeof info);
+    bool ok = json ? prw_nurbs_json_load(argv[1], &m, &e) : prw_iges_load(argv[1], &m, &info, &e);
+    if (!ok) {
+        fprintf(stderr, "iges_measure: error: %s\n", e.msg);
+        return 1;
+    }
+    if (info.warning[0]) fprintf(stderr, "iges_measure: warning: %s\n", info.warning);
+    double total = 0, lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int failed = 0;
+    for (size_t i = 0; i < m.count; i++) {
+        const prw_trimmed_surface *t = &m.surfaces[i];
+        prw_dvec3 hl, hh;
+        prw_nurbs_surface_bounds(&t->surface, &hl, &hh);
+        double diag = prw_v3_len(prw_v3_sub(hh, hl));
+        double u0, u1, v0, v1;
+        prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
+        prw_tess_options o = {.chord_tol = 1e-4 * diag, .trim_tol = 1e-6 * fmax(u1 - u0, v1 - v0), .max_cells = 256};
+        prw_tess_mesh mesh;
+        double flo[3] = {INFINITY, INFINITY, INFINITY}, fhi[3] = {-INFINITY, -INFINITY, -INFINITY}, area = 0;
+        if (!prw_tess_surface(t, &o, &mesh, &e)) {
+            fprintf(stderr, "iges_measure: face %zu (DE %d): %s\n", i, t->source, e.msg);
+            failed++;
+            continue;
+        }
+        for (size_t k = 0; k < mesh.ntris; k++) {
+            const double *a = mesh.uv + 2 * mesh.tris[3 * k], *b = mesh.uv + 2 * mesh.tris[3 * k + 1],
+                         *c = mesh.uv + 2 * mesh.tris[3 * k + 2];
+            area += tri_adapt(&t->surface, a, b, c, tri7(&t->surface, a, b, c), 0);
+        }
+        for (size_t k = 0; k < mesh.nverts; k++) grow(flo, fhi, prw_v3(mesh.pos[3 * k], mesh.pos[3 * k + 1], mesh.pos[3 * k + 2]));
+        double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
+        for (int l = 0; l < t->nloops; l++)
+            for (int sgi = 0; sgi < t->loops[l].count; sgi++) {
+                const prw_nurbs_curve *c = &t->loops[l].segs[sgi].uv;
+                double a, b;
+                prw_nurbs_curve_domain(c, &a, &b);
+                for (int q = 0; q <= 64; q++) {
+                    prw_dvec3 p = prw_nurbs_curve_eval(c, a + (b - a) * q / 64);
+                    ulo = fmin(ulo, p.x), uhi = fmax(uhi, p.x), vlo = fmin(vlo, p.y), vhi = fmax(vhi, p.y);
+                    grow(flo, fhi, prw_nurbs_surface_eval(&t->surface, p.x, p.y));
+                }
+            }
+        prw_tess_mesh_free(&mesh);
+        total += area;
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], flo[k]), hi[k] = fmax(hi[k], fhi[k]);
+        if (faces)
+            printf("face %zu DE %d loops %d%s domain [%.6g %.6g]x[%.6g %.6g] trims [%.6g %.6g]x[%.6g %.6g] area %.9g "
+                   "box %.6g %.6g %.6g %.6g %.6g %.6g\n",
+                   i, t->source, t->nloops, t->natural_outer ? " (natural outer)" : "", u0, u1, v0, v1, ulo, uhi, vlo,
+                   vhi, area, flo[0], flo[1], flo[2], fhi[0], fhi[1], fhi[2]);
+    }
+    prw_dvec3 ml, mh;
+    bool have = prw_nurbs_model_bounds(&m, &ml, &mh);
+    prw_dvec3 tl, th;
+    bool have_t = prw_nurbs_model_trimmed_bounds(&m, &tl, &th);
+    printf("area %.12g bbox %.9g %.9g %.9g %.9g %.9g %.9g faces %zu failed %d model_bounds %.9g %.9g %.9g %.9g %.9g %.9g"
+           " trimmed_bounds %.9g %.9g %.9g %.9g %.9g %.9g\n",
+           total, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], m.count, failed, have ? ml.x : 0, have ? ml.y : 0,
+           have ? ml.z : 0, have ? mh.x : 0, have ? mh.y : 0, have ? mh.z : 0, have_t ? tl.x : 0, have_t ? tl.y : 0,
+           have_t ? tl.z : 0, have_t ? th.x : 0, have_t ? th.y : 0, have_t ? th.z : 0);
+    prw_nurbs_model_free(&m);
+    return failed ? 3 : 0;
+}
