@@ -44,7 +44,9 @@ static bool env_build(const prw_scene *s, ref_env *env, prw_error *e)
         return true;
     }
     prw_image img = {0};
-    prw_exr_read_opts opts = {.reject_nonfinite = false};
+    /* the sampling tables below (rgb 12 + conditional CDF 8 + pdf 8 bytes per pixel) count against
+     * the memory budget with the image, before it is read */
+    prw_exr_read_opts opts = {.reject_nonfinite = false, .extra_bytes_per_pixel = 28};
     if (!prw_exr_read(se->file, &opts, &img, e)) return false; /* "<file>: <place>: <reason>" */
     int w = img.width, h = img.height;
     env->w = w;
