@@ -215,6 +215,7 @@ static int compare_run(compare_job *job)
     prw_image ref = {0}, test = {0}, ref2 = {0};
     float *map = NULL;
     int rc = 1;
+    if (job->heatmap && !prw_check_writable(job->heatmap, false, &e)) goto done; /* before any work */
     if (!prw_compare_load(job->ref, &ref, &e) || !prw_compare_load(job->test, &test, &e)) goto done;
     if (job->ref2 && !prw_compare_load(job->ref2, &ref2, &e)) goto done;
     if (!prw_compare_check_sizes(&test, &ref, job->test, job->ref, &e)) goto done;

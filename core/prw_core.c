@@ -240,6 +240,28 @@ static bool probe_create(const char *probe, int *err)
     return true;
 }
 
+/* dir does not exist: the nearest existing ancestor must be a directory that takes new entries
+ * (the command creates the missing levels). */
+static bool ancestor_ok(const char *who, const char *dir, prw_error *e)
+{
+    char up[4096];
+    struct stat st;
+    snprintf(up, sizeof up, "%s", dir);
+    for (;;) {
+        char *slash = strrchr(up, '/');
+        if (!slash) snprintf(up, sizeof up, ".");
+        else if (slash == up) up[1] = '\0';
+        else *slash = '\0';
+        if (stat(up, &st) == 0) break;
+        if ((errno != ENOENT && errno != ENOTDIR) || strcmp(up, ".") == 0 || strcmp(up, "/") == 0)
+            return prw_fail(e, "%s: cannot write: directory %s: %s", who, up, strerror(errno));
+    }
+    if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: %s is not a directory", who, up);
+    if (access(up, W_OK | X_OK) != 0)
+        return prw_fail(e, "%s: cannot write: cannot create directories in %s: %s", who, up, strerror(errno));
+    return true;
+}
+
 bool prw_check_writable(const char *path, bool create_parents, prw_error *e)
 {
     if (!path || !path[0]) return prw_fail(e, "(empty path): cannot write: no file name");
@@ -254,25 +276,10 @@ bool prw_check_writable(const char *path, bool create_parents, prw_error *e)
     if (len + 32 >= sizeof dir) return prw_fail(e, "%s: cannot write: path too long", path);
     dir_of(path, dir, sizeof dir);
     if (stat(dir, &st) != 0) {
-        if (errno == ENOTDIR) return prw_fail(e, "%s: cannot write: a component of %s is not a directory", path, dir);
+        if (errno == ENOTDIR) return ancestor_ok(path, dir, e); /* names the file in the way */
         if (errno != ENOENT || !create_parents)
             return prw_fail(e, "%s: cannot write: directory %s: %s", path, dir, strerror(errno));
-        /* the command creates the missing directories: the nearest existing ancestor must take them */
-        char up[4096];
-        snprintf(up, sizeof up, "%s", dir);
-        for (;;) {
-            char *slash = strrchr(up, '/');
-            if (!slash) snprintf(up, sizeof up, ".");
-            else if (slash == up) up[1] = '\0';
-            else *slash = '\0';
-            if (stat(up, &st) == 0) break;
-            if (errno != ENOENT || strcmp(up, ".") == 0 || strcmp(up, "/") == 0)
-                return prw_fail(e, "%s: cannot write: directory %s: %s", path, up, strerror(errno));
-        }
-        if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: %s is not a directory", path, up);
-        if (access(up, W_OK | X_OK) != 0)
-            return prw_fail(e, "%s: cannot write: cannot create directories in %s: %s", path, up, strerror(errno));
-        return true;
+        return ancestor_ok(path, dir, e);
     }
     if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: %s is not a directory", path, dir);
     char probe[4200];
@@ -286,17 +293,16 @@ bool prw_check_writable(const char *path, bool create_parents, prw_error *e)
 bool prw_check_writable_dir(const char *dir, bool create, prw_error *e)
 {
     if (!dir || !dir[0]) return prw_fail(e, "(empty path): cannot write: no directory name");
+    if (strlen(dir) + 32 >= 4096) return prw_fail(e, "%s: cannot write: path too long", dir);
     struct stat st;
-    if (stat(dir, &st) == 0 && !S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: not a directory", dir);
-    if (create) {
-        prw_error me;
-        if (!prw_mkdirs(dir, &me)) return prw_fail(e, "%s: cannot write: %s", dir, me.msg);
-    } else if (stat(dir, &st) != 0) {
-        return prw_fail(e, "%s: cannot write: %s", dir, strerror(errno));
+    if (stat(dir, &st) != 0) {
+        if (errno == ENOTDIR) return ancestor_ok(dir, dir, e); /* names the file in the way */
+        if (errno != ENOENT || !create) return prw_fail(e, "%s: cannot write: %s", dir, strerror(errno));
+        return ancestor_ok(dir, dir, e);
     }
+    if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: not a directory", dir);
     char probe[4200];
-    if (snprintf(probe, sizeof probe, "%s/.prw-probe-%ld", dir, (long)getpid()) >= (int)sizeof probe)
-        return prw_fail(e, "%s: cannot write: path too long", dir);
+    snprintf(probe, sizeof probe, "%s/.prw-probe-%ld", dir, (long)getpid());
     int err = 0;
     if (!probe_create(probe, &err) && err != EEXIST) return prw_fail(e, "%s: cannot write: %s", dir, strerror(err));
     return true;

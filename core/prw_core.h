@@ -70,13 +70,19 @@ bool prw_write_file_atomic(const char *path, const void *data, size_t size, prw_
  * JSON tree) exceeds the memory budget (prw_mem_check). */
 bool prw_read_file_bounded(const char *path, uint64_t max_bytes, uint64_t expansion, const char *what, char **data,
                            size_t *size, prw_error *e);
+/* Worst-case memory of a parsed JSON tree per byte of text (cJSON: an 80-byte node, allocator
+ * overhead included, for every 2 bytes such as "0,"; keys and strings are copied): the expansion
+ * the JSON readers pass to prw_read_file_bounded. */
+#define PRW_JSON_MEMORY_PER_BYTE 48u
+
 /* Whether an output file can be written, checked before any work: its directory exists (or, with
  * create_parents, the nearest existing ancestor is a directory) and accepts a new file, and path
  * is not a directory.  Probes by creating and removing "<path>.tmp-<pid>" (the name the atomic
  * writers use), so nothing is left behind.  Errors: "<path>: cannot write: <reason>". */
 bool prw_check_writable(const char *path, bool create_parents, prw_error *e);
-/* The same for an output directory: created with its parents when create is true, then probed
- * with "<dir>/.prw-probe-<pid>". */
+/* The same for an output directory: an existing one is probed with "<dir>/.prw-probe-<pid>"; a
+ * missing one (with create: the command makes it and its parents later) needs a nearest existing
+ * ancestor that takes new entries.  Nothing is created. */
 bool prw_check_writable_dir(const char *dir, bool create, prw_error *e);
 /* Creates dir and its missing parents (mode 0755); existing ones are fine. */
 bool prw_mkdirs(const char *dir, prw_error *e);

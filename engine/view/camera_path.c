@@ -342,7 +342,8 @@ bool prw_camera_path_load(const char *path, prw_camera_path *out, prw_error *e)
     prw_camera_path_init(out, 0);
     char *text = NULL;
     size_t size = 0;
-    if (!prw_read_file(path, &text, &size, e)) return false;
+    /* no fixed limit (10^6 keyframes are allowed): the JSON tree must fit the memory budget */
+    if (!prw_read_file_bounded(path, 0, PRW_JSON_MEMORY_PER_BYTE, "a camera path", &text, &size, e)) return false;
     bool ok = prw_camera_path_parse(text, size, path, out, e);
     free(text);
     return ok;

@@ -113,9 +113,14 @@ static void test_writable(void)
     CHECK(!prw_check_writable(dir, false, &e) && strstr(e.msg, "is a directory"));
     CHECK_OK(prw_check_writable(f, false, &e), &e); /* replacing an existing file is fine */
     CHECK(!prw_check_writable_dir(f, true, &e) && strstr(e.msg, "not a directory"));
+    before = count_entries(dir);
     snprintf(p, sizeof p, "%s/new/sub", dir);
     CHECK_OK(prw_check_writable_dir(p, true, &e), &e);
-    CHECK(count_entries(p) == 0);
+    CHECK(count_entries(dir) == before); /* nothing created */
+    CHECK_OK(prw_check_writable_dir(dir, false, &e), &e);
+    CHECK(count_entries(dir) == before);
+    snprintf(p, sizeof p, "%s/file/sub", dir);
+    CHECK(!prw_check_writable_dir(p, true, &e) && strstr(e.msg, "not a directory"));
     snprintf(p, sizeof p, "%s/absent", dir);
     CHECK(!prw_check_writable_dir(p, false, &e) && strstr(e.msg, "cannot write"));
 }
