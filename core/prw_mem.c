@@ -71,13 +71,20 @@ static uint64_t cgroup_room(void)
 uint64_t prw_mem_budget(void)
 {
     if (g_budget) return g_budget;
+    /* the files are read at most every 0.25 s: image allocations ask often */
+    static _Thread_local double t_last = -1;
+    static _Thread_local uint64_t last = 0;
+    double now = prw_now();
+    if (t_last >= 0 && now - t_last < 0.25) return last;
     uint64_t avail = meminfo("MemAvailable");
     if (!avail) {
         long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
         avail = pages > 0 && page > 0 ? prw_mul_sat((uint64_t)pages, (uint64_t)page) : UINT64_MAX;
     }
     uint64_t room = cgroup_room();
-    return avail < room ? avail : room;
+    last = avail < room ? avail : room;
+    t_last = now;
+    return last;
 }
 
 bool prw_mem_parse(const char *s, uint64_t *out, prw_error *e)

@@ -42,8 +42,9 @@ static void io_error_cb(exr_const_context_t ctxt, exr_result_t code, const char 
     exr_io *io = ud;
     if (io->msg[0]) return; /* keep the root cause */
     snprintf(io->msg, sizeof io->msg, "%s", msg ? msg : exr_get_default_error_message(code));
+    /* one clean line: the library quotes names read from the file, control bytes included */
     for (char *p = io->msg; *p; p++)
-        if (*p == '\n' || *p == '\r') *p = ' ';
+        if ((unsigned char)*p < 0x20 || *p == 0x7f) *p = '?';
 }
 
 static int64_t io_read(exr_const_context_t ctxt, void *ud, void *buffer, uint64_t sz, uint64_t offset,

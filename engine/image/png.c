@@ -30,6 +30,8 @@ static void on_error(png_structp png, png_const_charp msg)
 {
     png_state *s = png_get_error_ptr(png);
     snprintf(s->msg, sizeof s->msg, "%s", msg ? msg : "libpng error");
+    for (char *p = s->msg; *p; p++) /* one clean line, whatever the file's bytes */
+        if ((unsigned char)*p < 0x20 || *p == 0x7f) *p = '?';
     png_longjmp(png, 1);
 }
 
