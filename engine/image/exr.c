@@ -493,13 +493,17 @@ static bool read_image(exr_reader *r, const prw_exr_read_opts *opts, prw_error *
     for (int i = 0; cl && i < cl->num_channels; i++) {
         const exr_attr_chlist_entry_t *ch = &cl->entries[i];
         const char *n = ch->name.str ? ch->name.str : "";
+        char shown[40]; /* the name as quoted in messages: printable ASCII, the rest '?' */
+        size_t k = 0;
+        for (; n[k] && k + 1 < sizeof shown; k++) shown[k] = (n[k] >= 0x20 && n[k] < 0x7f) ? n[k] : '?';
+        shown[k] = '\0';
         size_t len = strlen(found);
-        if (len + 2 < sizeof found) snprintf(found + len, sizeof found - len, "%s%s", len ? "," : "", n);
+        if (len + 2 < sizeof found) snprintf(found + len, sizeof found - len, "%s%s", len ? "," : "", shown);
         for (int k = 0; k < 7; k++) {
             if (strcmp(n, wanted[k]) != 0) continue;
             has[k] = true;
             if (ch->x_sampling != 1 || ch->y_sampling != 1)
-                return prw_fail(e, "%s: channel %s: subsampled channels (%dx%d) are not supported", io->name, n,
+                return prw_fail(e, "%s: channel %s: subsampled channels (%dx%d) are not supported", io->name, shown,
                                 ch->x_sampling, ch->y_sampling);
         }
     }

@@ -103,8 +103,11 @@ bool prw_compare_read_ev100(const char *path, double *ev100, prw_error *e)
     char *end;
     errno = 0;
     double v = strtod(buf, &end);
-    if (errno || end == buf || *end != '\0' || !isfinite(v) || v < -40.0 || v > 60.0)
+    if (errno || end == buf || *end != '\0' || !isfinite(v) || v < -40.0 || v > 60.0) {
+        for (char *p = buf; *p; p++) /* quoted from the file: one clean line */
+            if ((unsigned char)*p < 0x20 || *p == 0x7f) *p = '?';
         return prw_fail(e, "%s: attribute prw:ev100: '%s' is not a number in -40..60", path, buf);
+    }
     *ev100 = v;
     return true;
 }
