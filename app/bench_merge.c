@@ -7,6 +7,7 @@
  * is recomputed from them: the merged files equal a single run's, timing columns aside.
  */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,16 +36,31 @@ static bool check_same(const bench_result *a, const bench_result *b, const char 
     return true;
 }
 
+/* "i/n" with 0 <= i < n <= 100000 (the limit of bench --shard, so the table of seen shards stays small). */
 static bool shard_of(const bench_result *r, const char *name, long *i, long *n, prw_error *e)
 {
     const char *s = bench_meta_get(&r->meta, "shard");
-    if (!s || sscanf(s, "%ld/%ld", i, n) != 2 || *n < 1 || *i < 0 || *i >= *n)
-        return prw_fail(e, "%s: no valid '# shard: i/n' line in frames.csv", name);
-    return true;
+    char *end = NULL;
+    if (s && *s >= '0' && *s <= '9') {
+        errno = 0;
+        *i = strtol(s, &end, 10);
+        if (!errno && *end == '/' && end[1] >= '0' && end[1] <= '9') {
+            const char *b = end + 1;
+            *n = strtol(b, &end, 10);
+            if (!errno && *end == '\0' && *n >= 1 && *i < *n) {
+                if (*n > 100000)
+                    return prw_fail(e, "%s: shard %ld/%ld: more than 100000 shards (the limit of bench --shard)", name,
+                                    *i, *n);
+                return true;
+            }
+        }
+    }
+    return prw_fail(e, "%s: no valid '# shard: i/n' line in frames.csv", name);
 }
 
 bool bench_merge_dirs(const char *const *dirs, int n, const char *out, prw_error *e)
 {
+    if (!prw_check_writable_dir(out, true, e)) return false; /* before reading the shards */
     bench_result *in = prw_calloc((size_t)n, sizeof *in);
     bench_result merged = {0};
     bool ok = true;
@@ -52,7 +68,7 @@ bool bench_merge_dirs(const char *const *dirs, int n, const char *out, prw_error
     bool *seen = NULL;
     for (int d = 0; ok && d < n; d++) {
         ok = bench_read_outputs(dirs[d], &in[d], e);
-        long si, sn;
+        long si = 0, sn = 0;
         if (ok) ok = shard_of(&in[d], dirs[d], &si, &sn, e);
         if (ok && d == 0) {
             total = sn;

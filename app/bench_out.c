@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "bench_internal.h"
 #include "prw_build_info.h"
@@ -417,16 +418,47 @@ static bool uint_field(const char *s, uint64_t *out)
     return *end == '\0';
 }
 
-/* Reads the '#' lines into meta/configs (frames.csv only) and the column header line. */
+static int cmp_key(const void *key, const void *elem)
+{
+    const bench_row *k = key, *r = elem;
+    if (k->config != r->config) return k->config < r->config ? -1 : 1;
+    return (k->frame > r->frame) - (k->frame < r->frame);
+}
+
+#define LINE_MAX_BYTES 65536
+/* Shortest line that adds to memory: a frames row ("0,0,,,,0,0,0,0,,,,,,,,\n", 23 bytes) or a
+ * "# config N: " line (12 bytes); the file's size bounds the rows and configurations it can hold. */
+#define MIN_LINE_BYTES 12
+
+/* Reads the '#' lines into meta/configs (frames.csv only) and the column header line.  Rows must
+ * come sorted by config then frame, as bench_write_outputs writes them (checked, so duplicates are
+ * found in one pass and passes.csv rows are matched by binary search). */
 static bool read_table(const char *path, bench_result *r, bool frames, prw_error *e)
 {
     FILE *f = fopen(path, "r");
     if (!f) return prw_fail(e, "%s: cannot open", path);
-    char *line = prw_malloc(65536);
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return prw_fail(e, "%s: cannot open: not a regular file", path);
+    }
+    uint64_t most = (uint64_t)st.st_size / MIN_LINE_BYTES + 1;
+    if (!prw_mem_check(prw_mul_sat(most, PRW_MAX(sizeof(bench_row), sizeof(bench_config))), path,
+                       "the rows this table can hold", e)) {
+        fclose(f);
+        return false;
+    }
+    char *line = prw_malloc(LINE_MAX_BYTES);
     bool ok = true, header = false;
     long lineno = 0;
-    while (ok && fgets(line, 65536, f)) {
+    while (ok && fgets(line, LINE_MAX_BYTES, f)) {
         lineno++;
+        size_t len = strlen(line);
+        if (len == LINE_MAX_BYTES - 1 && line[len - 1] != '\n') {
+            ok = prw_fail(e, "%s:%ld: line longer than %d bytes", path, lineno, LINE_MAX_BYTES - 2);
+            break;
+        }
+
         if (line[0] == '#') {
             if (!frames) continue;
             char *colon = strstr(line, ": ");
@@ -491,12 +523,24 @@ static bool read_table(const char *path, bench_result *r, bool frames, prw_error
                 ok = prw_fail(e, "%s:%ld: malformed row", path, lineno);
                 break;
             }
-            for (size_t i = 0; i < r->row_count; i++)
-                if (r->rows[i].config == cfg && r->rows[i].frame == frame)
+            if (r->row_count) {
+                const bench_row *last = &r->rows[r->row_count - 1];
+                bench_row key = {.config = (uint32_t)cfg, .frame = (uint32_t)frame};
+                int c = cmp_key(&key, last);
+                if (c == 0)
                     ok = prw_fail(e, "%s:%ld: config %llu frame %llu appears twice", path, lineno,
                                   (unsigned long long)cfg, (unsigned long long)frame);
+                else if (c < 0)
+                    ok = prw_fail(e, "%s:%ld: config %llu frame %llu out of order (rows are sorted by config, then frame)",
+                                  path, lineno, (unsigned long long)cfg, (unsigned long long)frame);
+            }
             if (!ok) break;
-            bench_row *w = bench_result_row(r, (uint32_t)cfg, (uint32_t)frame);
+            if (r->row_count == r->row_cap) {
+                r->row_cap = r->row_cap ? 2 * r->row_cap : 64;
+                r->rows = prw_realloc(r->rows, r->row_cap * sizeof *r->rows);
+            }
+            bench_row *w = &r->rows[r->row_count++];
+            bench_row_init(w, (uint32_t)cfg, (uint32_t)frame);
             w->t_s = v[0], w->frame_ms = v[1], w->cpu_ms = v[2];
             w->triangles = tri, w->draws = (uint32_t)draws, w->mem_used = mem, w->ref = ref != 0;
             w->err = (bench_err){v[3], v[4], v[5], v[6]};
@@ -506,9 +550,8 @@ static bool read_table(const char *path, bench_result *r, bool frames, prw_error
                 ok = prw_fail(e, "%s:%ld: %d fields, expected %u", path, lineno, n, r->pass_count + 2);
                 break;
             }
-            bench_row *w = NULL;
-            for (size_t i = 0; i < r->row_count && !w; i++)
-                if (r->rows[i].config == cfg && r->rows[i].frame == frame) w = &r->rows[i];
+            bench_row key = {.config = (uint32_t)cfg, .frame = (uint32_t)frame};
+            bench_row *w = r->row_count ? bsearch(&key, r->rows, r->row_count, sizeof *r->rows, cmp_key) : NULL;
             if (!w) {
                 ok = prw_fail(e, "%s:%ld: config %llu frame %llu is not in frames.csv", path, lineno,
                               (unsigned long long)cfg, (unsigned long long)frame);

@@ -34,7 +34,12 @@ extern char **environ;
 
 #define BENCH_REF_KEY_VERSION "prw-bench-ref-key 1"
 
-bool bench_mkdirs(const char *dir, prw_error *e) { return prw_mkdirs(dir, e); }
+/* The output directory is made and probed before any work, so an unwritable --out is reported
+ * first, not after the references and the timed runs. */
+bool bench_mkdirs(const char *dir, prw_error *e)
+{
+    return prw_check_writable_dir(dir, true, e) && prw_mkdirs(dir, e) && prw_check_writable_dir(dir, false, e);
+}
 
 bool bench_cache_dir(char *buf, size_t cap, prw_error *e)
 {

@@ -87,6 +87,11 @@ int prw_cmd_bake(int argc, char **argv)
         return 2;
     }
     const char *path = a.positional[0];
+    if (out && !prw_check_writable(out, false, &e)) { /* before the bake, which can take minutes */
+        fprintf(stderr, "prw bake: error: %s\n", e.msg);
+        prw_args_free(&a);
+        return 1;
+    }
     prw_baked_lod *b;
     prw_bake_result r;
     if (!prw_bake_run(path, &o, no_cache, &b, &r, progress, NULL, &e)) {

@@ -25,7 +25,8 @@ static void bench_usage(void)
     prw_quality_describe(knobs, sizeof knobs);
     printf("usage: prw bench [SCENE] [PATH.json | --path demo] [options]\n"
            "  SCENE                  manifest (.json), a model (.gltf, .glb, .igs, .iges) or 'demo' (default)\n"
-           "  PATH.json, --path P    camera path file, or 'demo': the built-in 60-frame demo walk (default)\n"
+           "  PATH.json, --path P    camera path file, or 'demo': the built-in 60-frame demo walk (default);\n"
+           "                         a file with the \"prw_camera_path\" key is a path also alone or before SCENE\n"
            "  --preset NAME          low | medium | high | ultra (default high), optionally followed by\n"
            "                         knobs: \"high;tonemap=selective\"\n"
            "  --sweep SPEC           knob ranges over the preset, e.g. \"msaa=1,4;shadow_size=512,1024,2048\"\n"
@@ -116,13 +117,21 @@ static bool parse_options(prw_args *a, bench_opts *o, prw_error *e)
         return false;
     if ((v = prw_args_value(a, "shard", e, &bad)) && !parse_shard(v, &o->shard_i, &o->shard_n, e)) return false;
     if (bad || !prw_args_finish(a, e)) return false;
-    /* positionals: [SCENE] [PATH.json] */
+    /* positionals: [SCENE] [PATH.json]; a camera path (recognised by its "prw_camera_path" key) may
+     * also come alone (the demo scene) or first */
     int np = a->positional_count;
     if (np > 2) return prw_fail(e, "bench takes [SCENE] [PATH.json], got %d arguments", np);
-    if (np >= 1) o->scene_path = a->positional[0];
-    if (np == 2) {
+    const char *p0 = np >= 1 ? a->positional[0] : NULL, *p1 = np == 2 ? a->positional[1] : NULL;
+    if (p0 && prw_camera_path_sniff(p0)) {
+        if (p1 && prw_camera_path_sniff(p1))
+            return prw_fail(e, "%s and %s are both camera paths: bench takes [SCENE] [PATH.json]", p0, p1);
+        const char *t = p0;
+        p0 = p1, p1 = t;
+    }
+    o->scene_path = p0;
+    if (p1) {
         if (o->path_spec) return prw_fail(e, "give the camera path either as an argument or with --path, not both");
-        o->path_spec = a->positional[1];
+        o->path_spec = p1;
     }
     if (!o->path_spec) o->path_spec = "demo";
     if (o->views > 2) return prw_fail(e, "--views %ld: 1 (mono) or 2 (the stereo benchmark)", o->views);

@@ -1,7 +1,12 @@
 /* prw compare — how far a test image is from a reference, next to the reference's own noise.
  *
- * Metrics (engine/metrics): RMSE, relMSE, PSNR on linear RGB; SSIM and LDR-FLIP on the frozen
- * metric tone map; HDR-FLIP on linear RGB with its own exposure bracket.  With --ref2 (a second
+ * EXR pairs (linear radiance; engine/metrics): RMSE, relMSE, PSNR on linear RGB; SSIM and LDR-FLIP
+ * on the frozen metric tone map, whose exposure is --ev100, else REF's prw:ev100 attribute, else
+ * derived from REF (prw_compare_derive_ev100: its log-average luminance to middle grey; printed so
+ * that --ev100 reproduces the figures); HDR-FLIP on linear RGB with its own exposure bracket.
+ * PNG pairs (display values, e.g. from another renderer or a screenshot): LDR-FLIP on the sRGB-
+ * decoded display values as the FLIP tool does, the other metrics as prw_compare_images_ldr says.
+ * The kind is taken from the files' signatures; an EXR and a PNG are not compared.  With --ref2 (a second
  * reference rendered with another seed) each metric is also computed between the two references,
  * and an error below twice that reads "below reference noise".
  * Exit codes: 0 ok, 1 bad input (unreadable file, NaN/Inf pixels, size mismatch, failed write),
@@ -24,16 +29,21 @@ int prw_cmd_compare(int argc, char **argv);
 static void compare_usage(void)
 {
     printf("usage: prw compare REF TEST [options]\n"
-           "  REF, TEST          EXR images (linear Rec.709, cd/m^2) of the same size; REF is the reference\n"
+           "  REF, TEST          two EXR images (linear Rec.709, cd/m^2) or two PNG images (sRGB display\n"
+           "                     values) of the same size; REF is the reference\n"
            "  --ref2 REF_B       a second reference rendered with another seed: the metrics between REF\n"
            "                     and REF_B are the reference noise, printed beside each error\n"
            "  --heatmap FILE     write the HDR-FLIP error map as a magma-coloured PNG\n"
            "  --json             print one JSON object instead of text\n"
            "  --ppd N            FLIP viewing condition in pixels per degree (default %g)\n"
-           "  --ev100 X          exposure of the metric tone map (default: REF's prw:ev100 attribute)\n"
-           "  --peak P           PSNR peak (default: REF's largest R/G/B value)\n"
-           "metrics: RMSE, relMSE (eps %g) and PSNR on linear RGB; SSIM and LDR-FLIP on the metric tone\n"
-           "map v%d (1.2*2^EV100 cd/m^2 -> 1, sRGB OETF, clamp); HDR-FLIP on linear RGB.\n",
+           "  --ev100 X          EXR: exposure of the metric tone map (default: REF's prw:ev100 attribute,\n"
+           "                     else derived from REF: the EV100 that maps its log-average luminance to\n"
+           "                     middle grey 0.18, printed so that --ev100 reproduces the figures)\n"
+           "  --peak P           PSNR peak (default: REF's largest R/G/B value; PNG: 1)\n"
+           "metrics (EXR): RMSE, relMSE (eps %g) and PSNR on linear RGB; SSIM and LDR-FLIP on the metric\n"
+           "tone map v%d (1.2*2^EV100 cd/m^2 -> 1, sRGB OETF, clamp); HDR-FLIP on linear RGB.\n"
+           "metrics (PNG): LDR-FLIP on the display values decoded with the sRGB EOTF (as the FLIP tool);\n"
+           "RMSE, relMSE, PSNR on those linear display values; SSIM on the encoded luma; no HDR-FLIP.\n",
            PRW_FLIP_DEFAULT_PPD, PRW_RELMSE_EPSILON, PRW_METRIC_TONEMAP_VERSION);
 }
 
@@ -42,6 +52,10 @@ typedef struct compare_job {
     bool json, has_ev, has_peak;
     double ppd, ev100, peak;
     const char *ev_source;
+    prw_compare_kind kind;
+    bool ev_derived;
+    double log_avg;     /* REF's log-average luminance when the exposure is derived */
+    char ev_text[320];  /* ev_source when derived */
 } compare_job;
 
 /* ---- text ------------------------------------------------------------------------------- */
@@ -81,15 +95,25 @@ static void print_text(const compare_job *job, int w, int h, const prw_compare_m
     bool hn = noise != NULL;
     prw_compare_verdicts v = {0};
     if (hn) prw_compare_verdict(m, noise, &v);
+    bool png = job->kind == PRW_COMPARE_PNG;
     printf("reference  %s (%dx%d)\n", job->ref, w, h);
     printf("test       %s\n", job->test);
     if (hn) printf("reference noise: %s vs %s\n", job->ref2, job->ref);
     else printf("reference noise: unknown (pass --ref2)\n");
-    printf("metric tone map v%d: EV100 %.4f (%s), %.6g cd/m^2 -> 1.0, sRGB OETF, clamp to [0,1]\n",
-           PRW_METRIC_TONEMAP_VERSION, job->ev100, job->ev_source, 1.0 / prw_metric_tonemap_scale(job->ev100));
-    printf("PSNR peak: %.6g (%s)\n", m->basic.peak, job->has_peak ? "--peak" : "reference's largest R/G/B value");
-    printf("FLIP: %g pixels per degree; HDR-FLIP tone mapper %s, exposures %.4f to %.4f stops, %d exposures\n",
-           job->ppd, PRW_HDRFLIP_TONEMAPPER, x->start, x->stop, x->count);
+    if (png) {
+        printf("inputs: PNG display values (8-bit sRGB codes decoded with the sRGB EOTF to linear display values in [0, 1])\n");
+        printf("computed on: LDR-FLIP on the linear display values (as the FLIP tool does for LDR images); RMSE, relMSE,\n"
+               "  PSNR on the linear display values; SSIM on the luma of the encoded values; HDR-FLIP: not computed\n"
+               "  (display values have no HDR range)\n");
+        printf("PSNR peak: %.6g (%s)\n", m->basic.peak, job->has_peak ? "--peak" : "the display range");
+        printf("FLIP: %g pixels per degree\n", job->ppd);
+    } else {
+        printf("metric tone map v%d: EV100 %.4f (%s), %.6g cd/m^2 -> 1.0, sRGB OETF, clamp to [0,1]\n",
+               PRW_METRIC_TONEMAP_VERSION, job->ev100, job->ev_source, 1.0 / prw_metric_tonemap_scale(job->ev100));
+        printf("PSNR peak: %.6g (%s)\n", m->basic.peak, job->has_peak ? "--peak" : "reference's largest R/G/B value");
+        printf("FLIP: %g pixels per degree; HDR-FLIP tone mapper %s, exposures %.4f to %.4f stops, %d exposures\n",
+               job->ppd, PRW_HDRFLIP_TONEMAPPER, x->start, x->stop, x->count);
+    }
     printf("\n");
     if (hn) printf("  %-22s %14s %16s   %s\n", "metric", "error", "reference noise", "verdict");
     else printf("  %-22s %14s\n", "metric", "error");
@@ -107,19 +131,24 @@ static void print_text(const compare_job *job, int w, int h, const prw_compare_m
     print_row("SSIM", a, b, hn, v.ssim, NV(ratio(1.0 - m->ssim, 1.0 - n->ssim)));
     snprintf(a, sizeof a, "%.6f", m->ldr_flip.mean), snprintf(b, sizeof b, "%.6f", NV(n->ldr_flip.mean));
     print_row("LDR-FLIP (mean)", a, b, hn, v.ldr_flip, NV(ratio(m->ldr_flip.mean, n->ldr_flip.mean)));
-    snprintf(a, sizeof a, "%.6f", m->hdr_flip.mean), snprintf(b, sizeof b, "%.6f", NV(n->hdr_flip.mean));
-    print_row("HDR-FLIP (mean)", a, b, hn, v.hdr_flip, NV(ratio(m->hdr_flip.mean, n->hdr_flip.mean)));
+    if (png) {
+        printf("  %-22s %14s\n", "HDR-FLIP (mean)", "n/a");
+    } else {
+        snprintf(a, sizeof a, "%.6f", m->hdr_flip.mean), snprintf(b, sizeof b, "%.6f", NV(n->hdr_flip.mean));
+        print_row("HDR-FLIP (mean)", a, b, hn, v.hdr_flip, NV(ratio(m->hdr_flip.mean, n->hdr_flip.mean)));
+    }
 #undef NV
     printf("\nFLIP error distribution (weighted = each pixel weighted by its error, %d-bin histogram):\n",
            PRW_FLIP_HIST_BINS);
     print_stats("LDR-FLIP", &m->ldr_flip);
-    print_stats("HDR-FLIP", &m->hdr_flip);
+    if (!png) print_stats("HDR-FLIP", &m->hdr_flip);
     if (hn) {
         print_stats("LDR-FLIP noise", &n->ldr_flip);
-        print_stats("HDR-FLIP noise", &n->hdr_flip);
+        if (!png) print_stats("HDR-FLIP noise", &n->hdr_flip);
     }
     printf("versions: metrics %d, metric tone map %d\n", PRW_METRICS_VERSION, PRW_METRIC_TONEMAP_VERSION);
-    if (job->heatmap) printf("wrote %s (HDR-FLIP error, magma, 0 = black .. 1 = pale yellow)\n", job->heatmap);
+    if (job->heatmap)
+        printf("wrote %s (%s error, magma, 0 = black .. 1 = pale yellow)\n", job->heatmap, png ? "LDR-FLIP" : "HDR-FLIP");
 }
 
 /* ---- JSON ------------------------------------------------------------------------------- */
@@ -133,6 +162,7 @@ static void json_psnr(cJSON *o, const char *key, double psnr)
 
 static cJSON *json_stats(const prw_flip_stats *s)
 {
+    if (isnan(s->mean)) return cJSON_CreateNull(); /* not computed (HDR-FLIP of PNGs) */
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "mean", s->mean);
     cJSON_AddNumberToObject(o, "weighted_median", s->weighted_median);
@@ -162,25 +192,37 @@ static void print_json(const compare_job *job, int w, int h, const prw_compare_m
     cJSON_AddNumberToObject(root, "metrics_version", PRW_METRICS_VERSION);
     cJSON_AddStringToObject(root, "reference", job->ref);
     cJSON_AddStringToObject(root, "test", job->test);
+    bool png = job->kind == PRW_COMPARE_PNG;
+    cJSON_AddStringToObject(root, "inputs", png ? "png: sRGB display values, decoded to linear display values"
+                                                : "exr: linear radiance");
     if (job->ref2) cJSON_AddStringToObject(root, "ref2", job->ref2);
     else cJSON_AddNullToObject(root, "ref2");
     cJSON_AddNumberToObject(root, "width", w);
     cJSON_AddNumberToObject(root, "height", h);
-    cJSON *tm = cJSON_AddObjectToObject(root, "metric_tonemap");
-    cJSON_AddNumberToObject(tm, "version", PRW_METRIC_TONEMAP_VERSION);
-    cJSON_AddNumberToObject(tm, "ev100", job->ev100);
-    cJSON_AddStringToObject(tm, "ev100_source", job->ev_source);
-    cJSON_AddNumberToObject(tm, "white_cd_m2", 1.0 / prw_metric_tonemap_scale(job->ev100));
+    if (png) {
+        cJSON_AddNullToObject(root, "metric_tonemap");
+    } else {
+        cJSON *tm = cJSON_AddObjectToObject(root, "metric_tonemap");
+        cJSON_AddNumberToObject(tm, "version", PRW_METRIC_TONEMAP_VERSION);
+        cJSON_AddNumberToObject(tm, "ev100", job->ev100);
+        cJSON_AddStringToObject(tm, "ev100_source", job->ev_source);
+        if (job->ev_derived) cJSON_AddNumberToObject(tm, "reference_log_average_cd_m2", job->log_avg);
+        cJSON_AddNumberToObject(tm, "white_cd_m2", 1.0 / prw_metric_tonemap_scale(job->ev100));
+    }
     cJSON *ps = cJSON_AddObjectToObject(root, "psnr_peak");
     cJSON_AddNumberToObject(ps, "value", m->basic.peak);
-    cJSON_AddStringToObject(ps, "source", job->has_peak ? "--peak" : "reference max R/G/B");
+    cJSON_AddStringToObject(ps, "source", job->has_peak ? "--peak" : png ? "display range" : "reference max R/G/B");
     cJSON_AddNumberToObject(root, "relmse_epsilon", PRW_RELMSE_EPSILON);
     cJSON_AddNumberToObject(root, "ppd", job->ppd);
-    cJSON *hf = cJSON_AddObjectToObject(root, "hdr_flip_exposures");
-    cJSON_AddStringToObject(hf, "tone_mapper", PRW_HDRFLIP_TONEMAPPER);
-    cJSON_AddNumberToObject(hf, "start", x->start);
-    cJSON_AddNumberToObject(hf, "stop", x->stop);
-    cJSON_AddNumberToObject(hf, "count", x->count);
+    if (png) {
+        cJSON_AddNullToObject(root, "hdr_flip_exposures");
+    } else {
+        cJSON *hf = cJSON_AddObjectToObject(root, "hdr_flip_exposures");
+        cJSON_AddStringToObject(hf, "tone_mapper", PRW_HDRFLIP_TONEMAPPER);
+        cJSON_AddNumberToObject(hf, "start", x->start);
+        cJSON_AddNumberToObject(hf, "stop", x->stop);
+        cJSON_AddNumberToObject(hf, "count", x->count);
+    }
     cJSON_AddStringToObject(root, "weighted_quantiles", "error-weighted histogram, 1000 bins on [0,1]");
     cJSON_AddItemToObject(root, "error", json_metrics(m));
     if (noise) {
@@ -193,7 +235,8 @@ static void print_json(const compare_job *job, int w, int h, const prw_compare_m
         cJSON_AddBoolToObject(b, "psnr", v.psnr);
         cJSON_AddBoolToObject(b, "ssim", v.ssim);
         cJSON_AddBoolToObject(b, "ldr_flip", v.ldr_flip);
-        cJSON_AddBoolToObject(b, "hdr_flip", v.hdr_flip);
+        if (png) cJSON_AddNullToObject(b, "hdr_flip");
+        else cJSON_AddBoolToObject(b, "hdr_flip", v.hdr_flip);
     } else {
         cJSON_AddNullToObject(root, "reference_noise");
         cJSON_AddNullToObject(root, "below_reference_noise");
@@ -208,6 +251,43 @@ static void print_json(const compare_job *job, int w, int h, const prw_compare_m
 
 /* ---- run -------------------------------------------------------------------------------- */
 
+static const char *kind_name(prw_compare_kind k) { return k == PRW_COMPARE_PNG ? "a PNG" : "an OpenEXR"; }
+
+/* The same kind as REF (two EXRs or two PNGs). */
+static bool same_kind(const char *path, prw_compare_kind k, const compare_job *job, prw_error *e)
+{
+    prw_compare_kind o;
+    if (!prw_compare_sniff(path, &o, e)) return false;
+    if (o != k)
+        return prw_fail(e, "%s: %s file, but REF %s is %s file: compare two EXRs (linear radiance) or two PNGs (display values)",
+                        path, kind_name(o), job->ref, kind_name(k));
+    return true;
+}
+
+static bool load(const compare_job *job, const char *path, prw_image *out, prw_error *e)
+{
+    return job->kind == PRW_COMPARE_PNG ? prw_compare_load_png(path, out, e) : prw_compare_load(path, out, e);
+}
+
+/* EXR: --ev100, else REF's prw:ev100, else derived from REF. */
+static bool exposure(compare_job *job, const prw_image *ref, prw_error *e)
+{
+    if (job->has_ev) return true;
+    if (prw_compare_read_ev100(job->ref, &job->ev100, e)) {
+        job->ev_source = "prw:ev100 of REF";
+        return true;
+    }
+    if (e->msg[0]) return false; /* present but unreadable */
+    job->ev100 = prw_compare_derive_ev100(ref, &job->log_avg);
+    job->ev_derived = true;
+    snprintf(job->ev_text, sizeof job->ev_text,
+             "derived: REF has no prw:ev100; its log-average luminance %.6g cd/m^2 maps to middle grey %.2f; "
+             "--ev100 %.4f reproduces these figures",
+             job->log_avg, PRW_COMPARE_EV_KEY, job->ev100);
+    job->ev_source = job->ev_text;
+    return true;
+}
+
 /* Returns the exit code; prints the one error line itself. */
 static int compare_run(compare_job *job)
 {
@@ -215,29 +295,33 @@ static int compare_run(compare_job *job)
     prw_image ref = {0}, test = {0}, ref2 = {0};
     float *map = NULL;
     int rc = 1;
-    if (!prw_compare_load(job->ref, &ref, &e) || !prw_compare_load(job->test, &test, &e)) goto done;
-    if (job->ref2 && !prw_compare_load(job->ref2, &ref2, &e)) goto done;
+    if (job->heatmap && !prw_check_writable(job->heatmap, false, &e)) goto done; /* before any work */
+    if (!prw_compare_sniff(job->ref, &job->kind, &e) || !same_kind(job->test, job->kind, job, &e) ||
+        (job->ref2 && !same_kind(job->ref2, job->kind, job, &e)))
+        goto done;
+    bool png = job->kind == PRW_COMPARE_PNG;
+    if (png && job->has_ev) {
+        prw_fail(&e, "--ev100: PNG inputs are display values; the metric tone map applies to EXR inputs only");
+        rc = 2;
+        goto done;
+    }
+    if (!load(job, job->ref, &ref, &e) || !load(job, job->test, &test, &e)) goto done;
+    if (job->ref2 && !load(job, job->ref2, &ref2, &e)) goto done;
     if (!prw_compare_check_sizes(&test, &ref, job->test, job->ref, &e)) goto done;
     if (job->ref2 && !prw_compare_check_sizes(&ref2, &ref, job->ref2, job->ref, &e)) goto done;
-    if (!job->has_ev) {
-        if (!prw_compare_read_ev100(job->ref, &job->ev100, &e)) {
-            if (!e.msg[0]) {
-                prw_fail(&e, "%s: attribute prw:ev100: absent; pass --ev100 X for the metric tone map", job->ref);
-                rc = 2;
-            }
-            goto done;
-        }
-        job->ev_source = "prw:ev100 of REF";
-    }
+    if (!png && !exposure(job, &ref, &e)) goto done;
     prw_compare_opts o = {.ppd = job->ppd, .ev100 = job->ev100, .peak = job->has_peak ? job->peak : 0.0};
     prw_compare_metrics m, noise;
-    prw_flip_exposures x;
+    prw_flip_exposures x = {0};
     map = prw_malloc((size_t)ref.width * (size_t)ref.height * sizeof(float));
-    if (!prw_compare_images(&test, &ref, &o, &m, map, &x, &e)) {
+    bool ok = png ? prw_compare_images_ldr(&test, &ref, &o, &m, map, &e) : prw_compare_images(&test, &ref, &o, &m, map, &x, &e);
+    if (!ok) {
         prw_fail_wrap(&e, "%s", job->test);
         goto done;
     }
-    if (job->ref2 && !prw_compare_images(&ref2, &ref, &o, &noise, NULL, NULL, &e)) {
+    ok = !job->ref2 || (png ? prw_compare_images_ldr(&ref2, &ref, &o, &noise, NULL, &e)
+                            : prw_compare_images(&ref2, &ref, &o, &noise, NULL, NULL, &e));
+    if (!ok) {
         prw_fail_wrap(&e, "%s", job->ref2);
         goto done;
     }

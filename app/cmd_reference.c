@@ -47,7 +47,17 @@ static void ensure_parent_dir(const char *path)
     if (n >= sizeof dir) return;
     memcpy(dir, path, n);
     dir[n] = '\0';
-    mkdir(dir, 0755);
+    prw_error ignored; /* a failure surfaces at the write */
+    prw_mkdirs(dir, &ignored);
+}
+
+/* Before any work: the outputs can be written (EXR, its variance twin, the accumulation). */
+static bool outputs_writable(const char *exr, const char *acc, prw_error *e)
+{
+    char vp[2048];
+    if (exr) prw_ref_var_path(exr, vp, sizeof vp);
+    return (!exr || (prw_check_writable(exr, true, e) && prw_check_writable(vp, true, e))) &&
+           (!acc || prw_check_writable(acc, true, e));
 }
 
 static void progress_cb(void *user, const prw_ref_progress *p)
@@ -153,6 +163,15 @@ int prw_cmd_reference(int argc, char **argv)
     }
     if (!out && !acc_path) out = "prw-out/reference.exr";
     const char *scene_path = a.positional_count ? a.positional[0] : NULL;
+    uint64_t tile_px = whole ? (uint64_t)width * height : (uint64_t)(tile[2] - tile[0]) * (tile[3] - tile[1]);
+    char who[64];
+    snprintf(who, sizeof who, "--size %ux%u", width, height);
+    if (!prw_mem_check(prw_ref_memory_bytes(width, height, tile_px, out != NULL), who, "the reference", &e) ||
+        !outputs_writable(out, acc_path, &e)) {
+        fprintf(stderr, "prw reference: error: %s\n", e.msg);
+        prw_args_free(&a);
+        return 1;
+    }
 
     int rc = 1;
     prw_scene *scene = NULL;
@@ -226,6 +245,11 @@ int prw_cmd_reference_merge(int argc, char **argv)
         fprintf(stderr, "prw reference-merge: error: %s\n", e.msg);
         prw_args_free(&a);
         return 2;
+    }
+    if (!outputs_writable(out, acc_out, &e)) {
+        fprintf(stderr, "prw reference-merge: error: %s\n", e.msg);
+        prw_args_free(&a);
+        return 1;
     }
     int n = a.positional_count, rc = 1, loaded = 0;
     prw_ref_acc *accs = prw_calloc((size_t)n, sizeof *accs);

@@ -141,7 +141,8 @@ static void ensure_parent_dir(const char *path)
     if (n >= sizeof dir) return;
     memcpy(dir, path, n);
     dir[n] = '\0';
-    mkdir(dir, 0755); /* one level: prw-out/ and the like; errors surface at the write */
+    prw_error ignored; /* errors surface at the write */
+    prw_mkdirs(dir, &ignored);
 }
 
 /* Renders and writes the files; prints paths and the frame time. */
@@ -155,6 +156,10 @@ static int prw_render_job_run(const render_job *job)
     uint8_t *ldr = NULL;
     double *times = NULL;
     int rc = 1;
+    /* before any work: every output can be written */
+    if (!prw_check_writable(job->out, true, &e) || !prw_check_writable(job->png, true, &e) ||
+        (job->display_exr && !prw_check_writable(job->display_exr, true, &e)))
+        goto done;
     if (!prw_app_load_scene(job->scene_path, &scene, &e)) goto done;
     int cam = prw_scene_find_camera(scene, job->camera);
     if (cam < 0) {

@@ -169,7 +169,8 @@ static bool ensure_dir(const char *dir, prw_error *e)
 {
     struct stat st;
     if (stat(dir, &st) == 0) return S_ISDIR(st.st_mode) ? true : prw_fail(e, "--shot-dir %s: not a directory", dir);
-    if (mkdir(dir, 0755) != 0) return prw_fail(e, "--shot-dir %s: cannot create it", dir);
+    prw_error me;
+    if (!prw_mkdirs(dir, &me)) return prw_fail(e, "--shot-dir %s: cannot create it (%s)", dir, me.msg);
     return true;
 }
 
@@ -275,7 +276,9 @@ static int walk_run(const walk_opts *o)
     walk_hud *hud = NULL;
     prw_walk_sim sim;
 
-    /* inputs first: a bad script or path fails before any window opens */
+    /* outputs and inputs first: an unwritable output, a bad script or path fails before any window opens */
+    if (!prw_check_writable_dir(o->shot_dir, true, &e) || (o->record && !prw_check_writable(o->record, false, &e)))
+        goto done;
     if (o->script) {
         if (!walk_script_load(o->script, &c.script, &e)) goto done;
         c.have_script = true;

@@ -36,6 +36,8 @@ static void usage(FILE *f)
             "  --device D       Vulkan device index or name substring (also PRW_DEVICE)\n"
             "  --validation     enable the Vulkan validation layer (also PRW_VALIDATION=1)\n"
             "  --log-level L    error | warn | info | debug (default info)\n"
+            "  --max-memory B   memory budget for inputs and image sizes, e.g. 4G (default: the available\n"
+            "                   memory); larger inputs are refused before anything is allocated\n"
             "  --version        print the version, git hash and Vulkan driver\n"
             "  --help           this text\n");
 }
@@ -69,7 +71,8 @@ int main(int argc, char **argv)
             return print_version();
         } else if (strcmp(a, "--validation") == 0) {
             g_prw_opts.validation = true;
-        } else if (strcmp(a, "--threads") == 0 || strcmp(a, "--device") == 0 || strcmp(a, "--log-level") == 0) {
+        } else if (strcmp(a, "--threads") == 0 || strcmp(a, "--device") == 0 || strcmp(a, "--log-level") == 0 ||
+                   strcmp(a, "--max-memory") == 0) {
             if (!next) {
                 fprintf(stderr, "prw: error: %s needs a value\n", a);
                 return 2;
@@ -84,6 +87,13 @@ int main(int argc, char **argv)
                 g_prw_opts.threads = (int)n;
             } else if (strcmp(a, "--device") == 0) {
                 g_prw_opts.device = next;
+            } else if (strcmp(a, "--max-memory") == 0) {
+                uint64_t b;
+                if (!prw_mem_parse(next, &b, &e)) {
+                    fprintf(stderr, "prw: error: %s\n", e.msg);
+                    return 2;
+                }
+                prw_mem_set_budget(b);
             } else {
                 prw_log_level lvl;
                 if (!prw_log_parse_level(next, &lvl)) {

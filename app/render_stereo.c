@@ -24,7 +24,19 @@ static void parent_dir(const char *path)
     if (n >= sizeof dir) return;
     memcpy(dir, path, n);
     dir[n] = '\0';
-    mkdir(dir, 0755);
+    prw_error ignored; /* a failure surfaces at the write */
+    prw_mkdirs(dir, &ignored);
+}
+
+/* FILE.exr -> FILE-left.exr, FILE-right.exr, FILE-composed.exr, FILE-composed.png */
+static void stereo_paths(const char *out, char paths[4][1100])
+{
+    char base[1024];
+    snprintf(base, sizeof base, "%s", out);
+    size_t n = strlen(base);
+    if (n > 4 && strcmp(base + n - 4, ".exr") == 0) base[n - 4] = '\0';
+    static const char *const suffix[4] = {"-left.exr", "-right.exr", "-composed.exr", "-composed.png"};
+    for (int i = 0; i < 4; i++) snprintf(paths[i], sizeof paths[i], "%s%s", base, suffix[i]);
 }
 
 static void quantise(const prw_image *sig, uint8_t *out)
@@ -60,6 +72,9 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     char paths[4][1100];
     prw_hmd hmd;
     prw_stereo_setup st;
+    stereo_paths(job->out, paths);
+    for (int i = 0; i < 4; i++) /* before any work */
+        if (!prw_check_writable(paths[i], true, &e)) goto done;
     if (job->hmd && !prw_hmd_resolve(job->hmd, &hmd, &e)) goto done;
     if (!prw_app_load_scene(job->scene_path, &scene, &e)) goto done;
     int cam = prw_scene_find_camera(scene, job->camera);
@@ -116,13 +131,6 @@ int prw_stereo_job_run(const prw_stereo_job *job)
         prw_fail(&e, "%u Vulkan validation messages (see above)", prw_gpu_validation_count(gpu));
         goto done;
     }
-    /* outputs: FILE.exr -> FILE-left.exr, FILE-right.exr, FILE-composed.exr, FILE-composed.png */
-    char base[1024];
-    snprintf(base, sizeof base, "%s", job->out);
-    size_t n = strlen(base);
-    if (n > 4 && strcmp(base + n - 4, ".exr") == 0) base[n - 4] = '\0';
-    static const char *const suffix[4] = {"-left.exr", "-right.exr", "-composed.exr", "-composed.png"};
-    for (int i = 0; i < 4; i++) snprintf(paths[i], sizeof paths[i], "%s%s", base, suffix[i]);
     parent_dir(paths[0]);
     char ev[32], ipd[32], mode[160];
     snprintf(ev, sizeof ev, "%.4f", centre.ev100);

@@ -2,6 +2,7 @@
 #include "prw_core.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -145,6 +146,165 @@ bool prw_read_file(const char *path, char **data, size_t *size, prw_error *e)
     buf[n] = '\0';
     *data = buf;
     *size = n;
+    return true;
+}
+
+bool prw_read_file_bounded(const char *path, uint64_t max_bytes, uint64_t expansion, const char *what, char **data,
+                           size_t *size, prw_error *e)
+{
+    *data = NULL;
+    *size = 0;
+    if (expansion < 1) expansion = 1;
+    uint64_t cap = prw_mem_budget() / expansion;
+    if (max_bytes && max_bytes < cap) cap = max_bytes;
+    FILE *f = fopen(path, "rb");
+    if (!f) return prw_fail(e, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0) {
+        int err = errno;
+        fclose(f);
+        return prw_fail(e, "%s: cannot stat: %s", path, strerror(err));
+    }
+    if (S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return prw_fail(e, "%s: cannot open: is a directory", path);
+    }
+    /* regular files are judged by their size; pipes and the like by what they deliver */
+    uint64_t known = S_ISREG(st.st_mode) ? (uint64_t)st.st_size : 0;
+    bool too_big = known > cap;
+    size_t n = 0, alloc = (size_t)PRW_MIN(known ? known + 1 : (uint64_t)1 << 16, cap + 1);
+    char *buf = too_big ? NULL : prw_malloc(alloc + 1);
+    while (!too_big) {
+        if (n == alloc) {
+            if (alloc > cap) { /* more than the limit arrived */
+                too_big = true;
+                break;
+            }
+            alloc = (size_t)PRW_MIN((uint64_t)alloc * 2, cap + 1);
+            buf = prw_realloc(buf, alloc + 1);
+        }
+        size_t got = fread(buf + n, 1, alloc - n, f);
+        n += got;
+        if (got == 0) {
+            if (ferror(f)) {
+                int err = errno;
+                fclose(f);
+                free(buf);
+                return prw_fail(e, "%s: read error: %s", path, strerror(err));
+            }
+            break;
+        }
+    }
+    if (n > cap) too_big = true;
+    fclose(f);
+    if (too_big) {
+        free(buf);
+        char have[32];
+        if (max_bytes && cap == max_bytes) {
+            if (known) return prw_fail(e, "%s: file of %llu bytes exceeds the limit of %llu bytes for %s", path,
+                                       (unsigned long long)known, (unsigned long long)max_bytes, what);
+            return prw_fail(e, "%s: more than the limit of %llu bytes for %s", path, (unsigned long long)max_bytes, what);
+        }
+        prw_mem_format(prw_mem_budget(), have, sizeof have);
+        return prw_fail(e, "%s: %s of %llu bytes needs up to %llu times its size in memory, more than the memory budget "
+                           "of %s (%s)",
+                        path, what, (unsigned long long)(known ? known : n), (unsigned long long)expansion, have,
+                        strcmp(prw_mem_budget_source(), "--max-memory") == 0 ? "set by --max-memory"
+                                                                               : "available memory; see --max-memory");
+    }
+    buf[n] = '\0';
+    *data = buf;
+    *size = n;
+    return true;
+}
+
+/* dir part of path ("." when there is none) */
+static void dir_of(const char *path, char *dir, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, cap, ".");
+    else if (slash == path) snprintf(dir, cap, "/");
+    else snprintf(dir, cap, "%.*s", (int)(slash - path), path);
+}
+
+/* Creates and removes probe (O_EXCL: never touches an existing file). */
+static bool probe_create(const char *probe, int *err)
+{
+    int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        *err = errno;
+        return false;
+    }
+    close(fd);
+    unlink(probe);
+    return true;
+}
+
+/* dir does not exist: the nearest existing ancestor must be a directory that takes new entries
+ * (the command creates the missing levels). */
+static bool ancestor_ok(const char *who, const char *dir, prw_error *e)
+{
+    char up[4096];
+    struct stat st;
+    snprintf(up, sizeof up, "%s", dir);
+    for (;;) {
+        char *slash = strrchr(up, '/');
+        if (!slash) snprintf(up, sizeof up, ".");
+        else if (slash == up) up[1] = '\0';
+        else *slash = '\0';
+        if (stat(up, &st) == 0) break;
+        if ((errno != ENOENT && errno != ENOTDIR) || strcmp(up, ".") == 0 || strcmp(up, "/") == 0)
+            return prw_fail(e, "%s: cannot write: directory %s: %s", who, up, strerror(errno));
+    }
+    if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: %s is not a directory", who, up);
+    if (access(up, W_OK | X_OK) != 0)
+        return prw_fail(e, "%s: cannot write: cannot create directories in %s: %s", who, up, strerror(errno));
+    return true;
+}
+
+bool prw_check_writable(const char *path, bool create_parents, prw_error *e)
+{
+    if (!path || !path[0]) return prw_fail(e, "(empty path): cannot write: no file name");
+    size_t len = strlen(path);
+    if (path[len - 1] == '/') return prw_fail(e, "%s: cannot write: names a directory, not a file", path);
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: is a directory", path);
+        if (!S_ISREG(st.st_mode)) return prw_fail(e, "%s: cannot write: not a regular file", path);
+    }
+    char dir[4096];
+    if (len + 32 >= sizeof dir) return prw_fail(e, "%s: cannot write: path too long", path);
+    dir_of(path, dir, sizeof dir);
+    if (stat(dir, &st) != 0) {
+        if (errno == ENOTDIR) return ancestor_ok(path, dir, e); /* names the file in the way */
+        if (errno != ENOENT || !create_parents)
+            return prw_fail(e, "%s: cannot write: directory %s: %s", path, dir, strerror(errno));
+        return ancestor_ok(path, dir, e);
+    }
+    if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: %s is not a directory", path, dir);
+    char probe[4200];
+    snprintf(probe, sizeof probe, "%s.tmp-%ld", path, (long)getpid());
+    int err = 0;
+    if (!probe_create(probe, &err) && err != EEXIST)
+        return prw_fail(e, "%s: cannot write: %s", path, strerror(err));
+    return true;
+}
+
+bool prw_check_writable_dir(const char *dir, bool create, prw_error *e)
+{
+    if (!dir || !dir[0]) return prw_fail(e, "(empty path): cannot write: no directory name");
+    if (strlen(dir) + 32 >= 4096) return prw_fail(e, "%s: cannot write: path too long", dir);
+    struct stat st;
+    if (stat(dir, &st) != 0) {
+        if (errno == ENOTDIR) return ancestor_ok(dir, dir, e); /* names the file in the way */
+        if (errno != ENOENT || !create) return prw_fail(e, "%s: cannot write: %s", dir, strerror(errno));
+        return ancestor_ok(dir, dir, e);
+    }
+    if (!S_ISDIR(st.st_mode)) return prw_fail(e, "%s: cannot write: not a directory", dir);
+    char probe[4200];
+    snprintf(probe, sizeof probe, "%s/.prw-probe-%ld", dir, (long)getpid());
+    int err = 0;
+    if (!probe_create(probe, &err) && err != EEXIST) return prw_fail(e, "%s: cannot write: %s", dir, strerror(err));
     return true;
 }
 

@@ -168,15 +168,14 @@ static bool parse_nurbs(jctx *c, const cJSON *j, const char *path, prw_nurbs_sur
         if (deg[k] != floor(deg[k]) || cnt[k] != floor(cnt[k]) || deg[k] < 1 || deg[k] > PRW_NURBS_MAX_DEGREE ||
             cnt[k] < deg[k] + 1 || cnt[k] > PRW_NURBS_MAX_CTRL)
             return JFAIL(c, path, "degree %g x %g with %g x %g control points is not valid", deg[0], deg[1], cnt[0], cnt[1]);
+    /* the points the counts claim must be in the file before the net is allocated */
+    const cJSON *pts = member(j, "points");
+    jpath(p, "%s.points", path);
+    if (!cJSON_IsArray(pts) || (double)cJSON_GetArraySize(pts) != cnt[0] * cnt[1])
+        return JFAIL(c, p, "expected count[0] x count[1] = %g points", cnt[0] * cnt[1]);
     jpath(p, "%s", path);
     if (!prw_nurbs_surface_alloc(s, (int)deg[0], (int)deg[1], (int)cnt[0], (int)cnt[1], c->e))
         return prw_fail_wrap(c->e, "%s:%s", c->name, p);
-    const cJSON *pts = member(j, "points");
-    jpath(p, "%s.points", path);
-    if (!cJSON_IsArray(pts) || (double)cJSON_GetArraySize(pts) != cnt[0] * cnt[1]) {
-        JFAIL(c, p, "expected count[0] x count[1] = %g points", cnt[0] * cnt[1]);
-        goto fail;
-    }
     int i = 0;
     for (const cJSON *q = pts->child; q; q = q->next, i++) {
         double xyzw[4] = {0, 0, 0, 1};
@@ -323,7 +322,7 @@ bool prw_nurbs_json_load(const char *path, prw_nurbs_model *out, prw_error *e)
 {
     char *data;
     size_t size;
-    if (!prw_read_file(path, &data, &size, e)) return false;
+    if (!prw_read_file_bounded(path, 0, PRW_JSON_MEMORY_PER_BYTE, "a NURBS JSON model", &data, &size, e)) return false;
     bool ok = prw_nurbs_json_parse(data, size, path, out, e);
     free(data);
     return ok;

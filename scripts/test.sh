@@ -2,6 +2,11 @@
 # README command 2: set up, build and run the whole test suite.
 #  1. RelWithDebInfo build, all tests (rendering tests run serially with the validation layer on).
 #  2. ASan + UBSan build of the unit tests (label "unit"), with suppressions for Mesa/LLVM/the loader.
+#  3. Fuzz targets (clang + libFuzzer, PRW_FUZZ=ON): every libFuzzer target is built and runs its
+#     seed corpus once under ASan + UBSan (ctest label "fuzz"; tests/CMakeLists.txt refuses to
+#     configure when a libFuzzer target has no corpus replay).
+#  4. Release build (gcc -O3) of prw and every library it links, no tests: warnings that only the
+#     optimiser finds (-Werror=maybe-uninitialized) cannot land.
 # Prints each stage's wall time.  Exit status non-zero when anything fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,4 +33,23 @@ export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressi
 export UBSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/ubsan.supp:print_stacktrace=1:halt_on_error=1"
 (cd build-asan && ctest --output-on-failure -j"$jobs" -L unit)
 t3=$(date +%s)
-printf '\nwall time: build %ds, tests %ds, sanitizer %ds, total %ds\n' $((t1 - t0)) $((t2 - t1)) $((t3 - t2)) $((t3 - t0))
+
+stage "fuzz targets (clang + libFuzzer): build every target, replay every seed corpus"
+cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPRW_FUZZ=ON \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ >/dev/null
+mapfile -t fuzz_targets < <(cd build-fuzz && ctest -N -L fuzz | sed -n 's/^ *Test *#[0-9]*: \(.*\)_libfuzzer$/\1/p')
+if [ ${#fuzz_targets[@]} -eq 0 ]; then
+  echo "no fuzz targets registered (ctest -L fuzz)" >&2
+  exit 1
+fi
+echo "fuzz targets: ${fuzz_targets[*]}"
+cmake --build build-fuzz -j"$jobs" --target "${fuzz_targets[@]}"
+(cd build-fuzz && ctest --output-on-failure -j"$jobs" -L fuzz)
+t4=$(date +%s)
+
+stage "Release build (gcc -O3): prw and its libraries"
+cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build-release -j"$jobs" --target prw
+t5=$(date +%s)
+printf '\nwall time: build %ds, tests %ds, sanitizer %ds, fuzz %ds, release build %ds, total %ds\n' $((t1 - t0)) \
+  $((t2 - t1)) $((t3 - t2)) $((t4 - t3)) $((t5 - t4)) $((t5 - t0))

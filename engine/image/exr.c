@@ -42,8 +42,9 @@ static void io_error_cb(exr_const_context_t ctxt, exr_result_t code, const char 
     exr_io *io = ud;
     if (io->msg[0]) return; /* keep the root cause */
     snprintf(io->msg, sizeof io->msg, "%s", msg ? msg : exr_get_default_error_message(code));
+    /* one clean line: the library quotes names read from the file, control bytes included */
     for (char *p = io->msg; *p; p++)
-        if (*p == '\n' || *p == '\r') *p = ' ';
+        if ((unsigned char)*p < 0x20 || *p == 0x7f) *p = '?';
 }
 
 static int64_t io_read(exr_const_context_t ctxt, void *ud, void *buffer, uint64_t sz, uint64_t offset,
@@ -392,6 +393,81 @@ static bool check_finite(const exr_reader *r, prw_error *e)
     return true;
 }
 
+/* Largest ratio uncompressed / compressed each compression can reach, so that the data of a chunk
+ * takes at least uncompressed / ratio bytes (rounded down to be safe): NONE stores the bytes;
+ * RLE codes at most 127 equal bytes in 2; deflate (ZIP, ZIPS) at most 258 bytes in 2 bits (1032:1);
+ * PXR24 deflates 24-bit floats (1376:1 of the float data); B44/B44A keep >= 3 of each 32 bytes;
+ * PIZ's Huffman codes runs of <= 255 + 1 values in >= 10 bits (~410:1).  DWAA/DWAB combine DCT,
+ * RLE and deflate: a generous bound.  The bounds are generous by design: they only have to catch
+ * headers that claim far more pixels than the file can hold. */
+static double max_ratio(exr_compression_t c)
+{
+    switch (c) {
+    case EXR_COMPRESSION_NONE: return 1;
+    case EXR_COMPRESSION_RLE: return 64;
+    case EXR_COMPRESSION_ZIPS:
+    case EXR_COMPRESSION_ZIP: return 1100;
+    case EXR_COMPRESSION_PXR24: return 1500;
+    case EXR_COMPRESSION_B44:
+    case EXR_COMPRESSION_B44A: return 16;
+    case EXR_COMPRESSION_PIZ: return 2048;
+    default: return 65536;
+    }
+}
+
+/* Limits before allocation: the data window the header claims must be backed by the file's bytes,
+ * and what the reader will allocate must fit the memory budget.  A file holds the whole offset
+ * table (8 bytes per chunk of every level) and, per chunk of level 0, a chunk header (>= 8 bytes:
+ * y + size for scanlines; tiles have more) and its data (>= the uncompressed bytes / max_ratio). */
+static bool check_limits(exr_reader *r, int64_t w, int64_t h, exr_storage_t storage, const exr_attr_chlist_t *cl,
+                         const prw_exr_read_opts *opts, prw_error *e)
+{
+    exr_io *io = r->io;
+    exr_compression_t comp = EXR_COMPRESSION_NONE;
+    int32_t chunks_all = 0;
+    EXR_TRY(exr_get_compression(r->ctx, 0, &comp), "exr_get_compression");
+    EXR_TRY(exr_get_chunk_count(r->ctx, 0, &chunks_all), "exr_get_chunk_count");
+    double bpp = 0; /* stored bytes per pixel, all channels */
+    for (int i = 0; cl && i < cl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *ch = &cl->entries[i];
+        double size = ch->pixel_type == EXR_PIXEL_HALF ? 2 : 4;
+        double samp = (double)(ch->x_sampling > 0 ? ch->x_sampling : 1) * (ch->y_sampling > 0 ? ch->y_sampling : 1);
+        bpp += size / samp;
+    }
+    int64_t chunks0 = 0, chunk_pixels = 0;
+    if (storage == EXR_STORAGE_TILED) {
+        int32_t tw = 0, th = 0;
+        EXR_TRY(exr_get_tile_sizes(r->ctx, 0, 0, 0, &tw, &th), "exr_get_tile_sizes");
+        if (tw <= 0 || th <= 0) return prw_fail(e, "%s: header: invalid tile size %dx%d", io->name, tw, th);
+        chunks0 = ((w + tw - 1) / tw) * ((h + th - 1) / th);
+        chunk_pixels = (int64_t)PRW_MIN((int64_t)tw, w) * PRW_MIN((int64_t)th, h);
+    } else {
+        int32_t lines = 0;
+        EXR_TRY(exr_get_scanlines_per_chunk(r->ctx, 0, &lines), "exr_get_scanlines_per_chunk");
+        if (lines <= 0) return prw_fail(e, "%s: header: invalid scanlines per chunk %d", io->name, lines);
+        chunks0 = (h + lines - 1) / lines;
+        chunk_pixels = w * PRW_MIN((int64_t)lines, h);
+    }
+    double need = 8.0 * PRW_MAX((double)chunks_all, (double)chunks0) + 8.0 * (double)chunks0 +
+                  floor((double)w * (double)h * bpp / max_ratio(comp));
+    if (chunks_all < 0 || need > (double)io->size)
+    {
+        static const char *const names[] = {"none", "RLE", "ZIPS", "ZIP", "PIZ", "PXR24", "B44", "B44A", "DWAA", "DWAB"};
+        return prw_fail(e, "%s: header: data window %lldx%lld (%d chunks, %s compression) needs at least %.0f bytes, "
+                           "the file has %lld",
+                        io->name, (long long)w, (long long)h, chunks_all,
+                        (unsigned)comp < PRW_ARRAY_LEN(names) ? names[comp] : "unknown", need, (long long)io->size);
+    }
+    /* the image (RGBA float), one chunk's packed and unpacked buffers, what the caller adds per pixel */
+    uint64_t px = (uint64_t)w * (uint64_t)h;
+    uint64_t per_px = 16 + (opts ? opts->extra_bytes_per_pixel : 0);
+    uint64_t chunk = (uint64_t)((double)chunk_pixels * bpp) + 64;
+    uint64_t bytes = prw_add_sat(prw_mul_sat(px, per_px), prw_mul_sat(chunk, 3));
+    char what[96];
+    snprintf(what, sizeof what, "reading the %lldx%lld image", (long long)w, (long long)h);
+    return prw_mem_check(bytes, io->name, what, e);
+}
+
 static bool read_image(exr_reader *r, const prw_exr_read_opts *opts, prw_error *e)
 {
     exr_io *io = r->io;
@@ -417,13 +493,17 @@ static bool read_image(exr_reader *r, const prw_exr_read_opts *opts, prw_error *
     for (int i = 0; cl && i < cl->num_channels; i++) {
         const exr_attr_chlist_entry_t *ch = &cl->entries[i];
         const char *n = ch->name.str ? ch->name.str : "";
+        char shown[40]; /* the name as quoted in messages: printable ASCII, the rest '?' */
+        size_t k = 0;
+        for (; n[k] && k + 1 < sizeof shown; k++) shown[k] = (n[k] >= 0x20 && n[k] < 0x7f) ? n[k] : '?';
+        shown[k] = '\0';
         size_t len = strlen(found);
-        if (len + 2 < sizeof found) snprintf(found + len, sizeof found - len, "%s%s", len ? "," : "", n);
+        if (len + 2 < sizeof found) snprintf(found + len, sizeof found - len, "%s%s", len ? "," : "", shown);
         for (int k = 0; k < 7; k++) {
             if (strcmp(n, wanted[k]) != 0) continue;
             has[k] = true;
             if (ch->x_sampling != 1 || ch->y_sampling != 1)
-                return prw_fail(e, "%s: channel %s: subsampled channels (%dx%d) are not supported", io->name, n,
+                return prw_fail(e, "%s: channel %s: subsampled channels (%dx%d) are not supported", io->name, shown,
                                 ch->x_sampling, ch->y_sampling);
         }
     }
@@ -433,6 +513,8 @@ static bool read_image(exr_reader *r, const prw_exr_read_opts *opts, prw_error *
         return prw_fail(e, "%s: channels: luminance/chroma (Y, RY, BY) images are not supported", io->name);
     else
         return prw_fail(e, "%s: channels: need R, G, B (or Y alone); found: %s", io->name, found[0] ? found : "none");
+
+    if (!check_limits(r, w, h, storage, cl, opts, e)) return false;
 
     exr_attr_chromaticities_t chroma = rec709;
     io_clear(io);

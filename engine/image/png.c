@@ -7,6 +7,7 @@
  */
 #include "prw_image.h"
 
+#include <math.h>
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +30,8 @@ static void on_error(png_structp png, png_const_charp msg)
 {
     png_state *s = png_get_error_ptr(png);
     snprintf(s->msg, sizeof s->msg, "%s", msg ? msg : "libpng error");
+    for (char *p = s->msg; *p; p++) /* one clean line, whatever the file's bytes */
+        if ((unsigned char)*p < 0x20 || *p == 0x7f) *p = '?';
     png_longjmp(png, 1);
 }
 
@@ -139,6 +142,18 @@ static bool read_inner(png_state *s, png_structp png, png_infop info, int *width
     int depth = 0, ctype = 0, interlace = 0;
     png_get_IHDR(png, info, &w, &h, &depth, &ctype, &interlace, NULL, NULL);
     if (!prw_image_size_ok(w, h, s->path, e)) return false;
+    /* Limits before allocation: the image data (>= w*h*channels*depth bits, deflated at most 1032:1)
+     * must fit in the bytes left, and the RGBA8 result and its row table in the memory budget. */
+    int channels = png_get_channels(png, info);
+    double raw = (double)w * (double)h * (double)(channels > 0 ? channels : 1) * (double)depth / 8.0;
+    double need = floor(raw / 1100.0);
+    if (need > (double)(s->size - s->pos))
+        return prw_fail(e, "%s: png read: IHDR: %ux%u pixels need at least %.0f bytes of image data, %zu bytes are left",
+                        s->path, (unsigned)w, (unsigned)h, need, s->size - s->pos);
+    char what[64];
+    snprintf(what, sizeof what, "reading the %ux%u image", (unsigned)w, (unsigned)h);
+    if (!prw_mem_check(prw_add_sat(prw_mul_sat((uint64_t)w * h, 4), prw_mul_sat(h, sizeof(png_bytep))), s->path, what, e))
+        return false;
     bool trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
     png_set_expand(png); /* palette -> RGB, grey < 8 bit -> 8 bit, tRNS -> alpha */
     png_set_scale_16(png);
@@ -166,7 +181,7 @@ bool prw_png_read8(const char *path, int *width, int *height, uint8_t **pixels, 
     *width = *height = 0;
     char *data = NULL;
     size_t size = 0;
-    if (!prw_read_file(path, &data, &size, e)) return false;
+    if (!prw_read_file_bounded(path, 0, 1, "a PNG file", &data, &size, e)) return false;
     png_state s = {.path = path, .data = (const uint8_t *)data, .size = size};
     bool ok;
     if (size < 8 || png_sig_cmp((png_const_bytep)data, 0, 8) != 0) {

@@ -14,6 +14,12 @@
  *    D65 when the white differs -> Rec.709 RGB; files within 1e-4 of Rec.709/D65 are left as
  *    stored (bit-exact).  Y-only files are not converted.  DWAA/DWAB files cannot be read: the
  *    OpenEXR 3.1 C API does not implement them (EXR_ERR_FEATURE_NOT_IMPLEMENTED).
+ *  - Limits before allocation (every reader): the size the header claims must be backed by the
+ *    file's bytes (EXR: the offset table, a chunk header per chunk and the pixel data divided by the
+ *    largest ratio its compression can reach; PNG: the pixel data at deflate's 1032:1), and what
+ *    the reader allocates (plus prw_exr_read_opts.extra_bytes_per_pixel) must fit the memory
+ *    budget (prw_mem_check); prw_image_alloc checks the budget too.  So a 670-byte file claiming
+ *    16384x16384 pixels is refused from its header, before any pixel memory exists.
  *  - PNG 8-bit (libpng) write/read, 16-bit write with extra ancillary chunks before IDAT, atomic
  *    write as above.
  *  - Every failure is one line in prw_error: "<path>: <place>: <reason>".
@@ -59,6 +65,9 @@ bool prw_exr_read_chroma(const char *path, float chroma[8], prw_error *e);
 typedef struct prw_exr_read_opts {
     bool reject_nonfinite; /* fail with the first NaN/Inf pixel's position */
     int64_t max_pixels;    /* reject larger data windows; 0 (default) means PRW_IMAGE_MAX_PIXELS */
+    /* bytes the caller will allocate per pixel after reading (e.g. an environment map's sampling
+     * tables): counted with the reader's own against the memory budget before anything is read */
+    uint64_t extra_bytes_per_pixel;
 } prw_exr_read_opts;
 
 bool prw_exr_read(const char *path, const prw_exr_read_opts *opts, prw_image *out, prw_error *e);

@@ -5,12 +5,95 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 bool prw_compare_load(const char *path, prw_image *out, prw_error *e)
 {
     prw_exr_read_opts o = {.reject_nonfinite = true};
     return prw_exr_read(path, &o, out, e);
+}
+
+bool prw_compare_sniff(const char *path, prw_compare_kind *kind, prw_error *e)
+{
+    static const unsigned char exr[4] = {0x76, 0x2f, 0x31, 0x01};
+    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+    FILE *f = fopen(path, "rb");
+    if (!f) return prw_fail(e, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char head[8] = {0};
+    size_t n = fread(head, 1, sizeof head, f);
+    fclose(f);
+    if (n >= 4 && memcmp(head, exr, 4) == 0) *kind = PRW_COMPARE_EXR;
+    else if (n >= 8 && memcmp(head, png, 8) == 0) *kind = PRW_COMPARE_PNG;
+    else return prw_fail(e, "%s: not an OpenEXR or PNG file (unknown signature)", path);
+    return true;
+}
+
+bool prw_compare_load_png(const char *path, prw_image *out, prw_error *e)
+{
+    int w = 0, h = 0;
+    uint8_t *px = NULL;
+    out->width = out->height = 0;
+    out->rgba = NULL;
+    if (!prw_png_read8(path, &w, &h, &px, e)) return false;
+    bool ok = prw_image_alloc(out, w, h, e);
+    if (ok) {
+        size_t n = (size_t)w * (size_t)h;
+        for (size_t i = 0; i < n; i++) {
+            for (int c = 0; c < 3; c++) out->rgba[4 * i + c] = (float)px[4 * i + c] / 255.0f;
+            out->rgba[4 * i + 3] = 1.0f;
+        }
+    } else {
+        prw_fail_wrap(e, "%s", path);
+    }
+    free(px);
+    return ok;
+}
+
+/* linear display values of encoded ones (alpha kept) */
+static bool decode_srgb(const prw_image *enc, prw_image *lin, prw_error *e)
+{
+    if (!prw_image_alloc(lin, enc->width, enc->height, e)) return false;
+    size_t n = (size_t)enc->width * (size_t)enc->height * 4;
+    for (size_t i = 0; i < n; i++) lin->rgba[i] = (i % 4 == 3) ? enc->rgba[i] : prw_srgb_eotf(enc->rgba[i]);
+    return true;
+}
+
+bool prw_compare_images_ldr(const prw_image *test_enc, const prw_image *ref_enc, const prw_compare_opts *opts,
+                            prw_compare_metrics *out, float *ldr_map, prw_error *e)
+{
+    double ppd = opts->ppd > 0.0 ? opts->ppd : PRW_FLIP_DEFAULT_PPD;
+    if (!prw_compare_check_sizes(test_enc, ref_enc, "test", "reference", e)) return false;
+    size_t n = (size_t)ref_enc->width * (size_t)ref_enc->height;
+    prw_image tl = {0}, rl = {0};
+    float *map = ldr_map ? ldr_map : prw_malloc(n * sizeof(float));
+    bool ok = decode_srgb(test_enc, &tl, e) && decode_srgb(ref_enc, &rl, e) &&
+              prw_metrics_basic(&tl, &rl, opts->peak > 0 ? opts->peak : 1.0, &out->basic, e) &&
+              prw_ssim_encoded(test_enc, ref_enc, &out->ssim, e) && prw_flip_ldr_linear(&tl, &rl, ppd, map, e);
+    if (ok) prw_flip_pool(map, n, &out->ldr_flip);
+    out->hdr_flip = (prw_flip_stats){NAN, NAN, NAN, NAN, NAN, NAN};
+    prw_image_free(&tl);
+    prw_image_free(&rl);
+    if (!ldr_map) free(map);
+    return ok;
+}
+
+double prw_compare_derive_ev100(const prw_image *ref, double *log_avg)
+{
+    size_t n = (size_t)ref->width * (size_t)ref->height;
+    double sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *p = ref->rgba + 4 * i;
+        double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        if (!(y > 0) || !isfinite(y)) y = 0;
+        sum += log(PRW_COMPARE_EV_DELTA + y);
+    }
+    double la = n ? exp(sum / (double)n) : PRW_COMPARE_EV_DELTA;
+    if (log_avg) *log_avg = la;
+    double ev = log2(la / (1.2 * PRW_COMPARE_EV_KEY));
+    ev = round(ev * 1e4) / 1e4;
+    return ev < -20 ? -20 : ev > 40 ? 40 : ev;
 }
 
 bool prw_compare_read_ev100(const char *path, double *ev100, prw_error *e)
@@ -20,8 +103,11 @@ bool prw_compare_read_ev100(const char *path, double *ev100, prw_error *e)
     char *end;
     errno = 0;
     double v = strtod(buf, &end);
-    if (errno || end == buf || *end != '\0' || !isfinite(v) || v < -40.0 || v > 60.0)
+    if (errno || end == buf || *end != '\0' || !isfinite(v) || v < -40.0 || v > 60.0) {
+        for (char *p = buf; *p; p++) /* quoted from the file: one clean line */
+            if ((unsigned char)*p < 0x20 || *p == 0x7f) *p = '?';
         return prw_fail(e, "%s: attribute prw:ev100: '%s' is not a number in -40..60", path, buf);
+    }
     *ev100 = v;
     return true;
 }

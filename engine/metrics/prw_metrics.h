@@ -186,6 +186,38 @@ typedef struct prw_compare_metrics {
 
 /* Reads an EXR for comparison: NaN/Inf pixels rejected. */
 bool prw_compare_load(const char *path, prw_image *out, prw_error *e);
+
+/* What a file holds, from its first bytes (not its name): OpenEXR (linear radiance) or PNG
+ * (display values).  Anything else: "<path>: not an OpenEXR or PNG file". */
+typedef enum prw_compare_kind {
+    PRW_COMPARE_EXR = 1,
+    PRW_COMPARE_PNG = 2,
+} prw_compare_kind;
+bool prw_compare_sniff(const char *path, prw_compare_kind *kind, prw_error *e);
+/* Reads a PNG for comparison as its encoded display values: R, G, B = 8-bit code / 255 (16-bit
+ * files are scaled to 8 bits), A = 1 (the file's alpha is ignored, as by the FLIP tool).  The
+ * values are taken as sRGB-encoded (IEC 61966-2-1), whatever gAMA/iCCP chunks say. */
+bool prw_compare_load_png(const char *path, prw_image *encoded, prw_error *e);
+/* Every metric of two PNGs (encoded display values, as prw_compare_load_png gives them), as the
+ * FLIP tool treats LDR images: LDR-FLIP on the display values decoded with the sRGB EOTF to linear
+ * [0,1]; RMSE, relMSE and PSNR (peak: opts->peak, else 1) on those linear display values; SSIM on
+ * the luma of the encoded values (as for EXRs, where it runs on the metric tone map's encoded
+ * output).  HDR-FLIP is not defined for display values: out->hdr_flip is all NaN.  opts->ev100 is
+ * not used.  ldr_map (optional, w*h floats) receives the LDR-FLIP map. */
+bool prw_compare_images_ldr(const prw_image *test_enc, const prw_image *ref_enc, const prw_compare_opts *opts,
+                            prw_compare_metrics *out, float *ldr_map, prw_error *e);
+
+/* The metric exposure of a reference without a prw:ev100 attribute (another renderer's EXR): the
+ * EV100 that maps the reference's log-average luminance to middle grey in the metric tone map,
+ *   L_avg = exp(mean over pixels of ln(delta + Y)),  Y = 0.2126 R + 0.7152 G + 0.0722 B,
+ *   L_avg / (1.2 * 2^EV100) = 0.18   ->   EV100 = log2(L_avg / (1.2 * 0.18)),
+ * (key 0.18 and delta = 1e-6 cd/m^2 as in Reinhard et al. 2002, the scene key of the renderer's
+ * tone mappers), rounded to 4 decimals — the printed value, so `--ev100 <printed>` reproduces the
+ * figures exactly — and clamped to [-20, 40], the range --ev100 accepts.  *log_avg (optional)
+ * receives L_avg.  Negative and non-finite luminances count as 0. */
+#define PRW_COMPARE_EV_KEY 0.18
+#define PRW_COMPARE_EV_DELTA 1e-6
+double prw_compare_derive_ev100(const prw_image *ref, double *log_avg);
 /* "prw:ev100" of an EXR.  Returns false with e->msg "" when absent, with a message on errors
  * (unreadable, not a number). */
 bool prw_compare_read_ev100(const char *path, double *ev100, prw_error *e);

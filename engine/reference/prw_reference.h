@@ -131,6 +131,12 @@ bool prw_ref_view_for_camera(const prw_scene *s, const char *camera, uint32_t wi
 bool prw_ref_create(const prw_scene *s, prw_dvec3 origin, int threads, prw_ref_renderer **out, prw_error *e);
 void prw_ref_destroy(prw_ref_renderer *r);
 
+/* Bytes a reference run holds at its peak besides the scene: the accumulation (96 bytes per tile
+ * pixel) and, when it writes the EXR pair (exr), the mean and variance images and the encoded file
+ * (48 bytes per image pixel).  Commands check it against the memory budget before any work;
+ * prw_ref_render, the merge, the reader and prw_ref_acc_images check their own allocations. */
+uint64_t prw_ref_memory_bytes(uint32_t width, uint32_t height, uint64_t tile_pixels, bool exr);
+
 /* Renders a tile over a sample range into *acc (allocated; free with prw_ref_acc_free).
  * The view's eye should be the origin given to prw_ref_create (any eye works, precision aside). */
 bool prw_ref_render(prw_ref_renderer *r, const prw_view *view, const prw_ref_desc *d, prw_ref_acc *acc,

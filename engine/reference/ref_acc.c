@@ -16,10 +16,12 @@
  *                       (lo u64, hi u64), two's complement 128-bit fixed point (prw_reference.h).
  * The reader checks every field and the exact file size before it allocates anything. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "prw_image.h"
 #include "ref_build_info.h"
@@ -154,63 +156,79 @@ bool prw_ref_acc_write(const char *path, const prw_ref_acc *a, prw_error *e)
     return ok;
 }
 
-bool prw_ref_acc_read_memory(const void *data, size_t size, const char *name, prw_ref_acc *out, prw_error *e)
+/* Checks the header (the first HDR_SIZE bytes of p, of a file of `size` bytes) and the file size
+ * against it; fills every header field of *a (no arrays).  Nothing is allocated. */
+static bool parse_header(const uint8_t *p, size_t avail, uint64_t size, const char *name, prw_ref_acc *a,
+                         uint64_t *payload_out, uint64_t *sum_out, prw_error *e)
 {
-    memset(out, 0, sizeof *out);
-    const uint8_t *p = data;
-    if (!name) name = "(accumulation)";
-    if (size < 16 || memcmp(p, k_magic, 8) != 0) {
-        if (size >= 8 && memcmp(p, k_magic, 6) == 0)
-            return prw_fail(e, "%s: header: unsupported format revision '%.2s' (this reader knows '01')", name,
-                            (const char *)p + 6);
+    if (avail < 16 || memcmp(p, k_magic, 8) != 0) {
+        if (avail >= 8 && memcmp(p, k_magic, 6) == 0) {
+            char rev[3]; /* printable or '?': the message stays one clean line */
+            for (int i = 0; i < 2; i++) rev[i] = p[6 + i] >= 0x20 && p[6 + i] < 0x7f ? (char)p[6 + i] : '?';
+            rev[2] = '\0';
+            return prw_fail(e, "%s: header: unsupported format revision '%s' (this reader knows '01')", name, rev);
+        }
         return prw_fail(e, "%s: header: not a prw accumulation file (wrong magic)", name);
     }
     uint32_t version = get32(p + 8), hsize = get32(p + 12);
     if (version != ACC_VERSION) return prw_fail(e, "%s: header: unsupported version %u (this reader knows 1)", name, version);
     if (hsize != HDR_SIZE) return prw_fail(e, "%s: header: header size %u (expected %u)", name, hsize, HDR_SIZE);
-    if (size < HDR_SIZE)
-        return prw_fail(e, "%s: offset %zu: truncated header (%zu of %u bytes)", name, size, size, HDR_SIZE);
-    prw_ref_acc a;
-    memset(&a, 0, sizeof a);
-    a.width = get32(p + 16), a.height = get32(p + 20);
-    a.x0 = get32(p + 24), a.y0 = get32(p + 28), a.x1 = get32(p + 32), a.y1 = get32(p + 36);
-    a.s0 = get64(p + 40), a.s1 = get64(p + 48), a.seed = get64(p + 56);
-    a.scene_hash = get64(p + 64), a.material_hash = get64(p + 72);
+    if (avail < HDR_SIZE)
+        return prw_fail(e, "%s: offset %zu: truncated header (%zu of %u bytes)", name, avail, avail, HDR_SIZE);
+    memset(a, 0, sizeof *a);
+    a->width = get32(p + 16), a->height = get32(p + 20);
+    a->x0 = get32(p + 24), a->y0 = get32(p + 28), a->x1 = get32(p + 32), a->y1 = get32(p + 36);
+    a->s0 = get64(p + 40), a->s1 = get64(p + 48), a->seed = get64(p + 56);
+    a->scene_hash = get64(p + 64), a->material_hash = get64(p + 72);
     uint32_t fk = get32(p + 80);
-    a.filter.depth = (int32_t)get32(p + 84);
-    a.nonfinite = get64(p + 88);
-    uint64_t payload = get64(p + 96), sum = get64(p + 104);
-    if (a.width == 0 || a.height == 0 || (uint64_t)a.width * a.height > ((uint64_t)1 << 28))
-        return prw_fail(e, "%s: header: image size %ux%u is empty or too large", name, a.width, a.height);
-    if (!(a.x0 < a.x1 && a.y0 < a.y1 && a.x1 <= a.width && a.y1 <= a.height))
-        return prw_fail(e, "%s: header: tile %u,%u,%u,%u is empty or outside the %ux%u image", name, a.x0, a.y0, a.x1,
-                        a.y1, a.width, a.height);
-    if (!(a.s1 > a.s0) || a.s1 - a.s0 > PRW_REF_MAX_SPP)
+    a->filter.depth = (int32_t)get32(p + 84);
+    a->nonfinite = get64(p + 88);
+    uint64_t payload = get64(p + 96);
+    *sum_out = get64(p + 104);
+    if (a->width == 0 || a->height == 0 || (uint64_t)a->width * a->height > ((uint64_t)1 << 28))
+        return prw_fail(e, "%s: header: image size %ux%u is empty or too large", name, a->width, a->height);
+    if (!(a->x0 < a->x1 && a->y0 < a->y1 && a->x1 <= a->width && a->y1 <= a->height))
+        return prw_fail(e, "%s: header: tile %u,%u,%u,%u is empty or outside the %ux%u image", name, a->x0, a->y0, a->x1,
+                        a->y1, a->width, a->height);
+    if (!(a->s1 > a->s0) || a->s1 - a->s0 > PRW_REF_MAX_SPP)
         return prw_fail(e, "%s: header: sample range [%llu, %llu) is empty or larger than %llu", name,
-                        (unsigned long long)a.s0, (unsigned long long)a.s1, (unsigned long long)PRW_REF_MAX_SPP);
+                        (unsigned long long)a->s0, (unsigned long long)a->s1, (unsigned long long)PRW_REF_MAX_SPP);
     if (fk >= PRW_REF_FILTER_COUNT) return prw_fail(e, "%s: header: unknown filter %u", name, fk);
-    a.filter.kind = (prw_ref_filter_kind)fk;
-    bool depth_kind = a.filter.kind == PRW_REF_DEPTH || a.filter.kind == PRW_REF_MAX_DEPTH;
-    if (a.filter.depth < 0 || a.filter.depth > 1000000 || (!depth_kind && a.filter.depth != 0))
-        return prw_fail(e, "%s: header: filter depth %d is invalid", name, a.filter.depth);
+    a->filter.kind = (prw_ref_filter_kind)fk;
+    bool depth_kind = a->filter.kind == PRW_REF_DEPTH || a->filter.kind == PRW_REF_MAX_DEPTH;
+    if (a->filter.depth < 0 || a->filter.depth > 1000000 || (!depth_kind && a->filter.depth != 0))
+        return prw_fail(e, "%s: header: filter depth %d is invalid", name, a->filter.depth);
     uint64_t evb = get64(p + 112);
-    memcpy(&a.ev100, &evb, 8);
-    if (!isfinite(a.ev100) || fabs(a.ev100) > 100) return prw_fail(e, "%s: header: ev100 is not a finite number in [-100, 100]", name);
+    memcpy(&a->ev100, &evb, 8);
+    if (!isfinite(a->ev100) || fabs(a->ev100) > 100) return prw_fail(e, "%s: header: ev100 is not a finite number in [-100, 100]", name);
     for (int i = 0; i < 2; i++)
         if (get64(p + 120 + 8 * i) != 0) return prw_fail(e, "%s: header: reserved field %d is not zero", name, i);
-    uint64_t expect = (uint64_t)tile_pixels(&a) * 3 * 32;
+    uint64_t expect = (uint64_t)tile_pixels(a) * 3 * 32;
     if (payload != expect)
         return prw_fail(e, "%s: header: payload size %llu does not match the tile (%llu bytes expected)", name,
                         (unsigned long long)payload, (unsigned long long)expect);
     if (size - HDR_SIZE < payload)
-        return prw_fail(e, "%s: offset %zu: truncated (file has %zu bytes, %llu expected)", name, size, size,
-                        (unsigned long long)(HDR_SIZE + payload));
+        return prw_fail(e, "%s: offset %llu: truncated (file has %llu bytes, %llu expected)", name,
+                        (unsigned long long)size, (unsigned long long)size, (unsigned long long)(HDR_SIZE + payload));
     if (size - HDR_SIZE > payload)
         return prw_fail(e, "%s: offset %llu: %llu unexpected bytes after the payload", name,
                         (unsigned long long)(HDR_SIZE + payload), (unsigned long long)(size - HDR_SIZE - payload));
+    *payload_out = payload;
+    return true;
+}
+
+bool prw_ref_acc_read_memory(const void *data, size_t size, const char *name, prw_ref_acc *out, prw_error *e)
+{
+    memset(out, 0, sizeof *out);
+    const uint8_t *p = data;
+    if (!name) name = "(accumulation)";
+    prw_ref_acc a;
+    uint64_t payload = 0, sum = 0;
+    if (!parse_header(p, size, size, name, &a, &payload, &sum, e)) return false;
     if (prw_hash64(p + HDR_SIZE, payload, 0) != sum)
         return prw_fail(e, "%s: payload: checksum mismatch (corrupt file)", name);
     size_t n = 3 * tile_pixels(&a);
+    if (!prw_mem_check(prw_mul_sat(n, 2 * sizeof(prw_ref_fixed)), name, "the accumulation", e)) return false;
     a.sum = prw_malloc(n * sizeof(prw_ref_fixed));
     a.sq = prw_malloc(n * sizeof(prw_ref_fixed));
     const uint8_t *q = p + HDR_SIZE;
@@ -228,10 +246,26 @@ bool prw_ref_acc_read_memory(const void *data, size_t size, const char *name, pr
 
 bool prw_ref_acc_read(const char *path, prw_ref_acc *out, prw_error *e)
 {
+    memset(out, 0, sizeof *out);
+    /* the header first: its sizes are checked against the file's before the payload is read */
+    FILE *f = fopen(path, "rb");
+    if (!f) return prw_fail(e, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return prw_fail(e, "%s: cannot open: not a regular file", path);
+    }
+    uint8_t hdr[HDR_SIZE];
+    size_t got = fread(hdr, 1, sizeof hdr, f);
+    fclose(f);
+    prw_ref_acc a;
+    uint64_t payload = 0, sum = 0;
+    if (!parse_header(hdr, got, (uint64_t)st.st_size, path, &a, &payload, &sum, e)) return false;
+    /* file bytes + the two 128-bit arrays */
+    if (!prw_mem_check(prw_add_sat((uint64_t)st.st_size, payload), path, "reading the accumulation", e)) return false;
     char *data = NULL;
     size_t size = 0;
-    memset(out, 0, sizeof *out);
-    if (!prw_read_file(path, &data, &size, e)) return false;
+    if (!prw_read_file_bounded(path, (uint64_t)st.st_size, 1, "an accumulation file", &data, &size, e)) return false;
     bool ok = prw_ref_acc_read_memory(data, size, path, out, e);
     free(data);
     return ok;
@@ -280,6 +314,8 @@ bool prw_ref_acc_merge(const prw_ref_acc *const *in, const char *const *names, i
                                 names ? names[i] : "input", (unsigned long long)a->s0, (unsigned long long)a->s1);
         }
     size_t np = (size_t)a0->width * a0->height;
+    if (!prw_mem_check(prw_mul_sat(np, sizeof(uint64_t) + 6 * sizeof(prw_ref_fixed)), n0, "merging the accumulations", e))
+        return false;
     uint64_t *cnt = prw_calloc(np, sizeof(uint64_t));
     prw_ref_acc m;
     memset(&m, 0, sizeof m);
@@ -345,6 +381,8 @@ bool prw_ref_acc_images(const prw_ref_acc *a, float **mean_rgba, float **var_rgb
         return prw_fail(e, "reference: tile %u,%u,%u,%u is not the whole %ux%u image (merge tiles first)", a->x0, a->y0,
                         a->x1, a->y1, a->width, a->height);
     size_t np = (size_t)a->width * a->height;
+    if (!prw_mem_check(prw_mul_sat(np, (var_rgba ? 2 : 1) * 4 * sizeof(float)), "reference", "the mean and variance images", e))
+        return false;
     double n = (double)(a->s1 - a->s0);
     float *m = prw_malloc(np * 4 * sizeof(float));
     float *v = var_rgba ? prw_malloc(np * 4 * sizeof(float)) : NULL;

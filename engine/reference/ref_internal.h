@@ -115,6 +115,12 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
                       ref_rng *rng, double out[3], uint64_t *rays);
 
 /* Environment radiance towards world direction d (unit) and its sampling density (solid angle). */
+/* The environment of the scene (se) as a light: a uniform colour, or the EXR map read with the
+ * reader's limits and the memory budget counting the sampling tables (28 bytes per pixel) with it,
+ * plus its luminance x sin(theta) distribution.  A black map yields no light (kind 0).  Free with
+ * ref_env_free (safe on a zeroed env). */
+bool ref_env_build(const prw_environment *se, ref_env *env, prw_error *e);
+void ref_env_free(ref_env *env);
 void ref_env_eval(const ref_env *env, const double d[3], double L[3], double *pdf);
 /* Samples a direction; returns false when there is nothing to sample. */
 bool ref_env_sample(const ref_env *env, double u1, double u2, double d[3], double L[3], double *pdf);

@@ -101,6 +101,13 @@ static void wait_workers(job *j, double s)
     pthread_mutex_unlock(&j->mu);
 }
 
+uint64_t prw_ref_memory_bytes(uint32_t width, uint32_t height, uint64_t tile_pixels, bool exr)
+{
+    uint64_t b = prw_mul_sat(tile_pixels, 6 * sizeof(prw_ref_fixed));
+    if (exr) b = prw_add_sat(b, prw_mul_sat((uint64_t)width * height, 48));
+    return b;
+}
+
 bool prw_ref_render(prw_ref_renderer *r, const prw_view *view, const prw_ref_desc *d, prw_ref_acc *acc,
                     prw_ref_stats *stats, prw_error *e)
 {
@@ -131,6 +138,10 @@ bool prw_ref_render(prw_ref_renderer *r, const prw_view *view, const prw_ref_des
     acc->filter = d->filter;
     acc->ev100 = view->ev100;
     size_t npix = (size_t)(x1 - x0) * (y1 - y0);
+    if (!prw_mem_check(prw_mul_sat(npix, 6 * sizeof(prw_ref_fixed)), "reference", "the accumulation of the tile", e)) {
+        memset(acc, 0, sizeof *acc);
+        return false;
+    }
     acc->sum = prw_calloc(3 * npix, sizeof(prw_ref_fixed));
     acc->sq = prw_calloc(3 * npix, sizeof(prw_ref_fixed));
 

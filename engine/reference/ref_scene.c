@@ -22,7 +22,7 @@ static void set3(double d[3], prw_dvec3 v)
 
 /* ---- environment ---- */
 
-static void env_free(ref_env *env)
+void ref_env_free(ref_env *env)
 {
     free(env->rgb);
     free(env->marg);
@@ -31,9 +31,8 @@ static void env_free(ref_env *env)
     memset(env, 0, sizeof *env);
 }
 
-static bool env_build(const prw_scene *s, ref_env *env, prw_error *e)
+bool ref_env_build(const prw_environment *se, ref_env *env, prw_error *e)
 {
-    const prw_environment *se = &s->environment;
     memset(env, 0, sizeof *env);
     if (!se->present) return true;
     env->cr = cos(se->rotation);
@@ -44,7 +43,9 @@ static bool env_build(const prw_scene *s, ref_env *env, prw_error *e)
         return true;
     }
     prw_image img = {0};
-    prw_exr_read_opts opts = {.reject_nonfinite = false};
+    /* the sampling tables below (rgb 12 + conditional CDF 8 + pdf 8 bytes per pixel) count against
+     * the memory budget with the image, before it is read */
+    prw_exr_read_opts opts = {.reject_nonfinite = false, .extra_bytes_per_pixel = 28};
     if (!prw_exr_read(se->file, &opts, &img, e)) return false; /* "<file>: <place>: <reason>" */
     int w = img.width, h = img.height;
     env->w = w;
@@ -77,7 +78,7 @@ static bool env_build(const prw_scene *s, ref_env *env, prw_error *e)
         total += c[w];
     }
     if (!(total > 0) || !isfinite(total)) {
-        env_free(env); /* black map: nothing to see or sample */
+        ref_env_free(env); /* black map: nothing to see or sample */
         return true;
     }
     for (size_t i = 0; i < (size_t)w * h; i++) env->pdf_uv[i] *= (double)w * h / total;
@@ -189,7 +190,7 @@ void prw_ref_destroy(prw_ref_renderer *r)
     free(r->etri_cdf);
     free(r->rects);
     free(r->deltas);
-    env_free(&r->env);
+    ref_env_free(&r->env);
     ref_nurbs_free(r);
     free(r);
 }
@@ -408,7 +409,7 @@ bool prw_ref_create(const prw_scene *s, prw_dvec3 origin, int threads, prw_ref_r
     }
     build_emitters(r);
     build_lights(r);
-    if (!env_build(s, &r->env, e)) {
+    if (!ref_env_build(&s->environment, &r->env, e)) {
         prw_ref_destroy(r);
         return false;
     }

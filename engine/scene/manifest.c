@@ -651,7 +651,7 @@ static bool parse_environment(ctx *c, const cJSON *o, prw_environment *env)
     char *bytes = NULL;
     size_t size = 0;
     prw_error fe;
-    if (!prw_read_file(env->file, &bytes, &size, &fe)) return fail_at(c, p, "%s", fe.msg);
+    if (!prw_read_file_bounded(env->file, 0, 1, "an environment map", &bytes, &size, &fe)) return fail_at(c, p, "%s", fe.msg);
     env->file_hash = prw_hash64(bytes, size, 0x656e762d66696c65ull);
     free(bytes);
     env->present = true;
@@ -721,7 +721,7 @@ bool prw_scene_load_manifest(prw_scene *s, const char *path, prw_error *e)
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) return prw_fail(e, "%s: cannot open: not a regular file", path);
     char *text = NULL;
     size_t size = 0;
-    if (!prw_read_file(path, &text, &size, e)) return false;
+    if (!prw_read_file_bounded(path, 0, PRW_JSON_MEMORY_PER_BYTE, "a scene manifest", &text, &size, e)) return false;
     bool ok = prw_scene_parse_manifest(s, text, size, path, e);
     free(text);
     return ok;

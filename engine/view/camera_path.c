@@ -342,7 +342,8 @@ bool prw_camera_path_load(const char *path, prw_camera_path *out, prw_error *e)
     prw_camera_path_init(out, 0);
     char *text = NULL;
     size_t size = 0;
-    if (!prw_read_file(path, &text, &size, e)) return false;
+    /* no fixed limit (10^6 keyframes are allowed): the JSON tree must fit the memory budget */
+    if (!prw_read_file_bounded(path, 0, PRW_JSON_MEMORY_PER_BYTE, "a camera path", &text, &size, e)) return false;
     bool ok = prw_camera_path_parse(text, size, path, out, e);
     free(text);
     return ok;
@@ -634,4 +635,20 @@ bool prw_camera_path_frame_view(const prw_camera_path *p, uint64_t k, uint32_t w
     prw_camera_sample s = prw_camera_path_eval(p, prw_camera_path_frame_time(p, k));
     *out = prw_camera_sample_view(&s, width, height, znear, ev100, eye);
     return true;
+}
+
+bool prw_camera_path_sniff(const char *path)
+{
+    char *text = NULL;
+    size_t size = 0;
+    prw_error ignored;
+    if (!path || !prw_read_file_bounded(path, 0, PRW_JSON_MEMORY_PER_BYTE, "a camera path", &text, &size, &ignored))
+        return false;
+    cJSON *root = cJSON_ParseWithLength(text, size);
+    /* a document that does not parse still counts when it names the key: its reader reports the error */
+    bool yes = root ? cJSON_IsObject(root) && cJSON_GetObjectItemCaseSensitive(root, "prw_camera_path") != NULL
+                    : strstr(text, "\"prw_camera_path\"") != NULL;
+    cJSON_Delete(root);
+    free(text);
+    return yes;
 }

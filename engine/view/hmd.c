@@ -285,7 +285,8 @@ bool prw_hmd_load(const char *path, prw_hmd *out, prw_error *e)
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) return prw_fail(e, "%s: cannot open: not a regular file", path);
     char *text = NULL;
     size_t size = 0;
-    if (!prw_read_file(path, &text, &size, e)) return false;
+    /* profiles are a few hundred bytes: 1 MiB is generous, and bounds the JSON tree */
+    if (!prw_read_file_bounded(path, (1u << 20), PRW_JSON_MEMORY_PER_BYTE, "an HMD profile", &text, &size, e)) return false;
     bool ok = prw_hmd_parse(text, size, path, out, e);
     free(text);
     return ok;

@@ -106,6 +106,9 @@ bool prw_camera_orientation_look_at(prw_dvec3 position, prw_dvec3 target, prw_dv
  * is empty and e holds one line. */
 bool prw_camera_path_parse(const char *text, size_t size, const char *name, prw_camera_path *out, prw_error *e);
 bool prw_camera_path_load(const char *path, prw_camera_path *out, prw_error *e);
+/* Whether the file at path is meant as a camera path: a JSON object with the key "prw_camera_path"
+ * (or, when it does not parse, text that names that key).  Unreadable files: false. */
+bool prw_camera_path_sniff(const char *path);
 
 /* Serialises with "%.17g" so that parse(to_json(p)) reproduces p bit for bit (orientation written as
  * a quaternion; yfov_deg and ipd_m on every keyframe).  *text is NUL-terminated; caller frees. */

@@ -1,9 +1,30 @@
 /* Bad input: unknown camera, absurd sample counts and tiles, filter spellings, malformed .acc files
  * (truncated, wrong magic, mismatched sizes, corrupt payload), merge mismatches, and a fuzz-style
  * replay of deterministic mutations of a valid .acc through the reader. */
+#define _DEFAULT_SOURCE
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/time.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "prw_image.h"
+
+#if defined(__SANITIZE_ADDRESS__)
+#define PRW_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PRW_ASAN 1
+#endif
+#endif
+/* peak RSS means nothing under ASan (shadow memory, quarantine): checked in plain builds only */
+#ifdef PRW_ASAN
+#define RSS_OK(kb) ((void)(kb), 1)
+#else
+#define RSS_OK(kb) ((kb) < 50 * 1024)
+#endif
 
 #include "ref_scenes.h"
 
@@ -123,6 +144,9 @@ static void test_acc_files(void)
     copy[7] = '2';
     expect_msg(prw_ref_acc_read_memory(copy, size, "m.acc", &b, &e), &e, "m.acc: header:", "revision");
     memcpy(copy, data, size);
+    copy[6] = '\n', copy[7] = '\r'; /* raw bytes never reach the message */
+    expect_msg(prw_ref_acc_read_memory(copy, size, "m.acc", &b, &e), &e, "m.acc: header: unsupported format revision '\?\?'", NULL);
+    memcpy(copy, data, size);
     copy[32] = 9; /* x1 = 9 > width 8 */
     expect_msg(prw_ref_acc_read_memory(copy, size, "m.acc", &b, &e), &e, "tile 1,1,9,4", "outside");
     memcpy(copy, data, size);
@@ -183,6 +207,113 @@ static void test_acc_files(void)
     prw_ref_acc_free(&a);
 }
 
+static void put32le(char *p, uint32_t v)
+{
+    for (int i = 0; i < 4; i++) p[i] = (char)(v >> (8 * i));
+}
+static void put64le(char *p, uint64_t v)
+{
+    for (int i = 0; i < 8; i++) p[i] = (char)(v >> (8 * i));
+}
+
+/* Limits before allocation: a header that claims a tile the file cannot hold is refused from the
+ * header (the payload is never read), and the arrays must fit the memory budget. */
+static void test_acc_limits(void)
+{
+    prw_ref_acc a;
+    if (!make_acc(&a, 9, 1, 1, 5, 4, 2, 6)) return;
+    prw_error e;
+    const char *path = prw_test_path("l.acc");
+    CHECK_OK(prw_ref_acc_write(path, &a, &e), &e);
+    char *data = NULL;
+    size_t size = 0;
+    CHECK_OK(prw_read_file(path, &data, &size, &e), &e);
+    /* 16384 x 16384 image, whole-image tile, consistent payload field: 24 GiB claimed by a small file */
+    char hdr[136];
+    memcpy(hdr, data, sizeof hdr);
+    put32le(hdr + 16, 16384), put32le(hdr + 20, 16384);
+    put32le(hdr + 24, 0), put32le(hdr + 28, 0), put32le(hdr + 32, 16384), put32le(hdr + 36, 16384);
+    put64le(hdr + 96, (uint64_t)16384 * 16384 * 96);
+    const char *big = prw_test_path("claim.acc");
+    prw_test_write_file(big, hdr, sizeof hdr);
+    prw_ref_acc b;
+    double t0 = prw_now();
+    expect_msg(prw_ref_acc_read(big, &b, &e), &e, "claim.acc: offset 136: truncated", "25769803912 expected");
+    printf("  %s (%.4f s)\n", e.msg, prw_now() - t0);
+    CHECK(!b.sum && !b.sq);
+    prw_ref_acc left, right;
+    bool have = make_acc(&left, 9, 0, 0, 4, 6, 0, 4) && make_acc(&right, 9, 4, 0, 8, 6, 0, 4);
+    prw_mem_set_budget(1000);
+    expect_msg(prw_ref_acc_read(path, &b, &e), &e, "l.acc: reading the accumulation needs", "memory budget of 1000 B");
+    expect_msg(prw_ref_acc_read_memory(data, size, "m.acc", &b, &e), &e, "m.acc: the accumulation needs", "memory budget");
+    if (have) {
+        const prw_ref_acc *in[2] = {&left, &right};
+        const char *nm[2] = {"l.acc", "r.acc"};
+        prw_mem_set_budget(2000);
+        expect_msg(prw_ref_acc_merge(in, nm, 2, &b, &e), &e, "l.acc: merging the accumulations needs", "memory budget");
+        prw_mem_set_budget(0);
+        CHECK_OK(prw_ref_acc_merge(in, nm, 2, &b, &e), &e);
+        prw_mem_set_budget(1000);
+        float *m = NULL, *v = NULL;
+        expect_msg(prw_ref_acc_images(&b, &m, &v, &e), &e, "the mean and variance images need", "memory budget");
+        prw_ref_acc_free(&b);
+    }
+    prw_mem_set_budget(0);
+    CHECK(prw_ref_memory_bytes(16384, 16384, (uint64_t)16384 * 16384, true) == (uint64_t)16384 * 16384 * 144);
+    prw_ref_acc_free(&left);
+    prw_ref_acc_free(&right);
+    prw_ref_acc_free(&a);
+    free(data);
+}
+
+/* An environment map whose header claims 16384 x 16384 pixels in a few hundred bytes: the reference
+ * refuses it from the header (a child process: CPU time and peak RSS measured with wait4). */
+static void test_env_claim(void)
+{
+    prw_error e;
+    const char *path = prw_test_path("env-claim.exr");
+    prw_image small;
+    CHECK_OK(prw_image_alloc(&small, 4, 2, &e), &e);
+    CHECK_OK(prw_exr_write(path, &small, NULL, 0, &e), &e);
+    prw_image_free(&small);
+    char *bytes = NULL;
+    size_t size = 0;
+    CHECK_OK(prw_read_file(path, &bytes, &size, &e), &e);
+    const char key[] = "dataWindow\0box2i";
+    for (size_t i = 0; i + sizeof key + 20 <= size; i++)
+        if (memcmp(bytes + i, key, sizeof key) == 0) {
+            const int32_t box[4] = {0, 0, 16383, 16383};
+            memcpy(bytes + i + sizeof key + 4, box, 16);
+        }
+    prw_test_write_file(path, bytes, size);
+    free(bytes);
+    prw_scene *s = tiny_scene();
+    s->environment.uniform[0] = s->environment.uniform[1] = s->environment.uniform[2] = 0;
+    snprintf(s->environment.file, sizeof s->environment.file, "%s", path);
+    s->environment.scale = 1;
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        prw_ref_renderer *r = NULL;
+        prw_error ce;
+        bool ok = prw_ref_create(s, prw_v3(0, 1, 0), 1, &r, &ce);
+        printf("  %s\n", ok ? "accepted" : ce.msg);
+        fflush(stdout);
+        _exit(!ok && strstr(ce.msg, path) && strstr(ce.msg, "header: data window 16384x16384") ? 0 : 1);
+    }
+    int status = -1;
+    struct rusage ru;
+    memset(&ru, 0, sizeof ru);
+    CHECK(wait4(pid, &status, 0, &ru) == pid);
+    double cpu = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+                 1e-6 * (double)ru.ru_stime.tv_usec;
+    printf("  %zu-byte environment map claiming 16384x16384: CPU %.3f s, peak RSS %ld KiB\n", size, cpu, ru.ru_maxrss);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    CHECK(cpu < 0.1);
+    CHECK(RSS_OK(ru.ru_maxrss));
+    prw_scene_destroy(s);
+}
+
 /* Deterministic mutations (truncations, byte flips, header field splats) of a valid file: the reader
  * either accepts or fails with one line naming the file; never crashes (run under ASan in CI). */
 static void test_fuzz_replay(void)
@@ -239,6 +370,8 @@ int main(int argc, char **argv)
     static const prw_test_case cases[] = {
         {"render_args", test_render_args},
         {"acc_files", test_acc_files},
+        {"acc_limits", test_acc_limits},
+        {"env_claim", test_env_claim},
         {"fuzz_replay", test_fuzz_replay},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));

@@ -74,7 +74,7 @@ static void test_desktop_parallax(void)
         double xs[2], ys[2];
         bool ok = true;
         for (int k = 0; k < 2; k++) {
-            double x, y;
+            double x = 0, y = 0; /* left unset when an earlier eye failed (ok short-circuits) */
             ok = ok && prw_view_project(&eyes[k], p, &x, &y);
             /* image x -> screen-plane metres in the centre's frame */
             double s = (k ? 0.5 : -0.5) * ipd;
