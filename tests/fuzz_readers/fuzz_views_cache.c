@@ -1,12 +1,12 @@
 /* fuzz_views_cache — libFuzzer target for the views-backend cache entry reader of
- * engine/render/views_choice.c (its static cache_read, reached by including the file: the render
+ * engine/render/views_backend.c (its static cache_read, reached by including the file: the render
  * module exports no parse entry point; see tests/fuzz_readers/CMakeLists.txt).  An entry that
  * reads has a valid backend consistent with the decision rule and finite figures. */
 #include <math.h>
 
 #include "fuzz_common.h"
 
-#include "../../engine/render/views_choice.c"
+#include "../../engine/render/views_backend.c"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
