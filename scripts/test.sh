@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # README command 2: set up, build and run the whole test suite.
 #  1. RelWithDebInfo build, all tests (rendering tests run serially with the validation layer on).
-#  2. ASan + UBSan build of the unit tests (label "unit"), with suppressions for Mesa/LLVM/the loader.
-#  3. Fuzz targets (clang + libFuzzer, PRW_FUZZ=ON): every libFuzzer target is built and runs its
-#     seed corpus once under ASan + UBSan (ctest label "fuzz"; tests/CMakeLists.txt refuses to
-#     configure when a libFuzzer target has no corpus replay).
-#  4. Release build (gcc -O3) of prw and every library it links, no tests: warnings that only the
+#  2. clang build with ASan + UBSan (Debug, -O1) and the libFuzzer targets (PRW_FUZZ=ON), one build
+#     for both: the unit and cli tests (heavy cases in light mode, tests/testlib/prw_test.h) with
+#     suppressions for Mesa/LLVM/the loader, and every libFuzzer target replaying its seed corpus
+#     once (label "fuzz"; tests/CMakeLists.txt refuses to configure when a libFuzzer target has no
+#     corpus replay).
+#  3. Release build (gcc -O3) of prw and every library it links, no tests: warnings that only the
 #     optimiser finds (-Werror=maybe-uninitialized) cannot land.
 # Prints each stage's wall time.  Exit status non-zero when anything fails.
 set -euo pipefail
@@ -25,31 +26,23 @@ stage "tests"
 (cd build && ctest --output-on-failure -j"$jobs")
 t2=$(date +%s)
 
-stage "sanitizer build (ASan + UBSan) and unit tests"
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DPRW_SANITIZE=ON >/dev/null
+stage "sanitizer + fuzz build (clang, ASan + UBSan, libFuzzer) and unit, cli and fuzz tests"
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DPRW_SANITIZE=ON -DPRW_FUZZ=ON \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ >/dev/null
+if ! (cd build-asan && ctest -N -L fuzz | grep -q '_libfuzzer$'); then
+  echo "no fuzz targets registered (ctest -L fuzz)" >&2
+  exit 1
+fi
 cmake --build build-asan -j"$jobs"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/ubsan.supp:print_stacktrace=1:halt_on_error=1"
-(cd build-asan && ctest --output-on-failure -j"$jobs" -L unit)
+(cd build-asan && ctest --output-on-failure -j"$jobs" -L 'unit|cli|fuzz')
 t3=$(date +%s)
-
-stage "fuzz targets (clang + libFuzzer): build every target, replay every seed corpus"
-cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPRW_FUZZ=ON \
-  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ >/dev/null
-mapfile -t fuzz_targets < <(cd build-fuzz && ctest -N -L fuzz | sed -n 's/^ *Test *#[0-9]*: \(.*\)_libfuzzer$/\1/p')
-if [ ${#fuzz_targets[@]} -eq 0 ]; then
-  echo "no fuzz targets registered (ctest -L fuzz)" >&2
-  exit 1
-fi
-echo "fuzz targets: ${fuzz_targets[*]}"
-cmake --build build-fuzz -j"$jobs" --target "${fuzz_targets[@]}"
-(cd build-fuzz && ctest --output-on-failure -j"$jobs" -L fuzz)
-t4=$(date +%s)
 
 stage "Release build (gcc -O3): prw and its libraries"
 cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-release -j"$jobs" --target prw
 t5=$(date +%s)
-printf '\nwall time: build %ds, tests %ds, sanitizer %ds, fuzz %ds, release build %ds, total %ds\n' $((t1 - t0)) \
-  $((t2 - t1)) $((t3 - t2)) $((t4 - t3)) $((t5 - t4)) $((t5 - t0))
+printf '\nwall time: build %ds, tests %ds, sanitizer + fuzz %ds, release build %ds, total %ds\n' $((t1 - t0)) \
+  $((t2 - t1)) $((t3 - t2)) $((t5 - t3)) $((t5 - t0))

@@ -1,11 +1,30 @@
 /* gpu_device.c — instance, physical-device choice, logical device with the features prw relies on,
  * and the gpu's lifetime (create / destroy) plus its accessors. */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* dl_iterate_phdr, RTLD_NODELETE (sanitizer builds only) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "gpu_internal.h"
+
+#ifdef PRW_SANITIZE_BUILD
+#include <dlfcn.h>
+#include <link.h>
+
+static int pin_module(struct dl_phdr_info *info, size_t size, void *data)
+{
+    (void)size, (void)data;
+    if (info->dlpi_name && info->dlpi_name[0]) dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+    return 0;
+}
+
+/* LeakSanitizer names a leak's module when the process exits; by then the Vulkan loader has
+ * dlclosed the driver and the layers, their frames read "<unknown module>" and the suppressions
+ * (tests/sanitizer/lsan.supp, by library) cannot match.  Keep every module loaded so far mapped. */
+static void pin_loaded_modules(void) { dl_iterate_phdr(pin_module, NULL); }
+#else
+static void pin_loaded_modules(void) {}
+#endif
 
 #define PRW_VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
 
@@ -75,6 +94,7 @@ static bool create_instance(prw_gpu *gpu, bool validation, const char **extra_ex
         .ppEnabledExtensionNames = exts,
     };
     VkResult r = vkCreateInstance(&ci, NULL, out);
+    if (r == VK_SUCCESS) pin_loaded_modules();
     if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
         return prw_fail(e, "gpu: no Vulkan 1.3 driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)");
     return prw_vk_check(r, "gpu: vkCreateInstance", e);

@@ -92,7 +92,10 @@ static void fill_pc(const prw_compose_params *p, compose_pc *pc)
 bool prw_composer_run(prw_composer *c, const prw_compose_params *p, const prw_image *left, const prw_image *right,
                       prw_image *out, prw_error *e)
 {
-    memset(out, 0, sizeof *out);
+    /* inputs are checked before out is cleared: out may hold an image the caller still owns */
+    if (out == left || out == right)
+        return prw_fail(e, "compose: the output image is the %s eye image; it must be a separate image",
+                        out == right ? "right" : "left");
     if (p->out_w < 2 || p->out_w % 2 || p->out_h < 1 || p->out_w > 16384 || p->out_h > 16384)
         return prw_fail(e, "compose: panel %ux%u must have an even width in 2..16384", p->out_w, p->out_h);
     const prw_image *in[2] = {left, right};
@@ -100,6 +103,7 @@ bool prw_composer_run(prw_composer *c, const prw_compose_params *p, const prw_im
         if (!in[k]->rgba || (uint32_t)in[k]->width != p->eye_w || (uint32_t)in[k]->height != p->eye_h)
             return prw_fail(e, "compose: %s eye image is %dx%d, expected %ux%u", k ? "right" : "left", in[k]->width,
                             in[k]->height, p->eye_w, p->eye_h);
+    memset(out, 0, sizeof *out);
     VkImageUsageFlags in_usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     if (!ensure_image(c, &c->eye[0], p->eye_w, p->eye_h, in_usage, e) ||
         !ensure_image(c, &c->eye[1], p->eye_w, p->eye_h, in_usage, e) ||

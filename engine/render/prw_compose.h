@@ -20,7 +20,8 @@ typedef struct prw_composer prw_composer;
 bool prw_composer_create(prw_gpu *gpu, prw_composer **out, prw_error *e);
 void prw_composer_destroy(prw_composer *c);
 /* Uploads left/right (p->eye_w x p->eye_h each), composes, reads the panel back into out
- * (allocated here, p->out_w x p->out_h, alpha 1).  out_w must be even. */
+ * (allocated here, p->out_w x p->out_h, alpha 1).  out_w must be even; out must not be one of the
+ * inputs.  On a refused input out is left as it was. */
 bool prw_composer_run(prw_composer *c, const prw_compose_params *p, const prw_image *left, const prw_image *right,
                       prw_image *out, prw_error *e);
 /* The same on GPU images, recorded into a caller's command buffer (the graph's "compose" pass): a set

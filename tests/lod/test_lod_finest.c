@@ -21,18 +21,11 @@
 #include "prw_test.h"
 
 #define FINEST 1e-5
-/* Under the sanitizer build (Debug -O0 + ASan/UBSan, ~15x slower) the sampling is lighter and only
- * every third coarser level is measured (the test took ~100 s there); the normal build measures
- * everything as described above. */
-#if defined(__SANITIZE_ADDRESS__)
-#define N0 40
-#define ORDER0 2
-#define LEVEL_STEP 3
-#else
-#define N0 80
-#define ORDER0 3
-#define LEVEL_STEP 1
-#endif
+/* Light mode (sanitizer builds; the test took ~100 s there): lighter sampling and only every third
+ * coarser level is measured; the normal build measures everything as described above. */
+#define N0 (prw_test_light() ? 40 : 80)
+#define ORDER0 (prw_test_light() ? 2 : 3)
+#define LEVEL_STEP (prw_test_light() ? 3 : 1)
 
 static void test_plate(void)
 {

@@ -28,15 +28,10 @@
 #include "prw_nurbs_procedural.h"
 #include "prw_test.h"
 
-/* Under ASan (memory errors, not power: 127 s in full) every third level (and the coarsest) meets
- * the dense oracle and the option rebuilds are skipped. */
-#if defined(__SANITIZE_ADDRESS__)
-#define ORACLE_STRIDE 3
-#define ORACLE_LIGHT 1
-#else
-#define ORACLE_STRIDE 1
-#define ORACLE_LIGHT 0
-#endif
+/* Light mode (sanitizer builds: memory errors, not power; 127 s in full there) every third level (and
+ * the coarsest) meets the dense oracle and the option rebuilds are skipped. */
+#define ORACLE_STRIDE (prw_test_light() ? 3 : 1)
+#define ORACLE_LIGHT (prw_test_light() ? 1 : 0)
 
 typedef struct ekey {
     uint32_t a, b;

@@ -57,7 +57,7 @@ static void run(const char *name, bool (*make)(prw_nurbs_model *, prw_error *), 
     size_t tri_min = (size_t)-1, tri_max = 0;
     long fans = 0;
     double min_area = INFINITY;
-    int total = assignments + 2 * lm.levels;
+    int total = prw_test_scale(assignments, 8) + 2 * lm.levels;
     for (int a = 0; a < total; a++) {
         for (int p = 0; p < g.npatches; p++) {
             if (a < lm.levels) lv[p] = a; /* uniform */

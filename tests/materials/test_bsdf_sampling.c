@@ -203,14 +203,10 @@ static const double pairs[][2] = {{5, 0.09}, {30, 0.09}, {40, 0.04}, {60, 0.25},
                                   {45, 0.5}, {75, 0.5},  {20, 1.0},  {70, 1.0},  {89, 0.7}};
 #define NPAIRS ((int)(sizeof pairs / sizeof pairs[0]))
 
-/* The sanitizer build (Debug -O0 + ASan/UBSan, ~15x slower) looks for memory errors, not statistical
- * power: it draws a quarter of the samples (the chi-square test stays valid, with less power; the
- * RelWithDebInfo run keeps the full count and the power check). */
-#if defined(__SANITIZE_ADDRESS__)
-#define CHI2_SAMPLES 100000
-#else
-#define CHI2_SAMPLES 400000
-#endif
+/* Light mode (the sanitizer build looks for memory errors, not statistical power): a quarter of the
+ * samples (the chi-square test stays valid, with less power; the full run keeps the count and the
+ * power check). */
+#define CHI2_SAMPLES prw_test_scale(400000, 4)
 
 static void run_chi2(int kind, const char *name)
 {
@@ -303,7 +299,7 @@ static void test_pdf_normalisation(void)
             double upper = mt_integrate_wm(c.wo[2], c.alpha, 24, 1, pdf_fn, &pc);
             /* fraction of reflected samples above the horizon */
             mt_rng r = {(uint64_t)(a * 10 + t + 1)};
-            int n = 200000, above = 0;
+            int n = prw_test_scale(200000, 4), above = 0;
             for (int k = 0; k < n; k++) {
                 double wi[3];
                 draw(&c, &r, wi);
@@ -341,7 +337,7 @@ static void test_pdf_normalisation(void)
 static void test_sample_pdf_consistency(void)
 {
     mt_rng r = {5};
-    int n = 200000, bad = 0, bad_dv = 0, bad_support = 0, drawn = 0;
+    int n = prw_test_scale(200000, 4), bad = 0, bad_dv = 0, bad_support = 0, drawn = 0;
     double worst = 0, worst_dv = 0;
     for (int k = 0; k < n; k++) {
         prw_bsdf b;

@@ -12,6 +12,7 @@ int prw_test_main(int argc, char **argv, const prw_test_case *cases, int count)
 {
     int passed = 0, failed = 0;
     double t_all = prw_now();
+    if (prw_test_light()) printf("light mode (sanitizer build or PRW_TEST_LIGHT): reduced trial counts\n");
     for (int i = 0; i < count; i++) {
         bool selected = argc <= 1;
         for (int a = 1; a < argc; a++)
@@ -30,6 +31,23 @@ int prw_test_main(int argc, char **argv, const prw_test_case *cases, int count)
     printf("group wall time %.2f s\n", prw_now() - t_all);
     printf("%d passed, %d failed\n", passed, failed);
     return failed ? 1 : 0;
+}
+
+bool prw_test_light(void)
+{
+    const char *v = getenv("PRW_TEST_LIGHT");
+    if (v && *v) return strcmp(v, "0") != 0;
+#ifdef PRW_SANITIZE_BUILD
+    return true;
+#else
+    return false;
+#endif
+}
+
+int prw_test_scale(int n, int div)
+{
+    if (!prw_test_light() || div <= 1) return n;
+    return n / div > 1 ? n / div : 1;
 }
 
 const char *prw_test_tmpdir(void)

@@ -57,6 +57,13 @@ typedef struct prw_test_case {
 /* Runs the cases (all, or only those named in argv[1..]); returns the process exit code. */
 int prw_test_main(int argc, char **argv, const prw_test_case *cases, int count);
 
+/* Light mode: true in sanitizer builds (PRW_SANITIZE, 3-10x slower), or when the environment sets
+ * PRW_TEST_LIGHT=1 (PRW_TEST_LIGHT=0 forces the full workload).  Heavy cases then run fewer random
+ * trials / samples over the same code paths and checks (prw_test_scale). */
+bool prw_test_light(void);
+/* n, or in light mode max(1, n / div). */
+int prw_test_scale(int n, int div);
+
 /* A scratch directory for this test binary (created on first use, under the build tree's cwd). */
 const char *prw_test_tmpdir(void);
 /* "<tmpdir>/<name>" in one of 8 rotating static buffers (valid until 8 more calls). */
