@@ -24,6 +24,8 @@
  *                with the multiview backend each eye's region means within 3 % of mono (not bit for bit:
  *                lavapipe's multiview defect, test_stereo_gpu.c; control: OPAQUE); G-buffer ids
  *                through the cut and over the kept half (control: OPAQUE shows the panel in both).
+ *  - reproject_ext: the coated, transformed spheres with stereo_reuse=reproject (holes shaded by the
+ *                extension shaders): right eye LDR-FLIP vs fully shaded <= 0.05; control: the left eye.
  * Environment: PRW_GLTFM_OUT=DIR writes each case's raster and reference EXRs there.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -1107,6 +1109,53 @@ done:
     prw_scene_destroy(s), prw_scene_destroy(sb), prw_scene_destroy(so);
 }
 
+/* Stereo reprojection of extension materials without alpha (the coated, transformed spheres): the
+ * right eye's holes are shaded with the extension shaders (pass_reproject.c).  The reprojected right eye
+ * against the fully shaded one: LDR-FLIP <= 0.05 (test_stereo_reuse's bound); control: the left eye
+ * taken as the right eye is more than twice as far. */
+static void test_reproject_ext(void)
+{
+    prw_error e = {{0}};
+    prw_scene *s = NULL;
+    CHECK_OK(load(coat_file(1.0, "coat_reproject"), &s, &e), &e);
+    if (!s) return;
+    prw_view eyes[2];
+    for (int k = 0; k < 2; k++)
+        eyes[k] = prw_view_look_at(prw_v3(-0.0315 + 0.063 * k, 0.3, 2.6), prw_v3(-0.0315 + 0.063 * k, 0, 0),
+                                   prw_v3(0, 1, 0), 0.6, 0.05, W, H, 0.0);
+    prw_render_desc d1 = {.width = W, .height = H, .max_views = 1, .quality = prw_quality_default()};
+    d1.quality.msaa = 4;
+    d1.quality.shadow_size = 2048;
+    prw_render_desc d2 = d1;
+    d2.max_views = 2, d2.quality.stereo_reuse = PRW_STEREO_REUSE_REPROJECT;
+    prw_renderer *r1 = NULL, *r2 = NULL;
+    prw_frame_stats fs;
+    prw_image full = {0}, on[2] = {{0}};
+    bool ok = prw_renderer_create(g_gpu, s, &d1, &r1, &e) && prw_renderer_create(g_gpu, s, &d2, &r2, &e) &&
+              prw_renderer_render(r1, &eyes[1], 1, NULL, &e) && prw_renderer_read_hdr(r1, 0, &full, &e) &&
+              prw_renderer_render(r2, eyes, 2, &fs, &e) && prw_renderer_read_hdr(r2, 0, &on[0], &e) &&
+              prw_renderer_read_hdr(r2, 1, &on[1], &e);
+    CHECK_OK(ok, &e);
+    if (ok) {
+        bool ran = false;
+        for (uint32_t i = 0; i < fs.pass_count; i++)
+            if (strcmp(fs.passes[i].name, "reproject") == 0 && !fs.passes[i].skipped) ran = true;
+        prw_compare_opts o = {.ev100 = 0.0};
+        prw_compare_metrics m, c;
+        CHECK_OK(prw_compare_images(&on[1], &full, &o, &m, NULL, NULL, &e), &e);
+        CHECK_OK(prw_compare_images(&on[0], &full, &o, &c, NULL, NULL, &e), &e);
+        printf("coated spheres, stereo_reuse=reproject (reprojected %d): right eye LDR-FLIP vs the fully shaded "
+               "one %.4f (limit 0.05); control (the left eye as the right eye) %.4f\n",
+               ran, m.ldr_flip.mean, c.ldr_flip.mean);
+        CHECK(ran);
+        CHECK(m.ldr_flip.mean <= 0.05);
+        CHECK(c.ldr_flip.mean > 2 * m.ldr_flip.mean);
+    }
+    prw_image_free(&full), prw_image_free(&on[0]), prw_image_free(&on[1]);
+    prw_renderer_destroy(r1), prw_renderer_destroy(r2);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     prw_threads_set(2);
@@ -1117,6 +1166,7 @@ int main(int argc, char **argv)
         {"clearcoat_rect", test_clearcoat_rect},
         {"blend", test_blend},
         {"views_gbuffer", test_views_gbuffer},
+        {"reproject_ext", test_reproject_ext},
     };
     prw_error e;
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
