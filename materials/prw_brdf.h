@@ -36,6 +36,20 @@
  *   array costs lavapipe 40-100 s of LLVM compile time per shader, versus ~1 s for this code.)
  *   Accuracy: E and Ed within 0.25 % of direct integration for mu >= 0.01; below that (the last 0.6
  *   degrees before grazing) the value at mu = 0.01 is used.
+ * Clear coat (KHR_materials_clearcoat): a clear dielectric layer (IOR 1.5) of weight c in [0, 1] and
+ *   perceptual roughness r_c over the model above, with its own normal n_c (mu_o, mu_i, n_c.h below are
+ *   cosines against n_c; the base lobes keep theirs):
+ *   f_coated = c f_coat + (1 - c E_coat(mu_o)) (1 - c E_coat(mu_i)) f
+ *   f_coat   = D V F_dielectric(v.h) + Ec(mu_o) Ec(mu_i) / (pi Ec_avg) F_ms(PRW_DIELECTRIC_F_AVG), roughness r_c
+ *              (the dielectric specular lobe above with specular = 1: a second GGX lobe with the same
+ *              Kulla-Conty multiple scattering),
+ *   E_coat(mu) = Ed(mu) + F_ms Ec(mu), the coat's directional albedo (exact up to the fit of Ed, Ec).
+ *   The extension layers the base under the coat by mix(base, coat, c F(n_c.v)); here the Fresnel
+ *   factor is the coat's directional albedo (the energy it reflects, not its value at normal
+ *   incidence) and it is applied on the way in and on the way out, which keeps f_coated reciprocal and
+ *   its albedo c E_coat(mu_o) + (1 - c E_coat(mu_o)) int f (1 - c E_coat(mu_i)) cos <= 1: the base gets
+ *   at most what the coat transmits (the light the coat reflects back down is not returned to it).
+ *   c = 0 is the model above exactly.
  * Units: f is in 1/sr; outgoing luminance L_o = f * E_perp * cos(theta_l) for a light giving
  * illuminance E_perp (lux) at normal incidence.
  */
@@ -191,6 +205,55 @@ PRW_FN float prw_brdf_channel(float NoV, float NoL, float NoH, float VoH, float 
 {
     return prw_brdf_diffuse_channel(NoV, NoL, base, metallic, roughness, specular) +
            prw_brdf_specular_channel(NoV, NoL, NoH, VoH, base, metallic, roughness, specular);
+}
+
+/* ---- clear coat (see the top) ---- */
+
+/* E_coat(mu): directional albedo of the coat lobe of roughness rc (cosine clamped to [0, 1]). */
+PRW_FN float prw_coat_albedo(float mu, float rc)
+{
+    float m = prw_clamp01(mu);
+    float fms = prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
+    return prw_ggx_Ed(m, rc) + fms * prw_ggx_Ec(m, rc);
+}
+
+/* 1 - c E_coat(mu): the part of the light the coat of weight c lets through at cosine mu. */
+PRW_FN float prw_coat_transmission(float mu, float clearcoat, float rc)
+{
+    return 1.0 - prw_clamp01(clearcoat) * prw_coat_albedo(mu, rc);
+}
+
+/* The coat lobe f_coat (1/sr, weight not applied) from cosines against the coat normal. */
+PRW_FN float prw_brdf_coat_lobe(float NcV, float NcL, float NcH, float VoH, float rc)
+{
+    if (NcL <= 0.0 || NcV <= 0.0) return 0.0;
+    float alpha = prw_alpha_from_roughness(rc);
+    float mo = PRW_B_MIN(NcV, 1.0), mi = PRW_B_MIN(NcL, 1.0);
+    float ss = prw_D_ggx(prw_clamp01(NcH), alpha) * prw_V_smith_ggx(mo, mi, alpha) * prw_F_dielectric(prw_clamp01(VoH));
+    return ss + prw_ggx_ms_shape(mo, mi, rc) * prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
+}
+
+/* The coated model for one channel: NoV, NoL, NoH against the base's shading normal, NcV, NcL, NcH
+ * against the coat normal, VoH = v.h.  clearcoat <= 0 returns prw_brdf_channel exactly. */
+PRW_FN float prw_brdf_coated_channel(float NoV, float NoL, float NoH, float VoH, float NcV, float NcL, float NcH,
+                                     float base, float metallic, float roughness, float specular, float clearcoat,
+                                     float rc)
+{
+    float f = prw_brdf_channel(NoV, NoL, NoH, VoH, base, metallic, roughness, specular);
+    float c = prw_clamp01(clearcoat);
+    if (c <= 0.0) return f;
+    float t = prw_coat_transmission(NcV, c, rc) * prw_coat_transmission(NcL, c, rc);
+    return c * prw_brdf_coat_lobe(NcV, NcL, NcH, VoH, rc) + t * f;
+}
+
+/* The diffuse lobe's share of the coated model (the base's diffuse lobe under the coat). */
+PRW_FN float prw_brdf_coated_diffuse_channel(float NoV, float NoL, float NcV, float NcL, float base, float metallic,
+                                             float roughness, float specular, float clearcoat, float rc)
+{
+    float d = prw_brdf_diffuse_channel(NoV, NoL, base, metallic, roughness, specular);
+    float c = prw_clamp01(clearcoat);
+    if (c <= 0.0) return d;
+    return prw_coat_transmission(NcV, c, rc) * prw_coat_transmission(NcL, c, rc) * d;
 }
 
 /* Specular F0 of the mix, for passes that need a single number (e.g. prefiltered environment). */

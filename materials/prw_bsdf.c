@@ -17,7 +17,19 @@ static double alpha_of(const prw_bsdf *b)
     return fmax(r * r, (double)PRW_MIN_ALPHA);
 }
 
-void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3])
+static bool has_coat(const prw_bsdf *b) { return b->clearcoat > 0; }
+
+/* The coat normal (local frame): coat_n, or +Z when it is all zero. */
+static void coat_normal(const prw_bsdf *b, double nc[3])
+{
+    if (b->coat_n[0] == 0 && b->coat_n[1] == 0 && b->coat_n[2] == 0) {
+        nc[0] = nc[1] = 0, nc[2] = 1;
+        return;
+    }
+    for (int k = 0; k < 3; k++) nc[k] = b->coat_n[k];
+}
+
+static void eval(const prw_bsdf *b, const double wo[3], const double wi[3], bool diffuse_only, double f[3])
 {
     f[0] = f[1] = f[2] = 0;
     if (wo[2] <= 0 || wi[2] <= 0) return;
@@ -29,9 +41,28 @@ void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], do
      * in double before the float boundary. */
     float NoV = (float)wo[2], NoL = (float)wi[2], NoH = (float)h[2];
     float VoH = (float)(0.5 * (dot3(wo, h) + dot3(wi, h)));
+    float base[3] = {(float)b->base[0], (float)b->base[1], (float)b->base[2]};
+    float m = (float)b->metallic, r = (float)b->roughness, sp = (float)b->specular;
+    if (!has_coat(b)) {
+        for (int c = 0; c < 3; c++)
+            f[c] = diffuse_only ? prw_brdf_diffuse_channel(NoV, NoL, base[c], m, r, sp)
+                                : prw_brdf_channel(NoV, NoL, NoH, VoH, base[c], m, r, sp);
+        return;
+    }
+    double nc[3];
+    coat_normal(b, nc);
+    float NcV = (float)dot3(nc, wo), NcL = (float)dot3(nc, wi), NcH = (float)dot3(nc, h);
+    float cc = (float)b->clearcoat, rc = (float)b->clearcoat_roughness;
     for (int c = 0; c < 3; c++)
-        f[c] = prw_brdf_channel(NoV, NoL, NoH, VoH, (float)b->base[c], (float)b->metallic, (float)b->roughness,
-                                (float)b->specular);
+        f[c] = diffuse_only ? prw_brdf_coated_diffuse_channel(NoV, NoL, NcV, NcL, base[c], m, r, sp, cc, rc)
+                            : prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base[c], m, r, sp, cc, rc);
+}
+
+void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3]) { eval(b, wo, wi, false, f); }
+
+void prw_bsdf_eval_diffuse(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3])
+{
+    eval(b, wo, wi, true, f);
 }
 
 /* ---- lobes ---- */
@@ -110,7 +141,7 @@ double prw_pdf_ggx_reflect(const double wo[3], const double wi[3], double alpha)
 /* Probability of choosing the GGX lobe: specular albedo / (specular + diffuse-like albedo), both
  * estimated per channel from the fitted albedos at mu_o and averaged over RGB.  The multiple-scattering lobe
  * is cosine-like and counted with the diffuse lobe (it is sampled through the cosine lobe). */
-static double spec_probability(const prw_bsdf *b, double mu_o)
+static double spec_probability(const prw_bsdf *b, double mu_o, double *albedo)
 {
     float mo = (float)clampd(mu_o, 0, 1), r = (float)clampd(b->roughness, 0, 1);
     double m = clampd(b->metallic, 0, 1), s = clampd(b->specular, 0, 1);
@@ -126,23 +157,96 @@ static double spec_probability(const prw_bsdf *b, double mu_o)
         spec += (1 - m) * s * ed + m * fm * e;
         diff += (1 - m) * (base * (1 - e_ds) + fms_d * ec) + m * fms_m * ec;
     }
+    if (albedo) *albedo = (spec + diff) / 3;
     if (!(spec + diff > 0)) return 0.5;
     return clampd(spec / (spec + diff), 0.05, 0.95);
+}
+
+/* ---- the coat lobe: GGX visible normals in the coat normal's frame ---- */
+
+typedef struct coat_frame {
+    double t[3], b[3], n[3];
+} coat_frame;
+
+static coat_frame make_coat_frame(const prw_bsdf *b)
+{
+    coat_frame f;
+    coat_normal(b, f.n);
+    prw_frame_from_normal(f.n, f.t, f.b);
+    return f;
+}
+
+static void to_coat(const coat_frame *f, const double w[3], double out[3])
+{
+    out[0] = dot3(w, f->t), out[1] = dot3(w, f->b), out[2] = dot3(w, f->n);
+}
+
+static double coat_alpha(const prw_bsdf *b)
+{
+    double r = clampd(b->clearcoat_roughness, 0, 1);
+    return fmax(r * r, (double)PRW_MIN_ALPHA);
+}
+
+/* Probability of the coat lobe: c E_coat(mu_c) against the base's estimated albedo under the coat;
+ * 0 without a coat or when wo is below the coat's horizon. */
+static double coat_probability(const prw_bsdf *b, const coat_frame *f, const double wo[3], double base_albedo)
+{
+    double mu = dot3(wo, f->n), c = clampd(b->clearcoat, 0, 1);
+    if (!(mu > 0) || !(c > 0)) return 0;
+    double w = c * prw_coat_albedo((float)mu, (float)clampd(b->clearcoat_roughness, 0, 1));
+    double wb = (1 - w) * base_albedo;
+    if (!(w + wb > 0)) return 0.5;
+    return clampd(w / (w + wb), 0.05, 0.95);
+}
+
+static double base_pdf(const prw_bsdf *b, double ps, const double wo[3], const double wi[3])
+{
+    return ps * prw_pdf_ggx_reflect(wo, wi, alpha_of(b)) + (1 - ps) * prw_pdf_cosine(wi);
 }
 
 double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3])
 {
     if (wo[2] <= 0 || wi[2] <= 0) return 0;
-    double ps = spec_probability(b, wo[2]);
-    return ps * prw_pdf_ggx_reflect(wo, wi, alpha_of(b)) + (1 - ps) * prw_pdf_cosine(wi);
+    double albedo, ps = spec_probability(b, wo[2], &albedo);
+    if (!has_coat(b)) return base_pdf(b, ps, wo, wi);
+    coat_frame f = make_coat_frame(b);
+    double pc = coat_probability(b, &f, wo, albedo);
+    double pcoat = 0;
+    if (pc > 0) {
+        double wo_c[3], wi_c[3];
+        to_coat(&f, wo, wo_c);
+        to_coat(&f, wi, wi_c);
+        pcoat = prw_pdf_ggx_reflect(wo_c, wi_c, coat_alpha(b));
+    }
+    return pc * pcoat + (1 - pc) * base_pdf(b, ps, wo, wi);
 }
 
 bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf)
 {
     *pdf = 0;
     if (wo[2] <= 0) return false;
-    double ps = spec_probability(b, wo[2]);
-    if (u[0] < ps) {
+    double albedo, ps = spec_probability(b, wo[2], &albedo);
+    double u0 = u[0];
+    if (has_coat(b)) {
+        /* the coat lobe first (u0 < pc), else u0 is rescaled to [0, 1) for the base's lobe choice */
+        coat_frame f = make_coat_frame(b);
+        double pc = coat_probability(b, &f, wo, albedo);
+        if (u0 < pc) {
+            double wo_c[3], wm[3];
+            to_coat(&f, wo, wo_c);
+            prw_sample_ggx_vndf(wo_c, coat_alpha(b), u + 1, wm);
+            double om = dot3(wo_c, wm), wi_c[3];
+            for (int k = 0; k < 3; k++) wi_c[k] = 2 * om * wm[k] - wo_c[k];
+            for (int k = 0; k < 3; k++) wi[k] = f.t[k] * wi_c[0] + f.b[k] * wi_c[1] + f.n[k] * wi_c[2];
+            double l = sqrt(dot3(wi, wi));
+            for (int k = 0; k < 3; k++) wi[k] /= l;
+            if (wi[2] <= 0) return false;
+            *pdf = prw_bsdf_pdf(b, wo, wi);
+            return *pdf > 0;
+        }
+        u0 = (u0 - pc) / (1 - pc);
+    }
+    if (u0 < ps) {
         double wm[3];
         prw_sample_ggx_vndf(wo, alpha_of(b), u + 1, wm);
         double om = dot3(wo, wm);

@@ -5,8 +5,12 @@
  *  - Local shading frame: the normal is +Z; wo points towards the viewer, wi towards the light; both unit.
  *  - prw_bsdf_eval() returns f(wo, wi) in 1/sr per RGB channel (no cosine), computed by
  *    prw_brdf_channel() of prw_brdf.h, so the rasterizer and the reference evaluate the same model.
- *  - prw_bsdf_sample() draws wi from a mixture of a cosine-weighted diffuse lobe and GGX visible-normal
- *    sampling of the specular lobe (mixture weights from the lobes' estimated albedos); *pdf is the
+ *  - With clearcoat > 0 the coated model of prw_brdf.h (prw_brdf_coated_channel): a second GGX lobe
+ *    around the coat normal coat_n (local frame; all zero = +Z) over the base; clearcoat 0 is the
+ *    uncoated model exactly (same code path).
+ *  - prw_bsdf_sample() draws wi from a mixture of a cosine-weighted diffuse lobe, GGX visible-normal
+ *    sampling of the specular lobe and, with a coat, GGX visible-normal sampling of the coat lobe in
+ *    the coat normal's frame (mixture weights from the lobes' estimated albedos); *pdf is the
  *    mixture's solid-angle density, equal to prw_bsdf_pdf(wo, wi).  Returns false (no sample) when the
  *    drawn direction is below the horizon or wo is.
  *  - Each sampler also stands alone (cosine, GGX VNDF) with its pdf, for the chi-square tests.
@@ -29,9 +33,14 @@ typedef struct prw_bsdf {
     double metallic;  /* [0, 1] */
     double roughness; /* perceptual, alpha = roughness^2 (clamped as in prw_brdf.h) */
     double specular;  /* dielectric F0 scale (1 = F0 0.04) */
+    double clearcoat;           /* coat weight in [0, 1] (KHR_materials_clearcoat); 0: no coat */
+    double clearcoat_roughness; /* perceptual */
+    double coat_n[3];           /* the coat's unit normal in the local frame; all zero: +Z (the shading normal) */
 } prw_bsdf;
 
 void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3]);
+/* The diffuse lobe's part of prw_bsdf_eval (prw_brdf_coated_diffuse_channel), for light-path filters. */
+void prw_bsdf_eval_diffuse(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3]);
 double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3]);
 bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf);
 

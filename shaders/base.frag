@@ -13,12 +13,17 @@ layout(std140, set = 2, binding = 0) uniform prw_mv_block { mat4 view_proj[2]; v
 
 // Base pass: emission + direct light from every light (shadowed by shadow maps), in cd/m^2, for one
 // material kind (material_gltf.glsl; variants by -D, shaders/CMakeLists.txt).  PRW_GBUFFER also writes
-// the shading normal / roughness and the material id for later passes.
+// the shading normal / roughness and the material id for later passes.  PRW_GLTF_EXT: the glTF
+// extension features (uv set 1, texture transforms; MASK discards below the cutoff, BLEND writes
+// alpha = coverage for the "over" blend of its pipeline); with PRW_GLTF_COAT the clear coat too.
 
 layout(location = 0) in vec3 v_pos;
 layout(location = 1) in vec3 v_normal;
 layout(location = 2) in vec2 v_uv;
 layout(location = 3) in vec4 v_tangent;
+#ifdef PRW_GLTF_EXT
+layout(location = 4) in vec2 v_uv1;
+#endif
 
 layout(location = 0) out vec4 o_color;
 #ifdef PRW_GBUFFER
@@ -28,7 +33,13 @@ layout(location = 2) out uint o_id;     // material slot + 1
 
 void main()
 {
+#ifdef PRW_GLTF_EXT
+    prw_surface S = prw_material_surface(v_uv, v_uv1, v_normal, v_tangent, gl_FrontFacing);
+    int mode = int(mat.alpha.x);
+    if (mode == PRW_GPU_ALPHA_MASK && !prw_alpha_mask_keeps(S.alpha, mat.alpha.y)) discard;
+#else
     prw_surface S = prw_material_surface(v_uv, v_normal, v_tangent, gl_FrontFacing);
+#endif
     vec3 n = S.n;
 #ifdef PRW_MULTIVIEW
     vec3 v = normalize(prw_mv.eye_rel[gl_ViewIndex].xyz - v_pos);
@@ -39,8 +50,21 @@ void main()
     if (bend > 0.0) n = normalize(n + v * bend);
 
     vec3 radiance = S.emission;
+#ifdef PRW_GLTF_EXT
+#ifdef PRW_GLTF_COAT
+    vec3 nc = S.nc;
+    float bend_c = prw_normal_bend(dot(nc, v));
+    if (bend_c > 0.0) nc = normalize(nc + v * bend_c);
+    prw_direct_light_coated(radiance, v_pos, n, nc, v, S.base, S.metallic, S.roughness, S.specular, S.clearcoat,
+                            S.clearcoat_roughness, 1.5);
+#else
+    prw_direct_light(radiance, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
+#endif
+    o_color = vec4(radiance, mode == PRW_GPU_ALPHA_BLEND ? clamp(S.alpha, 0.0, 1.0) : 1.0);
+#else
     prw_direct_light(radiance, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
     o_color = vec4(radiance, 1.0);
+#endif
 #ifdef PRW_GBUFFER
     o_normal = vec4(n, S.roughness);
     o_id = uint(mat.extra.y);

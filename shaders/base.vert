@@ -10,6 +10,10 @@ layout(location = 0) in vec3 in_pos;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
+#ifdef PRW_GLTF_EXT
+layout(location = 4) in vec2 in_uv1; // uv set 1 (constants: PRW_UV1_FLOATS)
+layout(location = 4) out vec2 v_uv1;
+#endif
 
 layout(push_constant) uniform prw_draw {
     mat4 model;      // object -> camera-relative world
@@ -38,6 +42,9 @@ void main()
     v_normal = nm * in_normal;
     v_tangent = vec4(mat3(pc.model) * in_tangent.xyz, in_tangent.w * pc.normal_m[0].w);
     v_uv = in_uv;
+#ifdef PRW_GLTF_EXT
+    v_uv1 = in_uv1;
+#endif
 #ifdef PRW_MULTIVIEW
     gl_Position = prw_mv.view_proj[gl_ViewIndex] * p;
 #else

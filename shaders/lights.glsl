@@ -164,4 +164,90 @@ void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, fl
     }
 }
 
+#ifdef PRW_GLTF_COAT
+// The coated model (prw_brdf.h, KHR_materials_clearcoat) per RGB channel: n the base's shading normal,
+// nc the coat's normal; clearcoat 0 is brdf() (prw_brdf_coated_channel returns prw_brdf_channel).
+vec3 brdf_coated(vec3 n, vec3 nc, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular,
+                 float cc, float rc)
+{
+    vec3 h = normalize(v + l);
+    float NoV = dot(n, v), NoL = dot(n, l), NoH = dot(n, h), VoH = dot(v, h);
+    float NcV = dot(nc, v), NcL = dot(nc, l), NcH = dot(nc, h);
+    return vec3(prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base.r, metallic, roughness, specular, cc, rc),
+                prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base.g, metallic, roughness, specular, cc, rc),
+                prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base.b, metallic, roughness, specular, cc, rc));
+}
+
+// prw_direct_light for a clear-coated surface (coat normal nc, weight cc, roughness rc).  Rect lights:
+// the base's terms as in prw_direct_light, times the coat's transmission towards the viewer and towards
+// the base's vector-form-factor direction (smooth over the light); the coat's single scattering by the
+// same quadrature (rect_specular_single with the coat's normal and roughness, F = the dielectric's),
+// its multiple scattering by Lambert's formula over the coat's hemisphere.
+void prw_direct_light_coated(inout vec3 radiance, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base, float metallic,
+                             float roughness, float specular, float cc, float rc, float shadow_offset)
+{
+    if (!(cc > 0.0)) {
+        prw_direct_light(radiance, p, n, v, base, metallic, roughness, specular, shadow_offset);
+        return;
+    }
+    int count = int(g.params.x);
+    for (int i = 0; i < count; i++) {
+        prw_gpu_light L = g.lights[i];
+        int type = int(L.pos_type.w);
+        vec3 rgb = L.radiance.rgb;
+        if (type == PRW_GPU_LIGHT_RECT) {
+            vec3 c = L.pos_type.xyz;
+            if (dot(p - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
+            vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
+                                c + L.axis_u.xyz + L.axis_v.xyz, c - L.axis_u.xyz + L.axis_v.xyz);
+            vec3 f = vec3(0.0);
+            vec3 fdir;
+            float E = quad_irradiance(p, n, q, fdir);
+            float NcV = max(dot(nc, v), 1e-4);
+            if (E > 0.0) {
+                float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
+                vec3 fd = vec3(prw_brdf_diffuse_channel(NoV, NoLd, base.r, metallic, roughness, specular),
+                               prw_brdf_diffuse_channel(NoV, NoLd, base.g, metallic, roughness, specular),
+                               prw_brdf_diffuse_channel(NoV, NoLd, base.b, metallic, roughness, specular));
+                fd += specular_ms(NoV, NoLd, base, metallic, roughness, specular);
+                float t = prw_coat_transmission(NcV, cc, rc) * prw_coat_transmission(dot(nc, fdir), cc, rc);
+                f += t * (fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
+                                                        metallic, roughness, specular));
+            }
+            vec3 fdir_c;
+            float Ec = quad_irradiance(p, nc, q, fdir_c);
+            if (Ec > 0.0) {
+                float NcLd = max(dot(nc, fdir_c), 1e-4);
+                float ms = prw_ggx_ms_shape(min(NcV, 1.0), min(NcLd, 1.0), rc) *
+                           prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
+                f += cc * (vec3(ms * Ec) + rect_specular_single(p, nc, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz,
+                                                                vec3(0.0), 0.0, rc, 1.0));
+            }
+            radiance += f * rgb * shadow_factor(L, p, n, shadow_offset);
+            continue;
+        }
+        vec3 l;
+        float E;
+        if (type == PRW_GPU_LIGHT_DIRECTIONAL) {
+            l = -L.dir_range.xyz;
+            E = 1.0;
+        } else {
+            vec3 d = L.pos_type.xyz - p;
+            float d2 = max(dot(d, d), 1e-8);
+            l = d * inversesqrt(d2);
+            E = 1.0 / d2;
+            if (L.dir_range.w > 0.0) E *= prw_range_window(d2, L.dir_range.w);
+            if (type == PRW_GPU_LIGHT_SPOT) {
+                float cd = dot(-l, L.dir_range.xyz);
+                E *= prw_spot_factor(cd, L.cone_shadow.x, L.cone_shadow.y);
+            }
+        }
+        float NoL = dot(n, l);
+        if (NoL <= 0.0 || E <= 0.0) continue;
+        radiance += brdf_coated(n, nc, v, l, base, metallic, roughness, specular, cc, rc) * rgb * (E * NoL) *
+                    shadow_factor(L, p, n, shadow_offset);
+    }
+}
+#endif
+
 #endif

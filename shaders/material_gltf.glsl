@@ -2,6 +2,10 @@
 // layout; C mirror prw_gpu_material in engine/render/gpu_types.h): the surface a fragment shades with,
 // from the material factors, its textures and the interpolated frame, by the shared rules of
 // prw_shading.h (channels, normal-map decode, double-sided flip).  Needs prw_shading.h.
+// PRW_GLTF_EXT (the pipelines of materials with glTF extension features, engine/render/scene_gpu.h):
+// alpha (MASK / BLEND), a uv set and KHR_texture_transform per texture slot, and with PRW_GLTF_COAT
+// KHR_materials_clearcoat; without it the material is exactly the core one (no transform, uv set 0,
+// no coat).
 #ifndef PRW_MATERIAL_GLTF_GLSL
 #define PRW_MATERIAL_GLTF_GLSL
 
@@ -10,11 +14,21 @@ layout(std140, set = 1, binding = 0) uniform prw_material_block {
     vec4 emission;   // rgb cd/m^2, w: normal scale
     vec4 mr;         // x: metallic, y: roughness, z: double sided, w: has normal map
     vec4 extra;      // x: specular (dielectric F0 scale), y: material slot + 1 (G-buffer id)
+#ifdef PRW_GLTF_EXT
+    vec4 alpha;      // x: mode (PRW_GPU_ALPHA_*), y: cutoff
+    vec4 coat;       // x: clearcoat factor, y: clearcoat roughness factor, z: coat normal scale, w: has coat normal map
+    vec4 xf[2 * PRW_GPU_SLOTS]; // per slot: (offset u, offset v, cos r, sin r), (scale u, scale v, uv set, 0)
+#endif
 } mat;
 layout(set = 1, binding = 1) uniform sampler2D tex_base;      // sRGB decoded by the sampler
 layout(set = 1, binding = 2) uniform sampler2D tex_mr;        // G roughness, B metallic
 layout(set = 1, binding = 3) uniform sampler2D tex_normal;    // tangent space
 layout(set = 1, binding = 4) uniform sampler2D tex_emissive;  // sRGB decoded
+#ifdef PRW_GLTF_EXT
+layout(set = 1, binding = 5) uniform sampler2D tex_coat;           // R: clear coat weight
+layout(set = 1, binding = 6) uniform sampler2D tex_coat_roughness; // G: clear coat roughness
+layout(set = 1, binding = 7) uniform sampler2D tex_coat_normal;    // tangent space
+#endif
 
 struct prw_surface {
     vec3 base;
@@ -22,8 +36,14 @@ struct prw_surface {
     vec3 n;        // shading normal (not yet bent towards the viewer)
     vec3 emission; // cd/m^2
     bool double_sided;
+#ifdef PRW_GLTF_EXT
+    float alpha;   // base_color.a x texel.a
+    float clearcoat, clearcoat_roughness;
+    vec3 nc;       // the clear coat's normal (not yet bent)
+#endif
 };
 
+#ifndef PRW_GLTF_EXT
 prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_facing)
 {
     prw_surface S;
@@ -53,5 +73,70 @@ prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_
     S.emission = mat.emission.rgb * texture(tex_emissive, uv).rgb;
     return S;
 }
+#else
+// The uv of texture slot `slot`: its uv set, then its transform (prw_shading.h).
+vec2 prw_slot_uv(int slot, vec2 uv0, vec2 uv1)
+{
+    vec4 a = mat.xf[2 * slot], b = mat.xf[2 * slot + 1];
+    vec2 uv = b.z > 0.5 ? uv1 : uv0;
+    return vec2(prw_uv_xf_u(uv.x, uv.y, a.x, a.z, a.w, b.x, b.y), prw_uv_xf_v(uv.x, uv.y, a.y, a.z, a.w, b.x, b.y));
+}
+
+// The base colour's alpha alone (the shadow pass's cut-out test).
+float prw_material_alpha(vec2 uv0, vec2 uv1)
+{
+    return prw_alpha_from(mat.base_color.a, texture(tex_base, prw_slot_uv(PRW_GPU_SLOT_BASE, uv0, uv1)).a);
+}
+
+// A normal map's texel tt (slot `slot`, xy scale `scale`) applied to n in the interpolated tangent frame.
+vec3 prw_apply_normal_map(vec3 n, vec4 tangent, vec3 tt, float scale, int slot)
+{
+    vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+    float tl = length(t);
+    if (!(tl > 1e-8)) return n;
+    t /= tl;
+    vec3 b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0);
+    vec3 tn = vec3(prw_normal_texel(tt.x, scale), prw_normal_texel(tt.y, scale), tt.z * 2.0 - 1.0);
+    vec4 a = mat.xf[2 * slot], s = mat.xf[2 * slot + 1];
+    float xt = prw_normal_xf_t(tn.x, tn.y, a.z, a.w, s.x, s.y), yb = prw_normal_xf_b(tn.x, tn.y, a.z, a.w, s.x, s.y);
+    return normalize(t * xt + b * yb + n * tn.z);
+}
+
+prw_surface prw_material_surface(vec2 uv, vec2 uv1, vec3 normal, vec4 tangent, bool front_facing)
+{
+    prw_surface S;
+    vec4 base4 = mat.base_color * texture(tex_base, prw_slot_uv(PRW_GPU_SLOT_BASE, uv, uv1));
+    S.base = base4.rgb;
+    S.alpha = base4.a;
+    vec4 mrt = texture(tex_mr, prw_slot_uv(PRW_GPU_SLOT_METAL_ROUGH, uv, uv1));
+    S.roughness = prw_roughness_from(mat.mr.y, mrt.g);
+    S.metallic = prw_metallic_from(mat.mr.x, mrt.b);
+    S.specular = mat.extra.x;
+    S.double_sided = mat.mr.z > 0.5;
+
+    vec3 n = normalize(normal);
+    if (prw_normal_flips(mat.mr.z > 0.5, front_facing)) n = -n;
+    S.nc = n;
+    if (mat.mr.w > 0.5)
+        n = prw_apply_normal_map(n, tangent, texture(tex_normal, prw_slot_uv(PRW_GPU_SLOT_NORMAL, uv, uv1)).xyz,
+                                 mat.emission.w, PRW_GPU_SLOT_NORMAL);
+    S.n = n;
+    S.emission = mat.emission.rgb * texture(tex_emissive, prw_slot_uv(PRW_GPU_SLOT_EMISSIVE, uv, uv1)).rgb;
+    S.clearcoat = 0.0;
+    S.clearcoat_roughness = 0.0;
+#ifdef PRW_GLTF_COAT
+    if (mat.coat.x > 0.0) {
+        S.clearcoat = prw_clearcoat_from(mat.coat.x, texture(tex_coat, prw_slot_uv(PRW_GPU_SLOT_CLEARCOAT, uv, uv1)).r);
+        S.clearcoat_roughness = prw_clearcoat_roughness_from(
+            mat.coat.y, texture(tex_coat_roughness, prw_slot_uv(PRW_GPU_SLOT_CLEARCOAT_ROUGHNESS, uv, uv1)).g);
+        if (mat.coat.w > 0.5)
+            S.nc = prw_apply_normal_map(
+                S.nc, tangent, texture(tex_coat_normal, prw_slot_uv(PRW_GPU_SLOT_CLEARCOAT_NORMAL, uv, uv1)).xyz,
+                mat.coat.z, PRW_GPU_SLOT_CLEARCOAT_NORMAL);
+    }
+#endif
+    return S;
+}
+#endif
 
 #endif

@@ -15,6 +15,23 @@
 
 /* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
 #define PRW_VERTEX_FLOATS 12
+/* The glTF-extension pipelines (PRW_GLTF_EXT) read uv set 1 at location 4: from a second stream of 2
+ * floats per vertex (binding 1, the scene's meshes), or from binding 0's uv (drawables without uv set 1). */
+#define PRW_UV1_FLOATS 2
+
+/* glTF material features on the GPU (shaders/material_gltf.glsl with PRW_GLTF_EXT): alpha modes as
+ * prw_alpha_mode, texture slots as prw_tex_slot (engine/scene/prw_scene.h; checked in gpu_types.h). */
+#define PRW_GPU_ALPHA_OPAQUE 0
+#define PRW_GPU_ALPHA_MASK 1
+#define PRW_GPU_ALPHA_BLEND 2
+#define PRW_GPU_SLOT_BASE 0
+#define PRW_GPU_SLOT_METAL_ROUGH 1
+#define PRW_GPU_SLOT_NORMAL 2
+#define PRW_GPU_SLOT_EMISSIVE 3
+#define PRW_GPU_SLOT_CLEARCOAT 4
+#define PRW_GPU_SLOT_CLEARCOAT_ROUGHNESS 5
+#define PRW_GPU_SLOT_CLEARCOAT_NORMAL 6
+#define PRW_GPU_SLOTS 7
 
 /* Push constants of the base pass's draws, bytes: model (mat4) + normal matrix (3 x vec4); the clip-plane
  * variant (PRW_CLIP_PLANE) reads a vec4 plane right after them, pushed once per pass. */

@@ -126,6 +126,15 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
                                                 : VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
                                                       VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT,
         };
+        if (d->blend_over && i == 0) { /* rgb = a src + (1 - a) dst; the target's alpha is kept */
+            blend[i].blendEnable = VK_TRUE;
+            blend[i].srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+            blend[i].dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+            blend[i].srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO;
+            blend[i].dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+        } else if (d->blend_over) {
+            blend[i].colorWriteMask = 0;
+        }
     }
     VkPipelineColorBlendStateCreateInfo cb = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,

@@ -223,6 +223,8 @@ typedef struct prw_graphics_desc {
     VkCompareOp depth_compare;    /* 0 (NEVER) means GREATER_OR_EQUAL: reversed Z */
     bool depth_bias;              /* dynamic depth bias enabled */
     bool blend_additive;          /* ONE + ONE on all colour attachments */
+    bool blend_over;              /* attachment 0: rgb = src.a src + (1 - src.a) dst, alpha kept; the other
+                                     attachments are not written (surfaces blended over the image) */
     bool no_color_write;          /* colour write mask 0 (e.g. a depth pre-pass into a colour target) */
     bool stencil_test;            /* needs a depth format with stencil */
     VkStencilOpState stencil;     /* front and back (with stencil_test) */

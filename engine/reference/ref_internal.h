@@ -19,7 +19,32 @@ typedef struct ref_inst {
     bool two_sided;      /* NURBS models: shaded on the side the ray arrives from (ref_nurbs.c) */
     int nurbs_entry;     /* index into scene->nurbs, -1 for glTF/builder meshes */
     prw_dmat4 world;     /* NURBS instances: model metres -> world */
+    const struct prw_ref_renderer *r; /* for the alpha filter (MASK / BLEND materials) */
+    uint32_t geom;       /* Embree geometry id (= index in inst) */
 } ref_inst;
+
+/* The intersection context of every ray: Embree hands it to the alpha filter of MASK / BLEND
+ * geometry (ref_scene.c).  key: the ray's own random key (BLEND coverage is decided per ray and
+ * triangle by a hash of it, so a repeated query of the same ray decides the same way);
+ * blend_invisible: G-buffer queries (prw_ref_primary_hit) pass through BLEND surfaces, as the
+ * rasterizer's G-buffer does. */
+typedef struct ref_ray_ctx {
+    struct RTCIntersectContext ctx; /* first member: the filter casts back */
+    uint64_t key;
+    bool blend_invisible;
+} ref_ray_ctx;
+
+/* Alpha (base_color.a x texel.a, prw_shading.h) of instance `in` at barycentrics (b1, b2) of triangle
+ * prim; and the surface coverage there: 1 (OPAQUE), 0 or 1 (MASK by the cutoff), alpha clamped to
+ * [0, 1] (BLEND). */
+double ref_alpha_at(const struct prw_ref_renderer *r, const ref_inst *in, uint32_t prim, double b1, double b2);
+double ref_coverage_at(const struct prw_ref_renderer *r, const ref_inst *in, uint32_t prim, double b1, double b2);
+/* uv of texture slot `slot` of the instance's material at barycentrics (b1, b2): uv set (set 1 falls
+ * back to set 0 without TEXCOORD_1) then KHR_texture_transform (prw_shading.h). */
+void ref_slot_uv(const ref_inst *in, int slot, uint32_t prim, double b1, double b2, double out[2]);
+/* Bilinear, repeat wrap; sRGB channels (rgb) decoded before filtering.  uv (0,0) = top-left. */
+void ref_tex_sample(const struct prw_ref_renderer *r, const prw_texture *t, const double uv[2], double out[4]);
+const prw_texture *ref_tex_of(const struct prw_ref_renderer *r, int idx);
 
 typedef struct ref_rect {
     double c[3];          /* centre, camera-relative */

@@ -213,6 +213,33 @@ static bool mat3_inverse(const double a[9], double out[9])
     return true;
 }
 
+/* MASK and BLEND materials: a hit where the surface is not (MASK below the cutoff; BLEND with the
+ * probability 1 - alpha, decided by a hash of the ray's key and the triangle, so the decision is
+ * the same however often Embree reports the hit) is rejected and the ray goes on. */
+static void alpha_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const ref_inst *in = args->geometryUserPtr;
+    const ref_ray_ctx *rc = (const ref_ray_ctx *)args->context;
+    for (unsigned i = 0; i < args->N; i++) {
+        if (args->valid[i] != -1) continue;
+        /* RTCHitN is structure-of-arrays: Ng x, y, z, u, v, primID, geomID (rtcore_ray.h; its accessors are C++) */
+        const float *hf = (const float *)args->hit;
+        const unsigned *hu = (const unsigned *)args->hit;
+        uint32_t prim = hu[5 * args->N + i];
+        double b1 = hf[3 * args->N + i], b2 = hf[4 * args->N + i];
+        bool keep;
+        if (in->mat->alpha_mode == PRW_ALPHA_BLEND && rc->blend_invisible) {
+            keep = false;
+        } else if (in->mat->alpha_mode == PRW_ALPHA_BLEND) {
+            uint64_t h = ref_splitmix(rc->key ^ ref_splitmix(((uint64_t)in->geom << 32) | prim));
+            keep = (double)(h >> 11) * 0x1.0p-53 < ref_coverage_at(in->r, in, prim, b1, b2);
+        } else {
+            keep = ref_coverage_at(in->r, in, prim, b1, b2) > 0;
+        }
+        if (!keep) args->valid[i] = 0;
+    }
+}
+
 bool ref_add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m, prw_error *e)
 {
     const prw_scene *s = r->scene;
@@ -246,6 +273,13 @@ bool ref_add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m,
                                m->vertex_count);
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m->indices, 0, 3 * sizeof(uint32_t),
                                m->index_count / 3);
+    in->r = r;
+    in->geom = r->inst_count;
+    if (in->mat->alpha_mode == PRW_ALPHA_MASK || in->mat->alpha_mode == PRW_ALPHA_BLEND) {
+        rtcSetGeometryUserData(g, in);
+        rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
+        rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
+    }
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(r->rtc, g, r->inst_count);
     rtcReleaseGeometry(g);

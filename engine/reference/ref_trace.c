@@ -80,8 +80,7 @@ static int max_depth(prw_ref_filter f)
 
 /* ---- textures ---- */
 
-/* Bilinear, repeat wrap; sRGB channels (rgb) decoded before filtering.  uv (0,0) = top-left. */
-static void tex_sample(const prw_ref_renderer *r, const prw_texture *t, const double uv[2], double out[4])
+void ref_tex_sample(const prw_ref_renderer *r, const prw_texture *t, const double uv[2], double out[4])
 {
     double x = uv[0] * t->width - 0.5, y = uv[1] * t->height - 0.5;
     if (!isfinite(x) || !isfinite(y)) x = y = 0;
@@ -105,18 +104,89 @@ static void tex_sample(const prw_ref_renderer *r, const prw_texture *t, const do
         }
 }
 
-static const prw_texture *tex_of(const prw_ref_renderer *r, int idx)
+const prw_texture *ref_tex_of(const prw_ref_renderer *r, int idx)
 {
     return idx >= 0 && (uint32_t)idx < r->scene->texture_count && r->scene->textures[idx].rgba8 ? &r->scene->textures[idx]
                                                                                                : NULL;
 }
 
+/* Whether slot reads something other than uv set 0 unchanged. */
+static bool slot_moves(const prw_material *mt, int slot)
+{
+    const prw_tex_transform *t = &mt->tex_xf[slot];
+    return t->tex_coord != 0 || !prw_tex_transform_is_identity(t);
+}
+
+/* uv of slot at the vertex weights w3 of triangle prim (prw_shading.h: uv set, then the transform). */
+static void slot_uv_w(const ref_inst *in, int slot, uint32_t prim, const double w3[3], double out[2])
+{
+    const prw_mesh *m = in->mesh;
+    const prw_tex_transform *t = &in->mat->tex_xf[slot];
+    const float *uvs = t->tex_coord == 1 && m->uvs1 ? m->uvs1 : m->uvs;
+    const uint32_t *ix = m->indices + 3 * prim;
+    double u = 0, v = 0;
+    for (int k = 0; k < 3; k++) {
+        u += w3[k] * uvs[2 * ix[k]];
+        v += w3[k] * uvs[2 * ix[k] + 1];
+    }
+    double c = cos((double)t->rotation), sn = sin((double)t->rotation);
+    out[0] = prw_uv_xf_u(u, v, t->offset[0], c, sn, t->scale[0], t->scale[1]);
+    out[1] = prw_uv_xf_v(u, v, t->offset[1], c, sn, t->scale[0], t->scale[1]);
+}
+
+void ref_slot_uv(const ref_inst *in, int slot, uint32_t prim, double b1, double b2, double out[2])
+{
+    const double w3[3] = {1 - b1 - b2, b1, b2};
+    slot_uv_w(in, slot, prim, w3, out);
+}
+
+double ref_alpha_at(const prw_ref_renderer *r, const ref_inst *in, uint32_t prim, double b1, double b2)
+{
+    const prw_material *mt = in->mat;
+    const prw_texture *t = ref_tex_of(r, mt->base_color_tex);
+    double texel = 1;
+    if (t) {
+        double uv[2], tx[4];
+        ref_slot_uv(in, PRW_TEX_BASE_COLOR, prim, b1, b2, uv);
+        ref_tex_sample(r, t, uv, tx);
+        texel = tx[3];
+    }
+    return prw_alpha_from(mt->base_color[3], texel);
+}
+
+double ref_coverage_at(const prw_ref_renderer *r, const ref_inst *in, uint32_t prim, double b1, double b2)
+{
+    switch (in->mat->alpha_mode) {
+    case PRW_ALPHA_MASK: return prw_alpha_mask_keeps(ref_alpha_at(r, in, prim, b1, b2), in->mat->alpha_cutoff) ? 1 : 0;
+    case PRW_ALPHA_BLEND: return fmin(fmax(ref_alpha_at(r, in, prim, b1, b2), 0.0), 1.0);
+    default: return 1;
+    }
+}
+
+/* A slot's texel at a surface point. */
+static void surf_texel(const prw_ref_renderer *r, const ref_inst *in, const double uv0[2], uint32_t prim,
+                       const double w3[3], int slot, const prw_texture *t, double out[4])
+{
+    double uv[2] = {uv0[0], uv0[1]};
+    if (slot_moves(in->mat, slot)) slot_uv_w(in, slot, prim, w3, uv);
+    ref_tex_sample(r, t, uv, out);
+}
+
+/* The key of one ray of a path: camera ray (k = 0) and the BSDF ray leaving vertex k (tag 0), the
+ * next-event rays of vertex k (tag 1 + light slot); BLEND coverage is decided from it. */
+static uint64_t ray_key(const ref_rng *rng, int k, uint32_t tag)
+{
+    return ref_splitmix(rng->key ^ ref_splitmix(((uint64_t)(uint32_t)k << 32) | tag) ^ 0x6a09e667f3bcc909ull);
+}
+enum { TAG_BSDF = 0, TAG_DELTA = 1, TAG_RECT = 0x10000, TAG_ETRI = 0x20000, TAG_ENV = 0x20001 };
+
 /* ---- ray queries ---- */
 
-static bool isect(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, struct RTCRayHit *rh)
+static bool isect(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, uint64_t key,
+                  bool blend_invisible, struct RTCRayHit *rh)
 {
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    ref_ray_ctx ctx = {.key = key, .blend_invisible = blend_invisible};
+    rtcInitIntersectContext(&ctx.ctx);
     memset(rh, 0, sizeof *rh);
     rh->ray.org_x = (float)o[0];
     rh->ray.org_y = (float)o[1];
@@ -129,7 +199,7 @@ static bool isect(const prw_ref_renderer *r, const double o[3], const double d[3
     rh->ray.mask = 0xffffffffu;
     rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(r->rtc, &ctx, rh);
+    rtcIntersect1(r->rtc, &ctx.ctx, rh);
     return rh->hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
@@ -159,13 +229,13 @@ static int rect_hit(const prw_ref_renderer *r, const double o[3], const double d
 /* True when the segment from o along d (unit) up to tmax is blocked by a surface or a rect light
  * (other than rect `skip`). */
 static bool occluded(const prw_ref_renderer *r, const double o[3], const double d[3], double tmax, int skip,
-                     uint64_t *rays)
+                     uint64_t key, uint64_t *rays)
 {
     (*rays)++;
     double tr;
     if (rect_hit(r, o, d, 0, tmax, &tr, skip) >= 0) return true;
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    ref_ray_ctx ctx = {.key = key};
+    rtcInitIntersectContext(&ctx.ctx);
     struct RTCRay ray;
     memset(&ray, 0, sizeof ray);
     ray.org_x = (float)o[0];
@@ -177,7 +247,7 @@ static bool occluded(const prw_ref_renderer *r, const double o[3], const double 
     ray.tnear = 0.0f;
     ray.tfar = isfinite(tmax) ? (float)tmax : INFINITY;
     ray.mask = 0xffffffffu;
-    rtcOccluded1(r->rtc, &ctx, &ray);
+    rtcOccluded1(r->rtc, &ctx.ctx, &ray);
     return ray.tfar < 0;
 }
 
@@ -237,10 +307,10 @@ static bool surf_emission(const prw_ref_renderer *r, const surf *s, double Le[3]
     const prw_material *mt = s->in->mat;
     if (!(mt->emission[0] > 0 || mt->emission[1] > 0 || mt->emission[2] > 0)) return false;
     for (int c = 0; c < 3; c++) Le[c] = mt->emission[c];
-    const prw_texture *t = tex_of(r, mt->emissive_tex);
+    const prw_texture *t = ref_tex_of(r, mt->emissive_tex);
     if (t) {
         double tx[4];
-        tex_sample(r, t, s->uv, tx);
+        surf_texel(r, s->in, s->uv, s->prim, s->bary, PRW_TEX_EMISSIVE, t, tx);
         for (int c = 0; c < 3; c++) Le[c] *= tx[c];
     }
     return Le[0] > 0 || Le[1] > 0 || Le[2] > 0;
@@ -266,21 +336,71 @@ static void to_world(const shade *sh, const double l[3], double w[3])
     for (int c = 0; c < 3; c++) w[c] = sh->t[c] * l[0] + sh->bt[c] * l[1] + sh->n[c] * l[2];
 }
 
+/* A normal map (texture t of slot `slot`, xy scale `scale`) applied to the normal n in place, in the
+ * interpolated tangent frame of the mesh (prw_shading.h: decode, frame of a transformed slot). */
+static void apply_normal_map(const prw_ref_renderer *r, const surf *s, const prw_texture *t, int slot, double scale,
+                             double n[3])
+{
+    const prw_mesh *m = s->in->mesh;
+    const uint32_t *ix = m->indices + 3 * s->prim;
+    double tg[3] = {0, 0, 0}, sign = 0;
+    const double *area = s->bary;
+    for (int k = 0; k < 3; k++) {
+        const float *tt = m->tangents + 4 * ix[k];
+        for (int c = 0; c < 3; c++) tg[c] += area[k] * tt[c];
+        sign += area[k] * tt[3];
+    }
+    double tw[3];
+    for (int row = 0; row < 3; row++)
+        tw[row] = s->in->lmat[row * 3] * tg[0] + s->in->lmat[row * 3 + 1] * tg[1] + s->in->lmat[row * 3 + 2] * tg[2];
+    double dn = dot3(tw, n);
+    for (int c = 0; c < 3; c++) tw[c] -= n[c] * dn;
+    double tl = sqrt(dot3(tw, tw));
+    if (!(tl > 1e-8)) return;
+    for (int c = 0; c < 3; c++) tw[c] /= tl;
+    double bw[3];
+    cross3(n, tw, bw);
+    if (sign < 0) bw[0] = -bw[0], bw[1] = -bw[1], bw[2] = -bw[2];
+    double tx[4];
+    surf_texel(r, s->in, s->uv, s->prim, s->bary, slot, t, tx);
+    double x = prw_normal_texel(tx[0], scale), y = prw_normal_texel(tx[1], scale), z = prw_normal_texel(tx[2], 1.0);
+    const prw_tex_transform *xf = &s->in->mat->tex_xf[slot];
+    if (!prw_tex_transform_is_identity(xf)) {
+        double c = cos((double)xf->rotation), sn = sin((double)xf->rotation);
+        double xt = prw_normal_xf_t(x, y, c, sn, xf->scale[0], xf->scale[1]);
+        double yb = prw_normal_xf_b(x, y, c, sn, xf->scale[0], xf->scale[1]);
+        x = xt, y = yb;
+    }
+    for (int c = 0; c < 3; c++) n[c] = tw[c] * x + bw[c] * y + n[c] * z;
+    norm3(n);
+}
+
+/* bend a shading normal facing away from the viewer back (prw_shading.h) */
+static void bend_normal(double n[3], const double wo[3])
+{
+    double bend = prw_normal_bend(dot3(n, wo));
+    if (bend > 0) {
+        for (int c = 0; c < 3; c++) n[c] += wo[c] * bend;
+        norm3(n);
+    }
+}
+
 static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], shade *sh)
 {
     const prw_material *mt = s->in->mat;
+    memset(&sh->b, 0, sizeof sh->b);
     double base[4] = {mt->base_color[0], mt->base_color[1], mt->base_color[2], mt->base_color[3]};
-    const prw_texture *tb = tex_of(r, mt->base_color_tex);
+    const prw_texture *tb = ref_tex_of(r, mt->base_color_tex);
     if (tb) {
         double tx[4];
-        tex_sample(r, tb, s->uv, tx);
+        surf_texel(r, s->in, s->uv, s->prim, s->bary, PRW_TEX_BASE_COLOR, tb, tx);
         for (int c = 0; c < 4; c++) base[c] *= tx[c];
     }
     double metallic = mt->metallic, rough = mt->roughness;
-    const prw_texture *tm = tex_of(r, mt->metal_rough_tex);
+    const prw_texture *tm = ref_tex_of(r, mt->metal_rough_tex);
     if (tm) {
         double tx[4];
-        tex_sample(r, tm, s->uv, tx);
+        surf_texel(r, s->in, s->uv, s->prim, s->bary, PRW_TEX_METAL_ROUGH, tm, tx);
         rough = prw_roughness_from(rough, tx[1]);
         metallic = prw_metallic_from(metallic, tx[2]);
     }
@@ -293,56 +413,45 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
     memcpy(n, s->ns, sizeof n);
     /* single-sided back faces never get here (passed through or black) */
     if (prw_normal_flips(mt->double_sided || s->in->two_sided, s->front)) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
-    const prw_texture *tn = tex_of(r, mt->normal_tex);
-    if (tn) {
-        const prw_mesh *m = s->in->mesh;
-        const uint32_t *ix = m->indices + 3 * s->prim;
-        double tg[3] = {0, 0, 0}, sign = 0;
-        const double *area = s->bary;
-        for (int k = 0; k < 3; k++) {
-            const float *tt = m->tangents + 4 * ix[k];
-            for (int c = 0; c < 3; c++) tg[c] += area[k] * tt[c];
-            sign += area[k] * tt[3];
-        }
-        double tw[3];
-        for (int row = 0; row < 3; row++)
-            tw[row] = s->in->lmat[row * 3] * tg[0] + s->in->lmat[row * 3 + 1] * tg[1] + s->in->lmat[row * 3 + 2] * tg[2];
-        double dn = dot3(tw, n);
-        for (int c = 0; c < 3; c++) tw[c] -= n[c] * dn;
-        double tl = sqrt(dot3(tw, tw));
-        if (tl > 1e-8) {
-            for (int c = 0; c < 3; c++) tw[c] /= tl;
-            double bw[3];
-            cross3(n, tw, bw);
-            if (sign < 0) bw[0] = -bw[0], bw[1] = -bw[1], bw[2] = -bw[2];
-            double tx[4];
-            tex_sample(r, tn, s->uv, tx);
-            double x = prw_normal_texel(tx[0], mt->normal_scale), y = prw_normal_texel(tx[1], mt->normal_scale),
-                   z = prw_normal_texel(tx[2], 1.0);
-            for (int c = 0; c < 3; c++) n[c] = tw[c] * x + bw[c] * y + n[c] * z;
-            norm3(n);
-        }
-    }
-    /* bend a shading normal facing away from the viewer back (prw_shading.h) */
+    double nc[3]; /* the clear coat's normal: the surface's, or its own normal map (prw_shading.h) */
+    memcpy(nc, n, sizeof nc);
+    const prw_texture *tn = ref_tex_of(r, mt->normal_tex);
+    if (tn) apply_normal_map(r, s, tn, PRW_TEX_NORMAL, mt->normal_scale, n);
     double wo[3] = {-d[0], -d[1], -d[2]};
-    double bend = prw_normal_bend(dot3(n, wo));
-    if (bend > 0) {
-        for (int c = 0; c < 3; c++) n[c] += wo[c] * bend;
-        norm3(n);
-    }
+    bend_normal(n, wo);
     memcpy(sh->n, n, sizeof n);
     prw_frame_from_normal(sh->n, sh->t, sh->bt);
     to_local(sh, wo, sh->wo);
+    if (mt->clearcoat > 0) {
+        double cc = mt->clearcoat, rc = mt->clearcoat_roughness, tx[4];
+        const prw_texture *t = ref_tex_of(r, mt->clearcoat_tex);
+        if (t) {
+            surf_texel(r, s->in, s->uv, s->prim, s->bary, PRW_TEX_CLEARCOAT, t, tx);
+            cc = prw_clearcoat_from(cc, tx[0]);
+        }
+        t = ref_tex_of(r, mt->clearcoat_roughness_tex);
+        if (t) {
+            surf_texel(r, s->in, s->uv, s->prim, s->bary, PRW_TEX_CLEARCOAT_ROUGHNESS, t, tx);
+            rc = prw_clearcoat_roughness_from(rc, tx[1]);
+        }
+        t = ref_tex_of(r, mt->clearcoat_normal_tex);
+        if (t) apply_normal_map(r, s, t, PRW_TEX_CLEARCOAT_NORMAL, mt->clearcoat_normal_scale, nc);
+        bend_normal(nc, wo);
+        sh->b.clearcoat = cc;
+        sh->b.clearcoat_roughness = rc;
+        to_local(sh, nc, sh->b.coat_n);
+        norm3(sh->b.coat_n);
+    }
 }
 
 /* Class weight per channel for the diffuse-last / glossy-last filters: the diffuse lobe's share
  * (prw_brdf_diffuse_channel of the shared model) of the BSDF value fv for direction wl (local). */
 static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
 {
+    double kd[3];
+    prw_bsdf_eval_diffuse(&sh->b, sh->wo, wl, kd);
     for (int c = 0; c < 3; c++) {
-        double kd = prw_brdf_diffuse_channel((float)sh->wo[2], (float)wl[2], (float)sh->b.base[c],
-                                             (float)sh->b.metallic, (float)sh->b.roughness, (float)sh->b.specular);
-        double x = fv[c] > 0 ? kd / fv[c] : 0;
+        double x = fv[c] > 0 ? kd[c] / fv[c] : 0;
         x = fmin(fmax(x, 0.0), 1.0);
         cw[c] = f.kind == PRW_REF_DIFFUSE_LAST ? x : f.kind == PRW_REF_GLOSSY_LAST ? 1 - x : 1;
     }
@@ -368,7 +477,7 @@ static void add(path *pa, const double w3[3], const double Le[3], double w)
  * delta light's irradiance-like factor (pdf_l == 0).  target: the light point (NULL: infinitely far
  * along wi); the shadow ray runs from the offset origin to target, stopping target_eps short. */
 static void connect(path *pa, const surf *s, const shade *sh, const double wi[3], const double *target,
-                    double target_eps, int skip_rect, const double Li[3], double pdf_l)
+                    double target_eps, int skip_rect, const double Li[3], double pdf_l, uint32_t tag)
 {
     if (!(dot3(s->ng, wi) > 0)) return; /* below the geometric surface */
     double wl[3];
@@ -388,7 +497,7 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
         tmax = dist * (1 - 1e-7) - target_eps;
         if (!(tmax > 0)) return;
     }
-    if (occluded(pa->r, o, sd, tmax, skip_rect, pa->rays)) return;
+    if (occluded(pa->r, o, sd, tmax, skip_rect, ray_key(pa->rng, pa->k, tag), pa->rays)) return;
     double w = 1;
     if (pdf_l > 0) w = power_heuristic(pdf_l, prw_bsdf_pdf(&sh->b, sh->wo, wl)) / pdf_l;
     double cw[3] = {1, 1, 1};
@@ -418,7 +527,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
             if (!(E > 0)) continue;
             for (int c = 0; c < 3; c++) Li[c] = dl->I[c] * E;
         }
-        connect(pa, s, sh, wi, dl->type == PRW_LIGHT_DIRECTIONAL ? NULL : dl->p, 0, -1, Li, 0);
+        connect(pa, s, sh, wi, dl->type == PRW_LIGHT_DIRECTIONAL ? NULL : dl->p, 0, -1, Li, 0, TAG_DELTA + i);
     }
     /* rect lights: uniform area sampling */
     for (uint32_t i = 0; i < r->rect_count; i++) {
@@ -436,7 +545,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         double cl = -dot3(wi, q->emit);
         if (!(cl > 0)) continue;
         double pdf = d2 / (cl * q->area);
-        connect(pa, s, sh, wi, lp, 0, (int)i, q->L, pdf);
+        connect(pa, s, sh, wi, lp, 0, (int)i, q->L, pdf, TAG_RECT + i);
     }
     /* emissive triangles: one sample */
     if (r->etri_count) {
@@ -478,10 +587,17 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
                     ls.uv[0] += w3[k] * in->mesh->uvs[2 * ix[k]];
                     ls.uv[1] += w3[k] * in->mesh->uvs[2 * ix[k] + 1];
                 }
+                memcpy(ls.bary, w3, sizeof w3);
                 double Le[3];
                 if (surf_emission(r, &ls, Le)) {
+                    /* a MASK / BLEND emitter emits where (and as much as) its surface is there */
+                    if (in->mat->alpha_mode != PRW_ALPHA_OPAQUE) {
+                        double cov = ref_coverage_at(r, in, prim, b1, b2);
+                        for (int c = 0; c < 3; c++) Le[c] *= cov;
+                    }
                     double pdf = in->emit_pdf_area * d2 / cl;
-                    connect(pa, s, sh, wi, lp, 2 * offset_eps(lp, tm), -1, Le, pdf);
+                    if (Le[0] > 0 || Le[1] > 0 || Le[2] > 0)
+                        connect(pa, s, sh, wi, lp, 2 * offset_eps(lp, tm), -1, Le, pdf, TAG_ETRI);
                 }
             }
         }
@@ -491,7 +607,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         pa->rng->dim = base + 7;
         double u0 = ref_rand(pa->rng), u1 = ref_rand(pa->rng);
         double wi[3], Le[3], pdf;
-        if (ref_env_sample(&r->env, u0, u1, wi, Le, &pdf)) connect(pa, s, sh, wi, NULL, 0, -1, Le, pdf);
+        if (ref_env_sample(&r->env, u0, u1, wi, Le, &pdf)) connect(pa, s, sh, wi, NULL, 0, -1, Le, pdf, TAG_ENV);
     }
 }
 
@@ -530,9 +646,10 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
         surf s;
         bool hit = false;
         /* camera rays pass through back faces of single-sided materials (the rasterizer culls them) */
+        uint64_t key = ray_key(rng, pa.k, TAG_BSDF); /* the camera ray (k = 0) or the BSDF ray leaving vertex k */
         for (int guard = 0; guard < 256; guard++) {
             (*rays)++;
-            hit = isect(r, o, d, tnear, &rh);
+            hit = isect(r, o, d, tnear, key, false, &rh);
             if (!hit) break;
             fill_surf(r, &rh, d, &s);
             if (pa.k > 0 || s.front || (s.in->mat->double_sided || s.in->two_sided)) break;
@@ -622,7 +739,7 @@ bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *v, double x,
     surf s;
     bool hit = false;
     for (int guard = 0; guard < 256 && !hit; guard++) {
-        if (!isect(r, o, d, tnear, &rh)) break;
+        if (!isect(r, o, d, tnear, 0, true, &rh)) break;
         fill_surf(r, &rh, d, &s);
         if (s.front || s.in->mat->double_sided || s.in->two_sided) hit = true;
         else tnear = s.t + s.eps;

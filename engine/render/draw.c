@@ -4,6 +4,7 @@
 #include "pipes.h"
 #include "prw_constants.h"
 #include "prw_pass.h"
+#include "scene_gpu.h"
 
 typedef struct draw_pc {
     prw_mat4 model;
@@ -40,7 +41,23 @@ void prw_draw_push_model(prw_dmat4 world, prw_dvec3 origin, float out[28])
     memcpy(out, &pc, sizeof pc);
 }
 
+uint32_t prw_draw_features(const prw_draw_ctx *c, uint32_t slot, bool uv1)
+{
+    uint32_t f = c->sg->slot_flags[slot], out = 0;
+    if (c->kind == PRW_DRAW_SHADOW) out = f & (PRW_SG_MASK | PRW_SG_BLEND) ? PRW_PIPE_MASK : 0;
+    else if (f & PRW_SG_EXT)
+        out = PRW_PIPE_EXT | (f & PRW_SG_COAT ? PRW_PIPE_COAT : 0) | (c->kind == PRW_DRAW_BLEND ? PRW_PIPE_BLEND : 0);
+    if (out && !uv1) out |= PRW_PIPE_NO_UV1;
+    return out;
+}
+
 bool prw_draw_bind(prw_draw_ctx *c, uint32_t material_kind, bool two_sided, bool node_mirrored)
+{
+    return prw_draw_bind_features(c, material_kind, 0, two_sided, node_mirrored);
+}
+
+bool prw_draw_bind_features(prw_draw_ctx *c, uint32_t material_kind, uint32_t features, bool two_sided,
+                            bool node_mirrored)
 {
     if (c->failed) return false;
     prw_pipe_key k = {
@@ -51,6 +68,7 @@ bool prw_draw_bind(prw_draw_ctx *c, uint32_t material_kind, bool two_sided, bool
         .clip = c->view->clip,
         .view_mask = c->view_mask,
         .variant = c->variant,
+        .features = features,
     };
     VkPipeline p;
     if (!prw_pipes_get(c->pipes, &k, &p, &c->err)) {

@@ -8,7 +8,7 @@
 static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
 {
     (void)state;
-    if (c->kind == PRW_DRAW_SHADOW) return;
+    if (c->kind == PRW_DRAW_SHADOW || c->kind == PRW_DRAW_BLEND) return;
     const prw_scene *s = env->scene;
     const prw_scene_gpu *sg = env->sg;
     bool bound_buffers = false;
@@ -47,7 +47,7 @@ static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
 static bool has(const void *state, const prw_render_env *env, prw_draw_kind kind)
 {
     (void)state;
-    if (kind == PRW_DRAW_SHADOW) return false;
+    if (kind == PRW_DRAW_SHADOW || kind == PRW_DRAW_BLEND) return false;
     for (uint32_t li = 0; li < env->scene->light_count; li++)
         if (env->scene->lights[li].type == PRW_LIGHT_RECT) return true;
     return false;

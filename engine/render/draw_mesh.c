@@ -1,5 +1,10 @@
 /* draw_mesh — the scene's meshes as a drawable: every node's mesh group, one draw per mesh, in node
- * order; shadows draw every mesh with the light's clip matrix. */
+ * order; meshes with a BLEND material are left out of COLOR draws and drawn by BLEND draws, back to
+ * front (by the distance of their world bounds' centre from the view's eye), a double-sided one as
+ * its far side then its near side; shadows draw every mesh with the light's clip matrix, cut-out
+ * (MASK, BLEND) casters through the alpha-tested caster pipeline. */
+#include <stdlib.h>
+
 #include "pipes.h"
 #include "prw_pass.h"
 #include "scene_gpu.h"
@@ -13,52 +18,136 @@ static void node_range(const prw_scene *s, uint32_t node, uint32_t *first, uint3
     *count = s->groups[g].count;
 }
 
+static bool is_blend(const prw_scene_gpu *sg, uint32_t slot) { return (sg->slot_flags[slot] & PRW_SG_BLEND) != 0; }
+
+static void bind_buffers(const prw_scene_gpu *sg, VkCommandBuffer cmd)
+{
+    VkDeviceSize zero[2] = {0, 0};
+    VkBuffer vb[2] = {sg->vertices.buffer, sg->uv1.buffer};
+    vkCmdBindVertexBuffers(cmd, 0, sg->uv1.buffer ? 2 : 1, vb, zero);
+    vkCmdBindIndexBuffer(cmd, sg->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+}
+
+static void record_shadow(const prw_render_env *env, prw_draw_ctx *c)
+{
+    const prw_scene *s = env->scene;
+    const prw_scene_gpu *sg = env->sg;
+    for (uint32_t ni = 0; ni < s->node_count; ni++) {
+        uint32_t first, count;
+        node_range(s, ni, &first, &count);
+        if (!count) continue;
+        prw_mat4 mvp = prw_m4_from_d(prw_dm4_mul(c->view->shadow_view_proj, s->nodes[ni].world));
+        bool mirrored = prw_draw_mirrors(s->nodes[ni].world);
+        for (uint32_t k = first; k < first + count; k++) {
+            uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[k].material);
+            uint32_t f = prw_draw_features(c, mi, sg->uv1.buffer != VK_NULL_HANDLE);
+            if (!prw_draw_bind_features(c, 0, f, s->material_count && s->materials[mi].double_sided, mirrored)) return;
+            if (f & PRW_PIPE_MASK)
+                vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1,
+                                        &sg->material_sets[mi], 0, NULL);
+            vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof mvp, &mvp);
+            vkCmdDrawIndexed(c->cmd, sg->meshes[k].index_count, 1, sg->meshes[k].first_index,
+                             sg->meshes[k].vertex_offset, 0);
+        }
+    }
+}
+
+/* One shaded draw of mesh k (push constants pc of its node); extra: more pipeline features (PRW_PIPE_BACK). */
+static bool draw_one(const prw_render_env *env, prw_draw_ctx *c, uint32_t k, const float pc[28], bool two_sided,
+                     uint32_t extra)
+{
+    const prw_scene_gpu *sg = env->sg;
+    const prw_gpu_mesh *dm = &sg->meshes[k];
+    uint32_t mi = prw_scene_gpu_slot(env->scene, dm->material);
+    uint32_t f = prw_draw_features(c, mi, sg->uv1.buffer != VK_NULL_HANDLE) | extra;
+    uint32_t kind = env->scene->material_count ? env->scene->materials[mi].kind : 0;
+    if (!prw_draw_bind_features(c, kind, f, two_sided, pc[19] < 0.0f)) return false; /* normal_m[0].w: mirrored */
+    vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, 28 * sizeof(float), pc);
+    vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1, &sg->material_sets[mi], 0,
+                            NULL);
+    vkCmdDrawIndexed(c->cmd, dm->index_count, 1, dm->first_index, dm->vertex_offset, 0);
+    c->triangles += dm->index_count / 3;
+    c->draws++;
+    return true;
+}
+
+typedef struct blend_item {
+    double d2;
+    uint32_t node, mesh;
+} blend_item;
+
+static int far_first(const void *a, const void *b)
+{
+    const blend_item *x = a, *y = b;
+    if (x->d2 != y->d2) return x->d2 > y->d2 ? -1 : 1;
+    return x->node != y->node ? (x->node > y->node) - (x->node < y->node) : (x->mesh > y->mesh) - (x->mesh < y->mesh);
+}
+
+static void record_blend(const prw_render_env *env, prw_draw_ctx *c)
+{
+    const prw_scene *s = env->scene;
+    const prw_scene_gpu *sg = env->sg;
+    uint32_t n = 0, cap = 0;
+    blend_item *items = NULL;
+    for (uint32_t ni = 0; ni < s->node_count; ni++) {
+        uint32_t first, count;
+        node_range(s, ni, &first, &count);
+        for (uint32_t k = first; k < first + count; k++) {
+            if (!is_blend(sg, prw_scene_gpu_slot(s, sg->meshes[k].material))) continue;
+            const prw_mesh *m = &s->meshes[k];
+            prw_dvec3 centre = prw_dm4_point(s->nodes[ni].world, prw_v3_scale(prw_v3_add(m->bounds_min, m->bounds_max), 0.5));
+            prw_dvec3 d = prw_v3_sub(centre, c->view->eye);
+            if (n == cap) items = prw_realloc(items, (cap = cap ? 2 * cap : 16) * sizeof *items);
+            items[n++] = (blend_item){prw_v3_dot(d, d), ni, k};
+        }
+    }
+    qsort(items, n, sizeof *items, far_first);
+    for (uint32_t i = 0; i < n && !c->failed; i++) {
+        float pc[28];
+        prw_draw_push_model(s->nodes[items[i].node].world, c->view->origin, pc);
+        uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[items[i].mesh].material);
+        bool two = s->material_count && s->materials[mi].double_sided;
+        if (two && !draw_one(env, c, items[i].mesh, pc, false, PRW_PIPE_BACK)) break;
+        if (!draw_one(env, c, items[i].mesh, pc, false, 0)) break;
+    }
+    free(items);
+}
+
 static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
 {
     (void)state;
     const prw_scene *s = env->scene;
     const prw_scene_gpu *sg = env->sg;
     if (!sg->mesh_count) return;
-    VkDeviceSize zero = 0;
-    vkCmdBindVertexBuffers(c->cmd, 0, 1, &sg->vertices.buffer, &zero);
-    vkCmdBindIndexBuffer(c->cmd, sg->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    if (c->kind == PRW_DRAW_BLEND && !sg->blend_meshes) return;
+    bind_buffers(sg, c->cmd);
+    if (c->kind == PRW_DRAW_SHADOW) {
+        record_shadow(env, c);
+        return;
+    }
+    if (c->kind == PRW_DRAW_BLEND) {
+        record_blend(env, c);
+        return;
+    }
     for (uint32_t ni = 0; ni < s->node_count; ni++) {
         uint32_t first, count;
         node_range(s, ni, &first, &count);
         if (!count) continue;
-        if (c->kind == PRW_DRAW_SHADOW) {
-            prw_mat4 mvp = prw_m4_from_d(prw_dm4_mul(c->view->shadow_view_proj, s->nodes[ni].world));
-            bool mirrored = prw_draw_mirrors(s->nodes[ni].world);
-            for (uint32_t k = first; k < first + count; k++) {
-                uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[k].material);
-                if (!prw_draw_bind(c, 0, s->material_count && s->materials[mi].double_sided, mirrored)) return;
-                vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof mvp, &mvp);
-                vkCmdDrawIndexed(c->cmd, sg->meshes[k].index_count, 1, sg->meshes[k].first_index,
-                                 sg->meshes[k].vertex_offset, 0);
-            }
-            continue;
-        }
         float pc[28];
         prw_draw_push_model(s->nodes[ni].world, c->view->origin, pc);
-        bool mirrored = pc[19] < 0.0f; /* normal_m[0].w: the mirrored flag */
         for (uint32_t k = first; k < first + count; k++) {
-            const prw_gpu_mesh *dm = &sg->meshes[k];
-            uint32_t mi = prw_scene_gpu_slot(s, dm->material);
+            uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[k].material);
+            if (is_blend(sg, mi)) continue; /* drawn by PRW_DRAW_BLEND */
             bool two = s->material_count && s->materials[mi].double_sided;
-            if (!prw_draw_bind(c, s->material_count ? s->materials[mi].kind : 0, two, mirrored)) return;
-            vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, pc);
-            vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1, &sg->material_sets[mi],
-                                    0, NULL);
-            vkCmdDrawIndexed(c->cmd, dm->index_count, 1, dm->first_index, dm->vertex_offset, 0);
-            c->triangles += dm->index_count / 3;
-            c->draws++;
+            if (!draw_one(env, c, k, pc, two, 0)) return;
         }
     }
 }
 
 static bool has(const void *state, const prw_render_env *env, prw_draw_kind kind)
 {
-    (void)state, (void)kind;
+    (void)state;
+    if (kind == PRW_DRAW_BLEND) return env->sg->blend_meshes;
     return env->sg->mesh_count > 0;
 }
 

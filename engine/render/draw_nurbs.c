@@ -1,8 +1,10 @@
 /* draw_nurbs — trimmed-NURBS models with per-frame LOD as a drawable (prw_lod_render.h): per frame the
  * LOD selection and slot updates for the view set; colour / depth draws of each instance's drawn
  * patches (or its proxy level) with the scene material, instances front to back (nearest model centre
- * first: with many copies the depth test then rejects hidden fragments before shading); shadow draws
- * of every patch of every instance. */
+ * first: with many copies the depth test then rejects hidden fragments before shading); a BLEND
+ * material's models in BLEND draws instead, far to near (one draw of each instance);
+ * shadow draws of every patch of every instance (cut-out casters alpha tested).  NURBS have no uv set
+ * 1: extension pipelines read set 0 there (PRW_PIPE_NO_UV1). */
 #include <stdlib.h>
 
 #include "pipes.h"
@@ -31,6 +33,10 @@ static void record_shaded(prw_lod_scene *ls, const prw_render_env *env, prw_draw
         const prw_scene_nurbs *en = prw_lod_scene_entry(ls, i);
         uint32_t mi = prw_scene_gpu_slot(s, en->material);
         bool two = s->material_count && s->materials[mi].double_sided;
+        /* a BLEND material: drawn by BLEND draws only, instances far to near (NURBS have no uv set 1) */
+        bool blend = (sg->slot_flags[mi] & PRW_SG_BLEND) != 0;
+        if (blend != (c->kind == PRW_DRAW_BLEND)) continue;
+        uint32_t features = prw_draw_features(c, mi, false);
         VkDeviceSize zero = 0;
         uint32_t ni = prw_lod_scene_instances(ls, i);
         inst_order *order = prw_malloc(sizeof *order * (ni ? ni : 1));
@@ -41,7 +47,7 @@ static void record_shaded(prw_lod_scene *ls, const prw_render_env *env, prw_draw
         }
         qsort(order, ni, sizeof *order, by_distance);
         for (uint32_t oi = 0; oi < ni && !c->failed; oi++) {
-            uint32_t k = order[oi].k, n;
+            uint32_t k = order[blend ? ni - 1 - oi : oi].k, n;
             const prw_lod_range *rg = prw_lod_gpu_ranges(g, k, false, &n);
             if (!n) continue;
             VkBuffer vb = prw_lod_gpu_vertex_buffer(g, k);
@@ -50,7 +56,7 @@ static void record_shaded(prw_lod_scene *ls, const prw_render_env *env, prw_draw
             float pc[28];
             prw_draw_push_model(prw_lod_gpu_draw_matrix(g, prw_lod_scene_instance_world(ls, i, k)), origin, pc);
             uint32_t kind = s->material_count ? s->materials[mi].kind : 0;
-            if (!prw_draw_bind(c, kind, two, pc[19] < 0.0f)) break; /* normal_m[0].w: the mirrored flag */
+            if (!prw_draw_bind_features(c, kind, features, two, pc[19] < 0.0f)) break; /* pc[19]: mirrored */
             vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, pc);
             vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1, &sg->material_sets[mi],
                                     0, NULL);
@@ -74,13 +80,17 @@ static void record_shadow(prw_lod_scene *ls, const prw_render_env *env, prw_draw
         /* a patch's orientation is only consistent on closed models marked single_sided: every other
          * model casts from both sides */
         bool two = !en->single_sided || (s->material_count && s->materials[mi].double_sided);
+        uint32_t features = prw_draw_features(c, mi, false);
         VkDeviceSize zero = 0;
         for (uint32_t k = 0; k < prw_lod_scene_instances(ls, i); k++) {
             uint32_t n;
             const prw_lod_range *rg = prw_lod_gpu_ranges(g, k, true, &n);
             if (!n) continue;
             prw_dmat4 w = prw_lod_gpu_draw_matrix(g, prw_lod_scene_instance_world(ls, i, k));
-            if (!prw_draw_bind(c, 0, two, prw_draw_mirrors(w))) return;
+            if (!prw_draw_bind_features(c, 0, features, two, prw_draw_mirrors(w))) return;
+            if (features & PRW_PIPE_MASK)
+                vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c->layout, 1, 1,
+                                        &env->sg->material_sets[mi], 0, NULL);
             VkBuffer vb = prw_lod_gpu_vertex_buffer(g, k);
             vkCmdBindVertexBuffers(c->cmd, 0, 1, &vb, &zero);
             vkCmdBindIndexBuffer(c->cmd, prw_lod_gpu_index_buffer(g, k), 0, VK_INDEX_TYPE_UINT32);
@@ -120,8 +130,11 @@ static bool update(void *state, const prw_render_env *env, const prw_view *views
 
 static bool has(const void *state, const prw_render_env *env, prw_draw_kind kind)
 {
-    (void)env, (void)kind;
-    return state != NULL;
+    if (!state || kind != PRW_DRAW_BLEND) return state != NULL;
+    const prw_scene *s = env->scene;
+    for (uint32_t i = 0; i < s->nurbs_count; i++)
+        if (env->sg->slot_flags[prw_scene_gpu_slot(s, s->nurbs[i].material)] & PRW_SG_BLEND) return true;
+    return false;
 }
 
 const prw_drawable prw_drawable_nurbs = {

@@ -29,12 +29,16 @@ typedef struct prw_gpu_globals {
     prw_mat4 shadow_mats[PRW_MAX_SHADOW_VIEWS];
 } prw_gpu_globals;
 
-/* shaders/base.frag: uniform prw_material_block (set 1, binding 0) */
+/* shaders/material_gltf.glsl: uniform prw_material_block (set 1, binding 0); the shaders without
+ * PRW_GLTF_EXT read the first four members only. */
 typedef struct prw_gpu_material {
     float base_color[4];
     float emission[4]; /* w: normal scale */
     float mr[4];       /* metallic, roughness, double sided, has normal map */
     float extra[4];    /* x: specular, y: material slot + 1 (G-buffer id) */
+    float alpha[4];    /* x: alpha mode (PRW_GPU_ALPHA_*), y: cutoff */
+    float coat[4];     /* x: clearcoat, y: clearcoat roughness, z: coat normal scale, w: has coat normal map */
+    float xf[2 * PRW_GPU_SLOTS][4]; /* per slot: (offset u, v, cos r, sin r), (scale u, v, uv set, 0) */
 } prw_gpu_material;
 
 /* std140: vec4 members 16-byte aligned, arrays of structs padded to 16, mat4 = 64 bytes */
@@ -45,7 +49,17 @@ _Static_assert(offsetof(prw_gpu_globals, params) == 80, "globals.params");
 _Static_assert(offsetof(prw_gpu_globals, lights) == 96, "globals.lights");
 _Static_assert(offsetof(prw_gpu_globals, shadow_mats) == 96 + PRW_MAX_LIGHTS * 7 * 16, "globals.shadow_mats");
 _Static_assert(sizeof(prw_gpu_globals) == 96 + PRW_MAX_LIGHTS * 7 * 16 + PRW_MAX_SHADOW_VIEWS * 64, "globals size");
-_Static_assert(sizeof(prw_gpu_material) == 64, "material block: 4 vec4");
+_Static_assert(offsetof(prw_gpu_material, alpha) == 64, "material block: the core part is 4 vec4");
+_Static_assert(sizeof(prw_gpu_material) == (6 + 2 * PRW_GPU_SLOTS) * 16, "material block: 6 + 2 x slots vec4");
+_Static_assert(PRW_GPU_ALPHA_OPAQUE == PRW_ALPHA_OPAQUE && PRW_GPU_ALPHA_MASK == PRW_ALPHA_MASK &&
+                   PRW_GPU_ALPHA_BLEND == PRW_ALPHA_BLEND,
+               "alpha modes: shaders/prw_constants.h and prw_alpha_mode agree");
+_Static_assert(PRW_GPU_SLOTS == PRW_TEX_SLOT_COUNT && PRW_GPU_SLOT_BASE == PRW_TEX_BASE_COLOR &&
+                   PRW_GPU_SLOT_METAL_ROUGH == PRW_TEX_METAL_ROUGH && PRW_GPU_SLOT_NORMAL == PRW_TEX_NORMAL &&
+                   PRW_GPU_SLOT_EMISSIVE == PRW_TEX_EMISSIVE && PRW_GPU_SLOT_CLEARCOAT == PRW_TEX_CLEARCOAT &&
+                   PRW_GPU_SLOT_CLEARCOAT_ROUGHNESS == PRW_TEX_CLEARCOAT_ROUGHNESS &&
+                   PRW_GPU_SLOT_CLEARCOAT_NORMAL == PRW_TEX_CLEARCOAT_NORMAL,
+               "texture slots: shaders/prw_constants.h and prw_tex_slot agree");
 _Static_assert(PRW_GPU_LIGHT_POINT == PRW_LIGHT_POINT && PRW_GPU_LIGHT_SPOT == PRW_LIGHT_SPOT &&
                    PRW_GPU_LIGHT_DIRECTIONAL == PRW_LIGHT_DIRECTIONAL && PRW_GPU_LIGHT_RECT == PRW_LIGHT_RECT,
                "light types: shaders/prw_constants.h and prw_light_type agree");

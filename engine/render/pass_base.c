@@ -1,5 +1,8 @@
 /* pass_base — per view: emission + direct light (shadowed) into the HDR radiance target (4x MSAA
- * resolved by averaging in linear HDR, DESIGN.md §5), with the depth kept for later passes.
+ * resolved by averaging in linear HDR, DESIGN.md §5), with the depth kept for later passes.  The
+ * drawables' COLOR draws, then (when a drawable has any) their BLEND draws in the same scope: blended
+ * surfaces over the opaque image, back to front, depth tested against it but not written (so the kept
+ * depth and the G-buffer are the opaque surfaces').
  *
  * Targets: "hdr" (the view's output size) or, with N x N supersampling, "hdr_ss" (N times larger,
  * box-filtered by pass_downsample); "depth" (D32F, the renderer's samples, stored); with MSAA the
@@ -115,6 +118,10 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     prw_pass_begin_rendering(c, &ri);
     prw_cmd_viewport(c->cmd, w, h);
     prw_drawables_record(env->drawables, env, &dc);
+    if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces over the opaque image */
+        dc.kind = PRW_DRAW_BLEND;
+        prw_drawables_record(env->drawables, env, &dc);
+    }
     prw_pass_end_rendering(c);
     c->frame->triangles += dc.triangles;
     c->frame->draws += dc.draws;

@@ -158,6 +158,10 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     prw_draw_ctx dc = {.cmd = c->cmd, .kind = PRW_DRAW_COLOR, .view = &f->draw[0], .pipes = env->pipes,
                        .recipe = &m->recipe, .view_mask = 0x3, .sg = env->sg, .layout = m->layout};
     prw_drawables_record(env->drawables, env, &dc);
+    if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces over the opaque image */
+        dc.kind = PRW_DRAW_BLEND;
+        prw_drawables_record(env->drawables, env, &dc);
+    }
     prw_pass_end_rendering(c);
     c->frame->triangles += dc.triangles;
     c->frame->draws += dc.draws;

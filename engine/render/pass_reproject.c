@@ -33,6 +33,7 @@
 #include "pipes.h"
 #include "prw_pass.h"
 #include "prw_shaders.h"
+#include "scene_gpu.h"
 #include "view_globals.h"
 
 #define DS_FORMAT VK_FORMAT_D32_SFLOAT_S8_UINT
@@ -80,7 +81,10 @@ static bool describe(const prw_pipe_recipe *r, const prw_render_env *env, const 
     prw_pipe_key base = *key;
     base.variant = PRW_BASE_VARIANT_PLAIN;
     if (!prw_pipes_describe_base(env, &base, r->layout, d, e)) return false; /* reversed Z, as the base pass */
-    prw_spirv fcode = kind == RP_HOLES ? prw_shader_base_frag()
+    bool ext = (key->features & PRW_PIPE_EXT) != 0; /* opaque extension materials (no alpha: see needed()) */
+    prw_spirv holes = !ext ? prw_shader_base_frag()
+                      : key->features & PRW_PIPE_COAT ? prw_shader_coat_base_frag() : prw_shader_ext_base_frag();
+    prw_spirv fcode = kind == RP_HOLES ? holes
                       : env->samples != VK_SAMPLE_COUNT_1_BIT ? prw_shader_reproject_ms_frag()
                                                                : prw_shader_reproject_ss_frag();
     VkStencilOpState st = {.failOp = VK_STENCIL_OP_KEEP, .passOp = VK_STENCIL_OP_KEEP,
@@ -179,8 +183,10 @@ static bool create(const prw_pass_init *in, void **state, prw_error *e)
 
 static bool needed(const prw_pass_ctx *c, const char **why)
 {
-    if (c->frame->mode != PRW_FRAME_REPROJECT) return (*why = "not a two-view frame"), false;
-    return true;
+    if (c->frame->mode == PRW_FRAME_REPROJECT) return true;
+    if (c->frame->view_count == 2 && c->env->sg->alpha_meshes)
+        return (*why = "cut-out or blended materials: both eyes shaded"), false;
+    return (*why = "not a two-view frame"), false;
 }
 
 typedef struct down_pc {

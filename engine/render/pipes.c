@@ -7,13 +7,37 @@
 #include "prw_constants.h"
 #include "prw_shaders.h"
 
-/* The vertex layout of every drawable (PRW_VERTEX_FLOATS floats: position, normal, uv, tangent). */
-static const VkVertexInputBindingDescription k_binding = {0, PRW_VERTEX_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX};
-static const VkVertexInputAttributeDescription k_attrs[4] = {
+/* The vertex layout of every drawable (PRW_VERTEX_FLOATS floats: position, normal, uv, tangent) and, for
+ * the glTF-extension pipelines, uv set 1 at location 4: from binding 1 (PRW_UV1_FLOATS per vertex) or,
+ * without that stream (PRW_PIPE_NO_UV1), binding 0's uv again. */
+static const VkVertexInputBindingDescription k_bindings[2] = {
+    {0, PRW_VERTEX_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
+    {1, PRW_UV1_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
+};
+static const VkVertexInputAttributeDescription k_attrs[5] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
     {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
     {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
+    {4, 1, VK_FORMAT_R32G32_SFLOAT, 0},
+};
+static const VkVertexInputAttributeDescription k_attrs_no_uv1[5] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
+    {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+};
+/* cut-out shadow casters: position, uv, uv set 1 */
+static const VkVertexInputAttributeDescription k_attrs_mask[3] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {4, 1, VK_FORMAT_R32G32_SFLOAT, 0},
+};
+static const VkVertexInputAttributeDescription k_attrs_mask_no_uv1[3] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
 };
 
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
@@ -30,22 +54,36 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         return prw_fail(e, "render: the clip-plane variant needs the base layout (its push constants)");
     bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER;
     if (mv && gbuf) return prw_fail(e, "render: multiview with G-buffer outputs has no shader variant");
+    bool ext = (k->features & PRW_PIPE_EXT) != 0, uv1 = ext && !(k->features & PRW_PIPE_NO_UV1);
+    bool blend = (k->features & PRW_PIPE_BLEND) != 0;
+    if (blend && !ext) return prw_fail(e, "render: blending needs the glTF-extension shaders");
+    prw_spirv vs = mv ? prw_shader_mv_base_vert() : k->clip ? prw_shader_clip_base_vert() : prw_shader_base_vert();
+    prw_spirv fs = mv ? prw_shader_mv_base_frag() : gbuf ? prw_shader_gbuf_base_frag() : prw_shader_base_frag();
+    if (ext) {
+        vs = mv ? prw_shader_mv_ext_base_vert() : k->clip ? prw_shader_clip_ext_base_vert() : prw_shader_ext_base_vert();
+        fs = mv ? prw_shader_mv_ext_base_frag() : gbuf ? prw_shader_gbuf_ext_base_frag() : prw_shader_ext_base_frag();
+        if (k->features & PRW_PIPE_COAT)
+            fs = mv ? prw_shader_mv_coat_base_frag() : gbuf ? prw_shader_gbuf_coat_base_frag() : prw_shader_coat_base_frag();
+    }
+    VkCullModeFlags cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
+    if (blend && (k->features & PRW_PIPE_BACK)) cull = VK_CULL_MODE_FRONT_BIT;
     *d = (prw_graphics_desc){
-        .vs = mv ? prw_shader_mv_base_vert() : k->clip ? prw_shader_clip_base_vert() : prw_shader_base_vert(),
-        .fs = mv ? prw_shader_mv_base_frag() : gbuf ? prw_shader_gbuf_base_frag() : prw_shader_base_frag(),
+        .vs = vs,
+        .fs = fs,
         .layout = layout,
-        .vertex_bindings = &k_binding,
-        .vertex_binding_count = 1,
-        .vertex_attrs = k_attrs,
-        .vertex_attr_count = 4,
+        .vertex_bindings = k_bindings,
+        .vertex_binding_count = uv1 ? 2 : 1,
+        .vertex_attrs = ext && !uv1 ? k_attrs_no_uv1 : k_attrs,
+        .vertex_attr_count = ext ? 5 : 4,
         .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
         .color_count = gbuf ? 3 : 1,
         .depth_format = PRW_DEPTH_FORMAT,
         .samples = env->samples,
-        .cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT,
+        .cull = cull,
         .front_face = k->mirrored ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE,
         .depth_test = true,
-        .depth_write = true,
+        .depth_write = !blend,
+        .blend_over = blend,
         .view_mask = k->view_mask,
     };
     return true;
@@ -64,14 +102,16 @@ static bool describe_base(const prw_pipe_recipe *r, const prw_render_env *env, c
 static bool describe_shadow(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
                             prw_graphics_desc *d, prw_error *e)
 {
-    (void)env, (void)k, (void)e;
+    (void)env, (void)e;
+    bool mask = (k->features & PRW_PIPE_MASK) != 0, uv1 = mask && !(k->features & PRW_PIPE_NO_UV1);
     *d = (prw_graphics_desc){
-        .vs = prw_shader_shadow_vert(),
+        .vs = mask ? prw_shader_shadow_mask_vert() : prw_shader_shadow_vert(),
+        .fs = mask ? prw_shader_mask_frag() : (prw_spirv){0},
         .layout = r->layout,
-        .vertex_bindings = &k_binding,
-        .vertex_binding_count = 1,
-        .vertex_attrs = k_attrs,
-        .vertex_attr_count = 1,
+        .vertex_bindings = k_bindings,
+        .vertex_binding_count = uv1 ? 2 : 1,
+        .vertex_attrs = !mask ? k_attrs : uv1 ? k_attrs_mask : k_attrs_mask_no_uv1,
+        .vertex_attr_count = mask ? 3 : 1,
         .depth_format = PRW_DEPTH_FORMAT,
         .cull = VK_CULL_MODE_NONE,
         .depth_test = true,
@@ -92,24 +132,22 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
-    VkDescriptorSetLayoutBinding material[5] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-    };
+    VkDescriptorSetLayoutBinding material[8];
+    for (uint32_t i = 0; i < 8; i++)
+        material[i] = (VkDescriptorSetLayoutBinding){
+            i, i ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
+            VK_SHADER_STAGE_FRAGMENT_BIT, NULL};
     VkDescriptorSetLayoutBinding storage2[2] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
     };
     if (!prw_desc_layout_create(p->gpu, globals, 2, &p->globals_layout, e) ||
-        !prw_desc_layout_create(p->gpu, material, 5, &p->material_layout, e) ||
+        !prw_desc_layout_create(p->gpu, material, 8, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
     VkDescriptorSetLayout base_sets[2] = {p->globals_layout, p->material_layout};
     if (!prw_pipeline_layout_create(p->gpu, base_sets, 2, PRW_BASE_PUSH_BYTES, &p->base_layout, e) ||
-        !prw_pipeline_layout_create(p->gpu, NULL, 0, 64, &p->shadow_layout, e) ||
+        !prw_pipeline_layout_create(p->gpu, base_sets, 2, 64, &p->shadow_layout, e) ||
         !prw_pipeline_layout_create(p->gpu, &p->storage2_layout, 1, 12, &p->storage2_pl, e) ||
         !prw_pipeline_compute(p->gpu, env->desc->quality.radiance_bits == 16 ? prw_shader_downsample_comp()
                                                                              : prw_shader_downsample32_comp(),
@@ -147,6 +185,7 @@ bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_err
     key.clip = k->clip != 0;
     key.view_mask = k->view_mask;
     key.variant = k->variant;
+    key.features = k->features;
     *out = prw_pipeline_table_find(p->table, &key, sizeof key);
     if (*out) return true;
     prw_graphics_desc d;

@@ -9,10 +9,11 @@
  *    culling) is the starting point of every recipe that draws the scene's drawables
  *    (prw_pipes_describe_base).
  *  - Layouts: set 0 = per-view globals (uniform block + shadow atlas), set 1 = material (uniform block
- *    + four textures); the base layout has 128 bytes of push constants (112 per draw:
- *    prw_draw_push_model; then the clip plane of PRW_CLIP_PLANE pipelines, pushed by the pass), the
- *    shadow layout 64 (the light clip matrix).  The storage2 layout (two storage images, 12 bytes of
- *    push constants) serves the box-filter downsample.
+ *    + seven textures: base colour, metal-rough, normal, emissive, clear coat, its roughness, its
+ *    normal); the base layout has 128 bytes of push constants (112 per draw: prw_draw_push_model; then
+ *    the clip plane of PRW_CLIP_PLANE pipelines, pushed by the pass), the shadow layout 64 (the light
+ *    clip matrix) and sets 0 (unused) and 1 (the material of cut-out casters).  The storage2 layout (two
+ *    storage images, 12 bytes of push constants) serves the box-filter downsample.
  */
 #ifndef PRW_PIPES_H
 #define PRW_PIPES_H
@@ -25,7 +26,21 @@ typedef struct prw_pipe_key {
     uint32_t two_sided, mirrored, clip;
     uint32_t view_mask;
     uint32_t variant;
+    uint32_t features; /* PRW_PIPE_* of the draw's material and drawable */
 } prw_pipe_key;
+
+/* Pipeline features of a draw (prw_pipe_key.features, prw_draw_bind_features); 0 is the core glTF
+ * material with the shaders of before the glTF extensions. */
+enum {
+    PRW_PIPE_EXT = 1u,    /* the glTF-extension shaders (PRW_GLTF_EXT; scene_gpu.h PRW_SG_EXT); uv set 1 at
+                             location 4 from binding 1 (PRW_UV1_FLOATS per vertex) */
+    PRW_PIPE_NO_UV1 = 2u, /* with EXT or MASK: location 4 reads binding 0's uv (drawables without uv set 1) */
+    PRW_PIPE_BLEND = 4u,  /* base recipe: "over" blending into the radiance, depth tested but not written, no
+                             G-buffer writes (PRW_DRAW_BLEND draws) */
+    PRW_PIPE_BACK = 8u,   /* with BLEND: front faces culled (a two-sided blended mesh: its far side first) */
+    PRW_PIPE_MASK = 16u,  /* shadow recipe: the alpha-tested caster (shadow_mask.vert + mask.frag, material set 1) */
+    PRW_PIPE_COAT = 32u,  /* with EXT: the clear-coated shaders (PRW_GLTF_COAT) */
+};
 
 typedef struct prw_pipe_recipe {
     const char *name;

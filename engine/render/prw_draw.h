@@ -7,7 +7,10 @@
  *
  * The draw context carries:
  *  - the kind of draw: COLOR (shaded: push constants model + normal matrix, material set 1),
- *    DEPTH (the same vertex stage, no material), SHADOW (light clip matrix as push constant);
+ *    BLEND (the same for surfaces blended over the image: glTF alpha BLEND; a pass that draws COLOR
+ *    records BLEND after it in the same rendering scope, when prw_drawables_have(BLEND); drawables
+ *    draw them back to front and leave them out of COLOR), DEPTH (the same vertex stage, no material),
+ *    SHADOW (light clip matrix as push constant; cut-out casters bind their material set 1);
  *  - the view: camera-relative origin, globals set 0, whether it is mirrored (winding flips) and a
  *    user clip plane (camera-relative; drawn with the clip-plane shader variant);
  *  - the pipeline recipe of the pass; pipelines come from the keyed cache (pipes.h) by
@@ -31,6 +34,7 @@ typedef enum prw_draw_kind {
     PRW_DRAW_COLOR = 0,
     PRW_DRAW_DEPTH,
     PRW_DRAW_SHADOW,
+    PRW_DRAW_BLEND,
 } prw_draw_kind;
 
 typedef struct prw_draw_view {
@@ -70,6 +74,13 @@ typedef struct prw_draw_ctx {
  * view's globals) with it when it changes.  Returns false (ctx->failed, ctx->err) when the pipeline
  * cannot be built; the caller then skips the draw. */
 bool prw_draw_bind(prw_draw_ctx *c, uint32_t material_kind, bool two_sided, bool node_mirrored);
+/* The same with pipeline features (pipes.h PRW_PIPE_*: the glTF-extension shaders, blending, cut-out
+ * shadow casters); prw_draw_bind is features 0. */
+bool prw_draw_bind_features(prw_draw_ctx *c, uint32_t material_kind, uint32_t features, bool two_sided,
+                            bool node_mirrored);
+/* The features a draw of material slot `slot` needs in this context (from scene_gpu.h's slot flags and
+ * the draw kind); uv1: the drawable binds the scene's uv set 1 stream (else PRW_PIPE_NO_UV1). */
+uint32_t prw_draw_features(const prw_draw_ctx *c, uint32_t slot, bool uv1);
 /* The base pass's push constants for a node (112 bytes: model relative to origin, normal matrix,
  * mirrored flag in normal_m[0].w): float out[28]. */
 void prw_draw_push_model(prw_dmat4 world, prw_dvec3 origin, float out[28]);

@@ -147,7 +147,10 @@ static void prepare_frame(prw_renderer *r, const prw_view *views, uint32_t count
     f->view_count = count;
     f->mode = PRW_FRAME_LOOP;
     if (count == 2 && r->desc.views_backend == PRW_VIEWS_MULTIVIEW) f->mode = PRW_FRAME_MULTIVIEW;
-    else if (count == 2 && r->desc.quality.stereo_reuse == PRW_STEREO_REUSE_REPROJECT) f->mode = PRW_FRAME_REPROJECT;
+    /* cut-out and blended surfaces are not reprojected (their pre-pass would need the alpha test): both
+     * eyes shaded (pass_reproject.c says so in the frame's pass list) */
+    else if (count == 2 && r->desc.quality.stereo_reuse == PRW_STEREO_REUSE_REPROJECT && !r->sg->alpha_meshes)
+        f->mode = PRW_FRAME_REPROJECT;
     for (uint32_t v = 0; v < count; v++) {
         /* camera-relative rendering: each view relative to its own eye, so every eye of a view set is
          * bit-identical to a mono render from it; multiview draws all views with the first eye's origin */

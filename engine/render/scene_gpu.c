@@ -9,6 +9,49 @@
 
 #define VERTEX_FLOATS PRW_VERTEX_FLOATS
 
+uint32_t prw_scene_gpu_material_flags(const prw_material *m)
+{
+    uint32_t f = 0;
+    if (m->alpha_mode == PRW_ALPHA_MASK) f |= PRW_SG_EXT | PRW_SG_MASK;
+    if (m->alpha_mode == PRW_ALPHA_BLEND) f |= PRW_SG_EXT | PRW_SG_BLEND;
+    if (m->clearcoat > 0) f |= PRW_SG_EXT | PRW_SG_COAT;
+    const int tex[PRW_TEX_SLOT_COUNT] = {m->base_color_tex,   m->metal_rough_tex,         m->normal_tex,
+                                         m->emissive_tex,     m->clearcoat_tex,           m->clearcoat_roughness_tex,
+                                         m->clearcoat_normal_tex};
+    int slots = m->clearcoat > 0 ? PRW_TEX_SLOT_COUNT : PRW_TEX_CLEARCOAT; /* no coat: its textures are unused */
+    for (int i = 0; i < slots; i++)
+        if (tex[i] >= 0 && (m->tex_xf[i].tex_coord != 0 || !prw_tex_transform_is_identity(&m->tex_xf[i])))
+            f |= PRW_SG_EXT;
+    return f;
+}
+
+static uint32_t flags_of(const prw_scene *s, int material)
+{
+    return s->material_count ? prw_scene_gpu_material_flags(&s->materials[prw_scene_gpu_slot(s, material)]) : 0;
+}
+
+/* uv set 1 of every vertex of the vertex buffer (the light quad first), when a mesh needs it. */
+static bool upload_uv1(prw_gpu *gpu, const prw_scene *s, uint64_t nv, prw_scene_gpu *r, prw_error *e)
+{
+    bool need = false;
+    for (uint32_t i = 0; i < s->mesh_count && !need; i++) need = (flags_of(s, s->meshes[i].material) & PRW_SG_EXT) != 0;
+    if (!need) return true;
+    float *d = prw_calloc((size_t)nv, PRW_UV1_FLOATS * sizeof(float));
+    uint64_t vo = 4;
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        const prw_mesh *m = &s->meshes[i];
+        const float *src = m->uvs1 ? m->uvs1 : m->uvs; /* no TEXCOORD_1: set 0 (prw_shading.h) */
+        if (src) memcpy(d + vo * PRW_UV1_FLOATS, src, (size_t)m->vertex_count * 2 * sizeof(float));
+        vo += m->vertex_count;
+    }
+    bool ok = prw_buffer_create(gpu, nv * PRW_UV1_FLOATS * sizeof(float),
+                                VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_GPU, &r->uv1,
+                                e) &&
+              prw_buffer_upload(gpu, &r->uv1, 0, d, nv * PRW_UV1_FLOATS * sizeof(float), e);
+    free(d);
+    return ok;
+}
+
 static bool upload_geometry(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, prw_error *e)
 {
     uint64_t nv = 4, ni = 6; /* starts with the rect-light quad */
@@ -66,7 +109,14 @@ static bool upload_geometry(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, 
     if (ok && ni) ok = prw_buffer_upload(gpu, &r->indices, 0, idata, ni * sizeof(uint32_t), e);
     free(vdata);
     free(idata);
-    return ok;
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        uint32_t f = flags_of(s, s->meshes[i].material);
+        r->alpha_meshes = r->alpha_meshes || (f & (PRW_SG_MASK | PRW_SG_BLEND));
+        r->blend_meshes = r->blend_meshes || (f & PRW_SG_BLEND);
+    }
+    for (uint32_t i = 0; i < s->nurbs_count; i++)
+        r->alpha_meshes = r->alpha_meshes || (flags_of(s, s->nurbs[i].material) & (PRW_SG_MASK | PRW_SG_BLEND));
+    return ok && upload_uv1(gpu, s, nv, r, e);
 }
 
 static uint32_t mip_count(uint32_t w, uint32_t h)
@@ -126,6 +176,7 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
                            &r->material_ubo, e))
         return false;
     r->material_sets = prw_calloc(n, sizeof *r->material_sets);
+    r->slot_flags = prw_calloc(n, sizeof *r->slot_flags);
     VkSampler lin = prw_gpu_sampler(gpu, PRW_SAMPLER_LINEAR_REPEAT);
     for (uint32_t i = 0; i < n; i++) {
         prw_material m = i < s->material_count ? s->materials[i] : prw_material_default();
@@ -141,7 +192,17 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
             .emission = {m.emission[0], m.emission[1], m.emission[2], m.normal_scale},
             .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f, m.normal_tex >= 0 ? 1.0f : 0.0f},
             .extra = {m.specular, (float)(i + 1), 0.0f, 0.0f},
+            .alpha = {(float)m.alpha_mode, m.alpha_cutoff, 0.0f, 0.0f},
+            .coat = {m.clearcoat, m.clearcoat_roughness, m.clearcoat_normal_scale, m.clearcoat_normal_tex >= 0 ? 1.0f : 0.0f},
         };
+        for (int k = 0; k < PRW_TEX_SLOT_COUNT; k++) {
+            const prw_tex_transform *t = &m.tex_xf[k];
+            float row0[4] = {t->offset[0], t->offset[1], (float)cos((double)t->rotation), (float)sin((double)t->rotation)};
+            float row1[4] = {t->scale[0], t->scale[1], t->tex_coord == 1 ? 1.0f : 0.0f, 0.0f};
+            memcpy(g.xf[2 * k], row0, sizeof row0);
+            memcpy(g.xf[2 * k + 1], row1, sizeof row1);
+        }
+        r->slot_flags[i] = i < r->scene_material_slots ? prw_scene_gpu_material_flags(&m) : 0;
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
         if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) return false;
         VkDescriptorSet set = r->material_sets[i];
@@ -153,6 +214,9 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
         prw_desc_write_image(gpu, set, 2, 0, cis, tex_view(r, m.metal_rough_tex, &r->white_linear), lin, ro);
         prw_desc_write_image(gpu, set, 3, 0, cis, tex_view(r, m.normal_tex, &r->flat_normal), lin, ro);
         prw_desc_write_image(gpu, set, 4, 0, cis, tex_view(r, m.emissive_tex, &r->white_srgb), lin, ro);
+        prw_desc_write_image(gpu, set, 5, 0, cis, tex_view(r, m.clearcoat_tex, &r->white_linear), lin, ro);
+        prw_desc_write_image(gpu, set, 6, 0, cis, tex_view(r, m.clearcoat_roughness_tex, &r->white_linear), lin, ro);
+        prw_desc_write_image(gpu, set, 7, 0, cis, tex_view(r, m.clearcoat_normal_tex, &r->flat_normal), lin, ro);
     }
     return true;
 }
@@ -186,6 +250,8 @@ void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g)
     prw_image_destroy(gpu, &g->flat_normal);
     prw_buffer_destroy(gpu, &g->material_ubo);
     free(g->material_sets); /* the sets live in the renderer's pool */
+    free(g->slot_flags);
+    prw_buffer_destroy(gpu, &g->uv1);
     prw_buffer_destroy(gpu, &g->vertices);
     prw_buffer_destroy(gpu, &g->indices);
     free(g->meshes);

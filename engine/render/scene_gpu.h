@@ -7,6 +7,13 @@
  *    rect lights as their visible surface (emission = colour x intensity, black base colour).
  *  - The rect-light quad is a unit quad in the light's frame (x, y in [-1, 1], facing -Z) at the start
  *    of the buffers.
+ *  - glTF extension features: each slot has flags (PRW_SG_*): EXT when the material needs the
+ *    extension shaders (alpha MASK or BLEND, a texture read through a transform or from uv set 1, a
+ *    clear coat), MASK / BLEND for its alpha mode; a material without EXT is drawn exactly as before.
+ *    When a mesh has an EXT material, `uv1` holds uv set 1 for every vertex of the vertex buffer (same
+ *    indexing; the vertex's set 0 where its mesh has no TEXCOORD_1, prw_shading.h), else it is not
+ *    created.  Material slots' blocks carry the extension members and descriptor sets all seven
+ *    textures (white / flat-normal fallbacks).
  *  - Read-only after create; the renderer re-creates it when the scene is synced.
  */
 #ifndef PRW_SCENE_GPU_H
@@ -21,8 +28,19 @@ typedef struct prw_gpu_mesh {
     int material;
 } prw_gpu_mesh;
 
+enum {
+    PRW_SG_EXT = 1u,   /* drawn with the glTF-extension shaders (PRW_PIPE_EXT) */
+    PRW_SG_MASK = 2u,  /* alpha MASK: cut out in the base pass and in the shadow pass */
+    PRW_SG_BLEND = 4u, /* alpha BLEND: drawn by PRW_DRAW_BLEND, back to front, over the opaque image */
+    PRW_SG_COAT = 8u,  /* a clear coat (PRW_PIPE_COAT) */
+};
+
 typedef struct prw_scene_gpu {
     prw_buffer vertices, indices;
+    prw_buffer uv1;          /* PRW_UV1_FLOATS per vertex; buffer VK_NULL_HANDLE when no mesh needs it */
+    uint32_t *slot_flags;    /* PRW_SG_* per material slot */
+    bool alpha_meshes;       /* a mesh or NURBS entry has a MASK or BLEND material */
+    bool blend_meshes;       /* a mesh has a BLEND material */
     prw_gpu_mesh *meshes;
     uint32_t mesh_count;
     prw_gpu_mesh light_quad;
@@ -40,5 +58,7 @@ bool prw_scene_gpu_create(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayou
 void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g);
 /* The material slot of scene material index m (out of range: 0). */
 uint32_t prw_scene_gpu_slot(const prw_scene *s, int m);
+/* PRW_SG_* of a material (see the top). */
+uint32_t prw_scene_gpu_material_flags(const prw_material *m);
 
 #endif

@@ -60,12 +60,13 @@ static void test_gamma(void)
 }
 
 /* ---- the samplers under test ---- */
-enum { K_COSINE, K_GGX, K_MIXTURE };
+enum { K_COSINE, K_GGX, K_MIXTURE, K_COATED };
 typedef struct scase {
     int kind;
     double theta_deg, alpha; /* view angle and GGX alpha (mixture: alpha from the material) */
     double sample_alpha;     /* if > 0: the GGX sampler uses this alpha instead (power check) */
     prw_bsdf mat;
+    const prw_bsdf *sample_mat; /* if set: the mixture samples this material instead (power check) */
     double wo[3];
 } scase;
 
@@ -84,7 +85,7 @@ static bool draw(const scase *c, mt_rng *r, double wi[3])
         return true;
     }
     double pdf;
-    return prw_bsdf_sample(&c->mat, c->wo, u, wi, &pdf);
+    return prw_bsdf_sample(c->sample_mat ? c->sample_mat : &c->mat, c->wo, u, wi, &pdf);
 }
 
 static double pdf_of(const scase *c, const double wi[3])
@@ -176,7 +177,8 @@ static double chi2_case(const scase *c, int n, uint64_t seed, double *valid_frac
     int dof = cells - 1;
     double p = dof > 0 ? chi2_pvalue(chi2, dof) : 1;
     printf("  %-7s theta %4.1f alpha %.4f: chi2 %9.2f dof %4d p %.4f (valid %.4f, pdf mass on grid %.5f)\n",
-           c->kind == K_COSINE ? "cosine" : c->kind == K_GGX ? "ggx" : "mixture", c->theta_deg, c->alpha, chi2, dof, p,
+           c->kind == K_COSINE ? "cosine" : c->kind == K_GGX ? "ggx" : c->kind == K_COATED ? "coated" : "mixture",
+           c->theta_deg, c->alpha, chi2, dof, p,
            *valid_frac, total_expect);
     return p;
 }
@@ -189,7 +191,7 @@ static scase make_case(int kind, double theta_deg, double alpha_or_r, const doub
     c.theta_deg = theta_deg;
     double th = theta_deg * MT_PI / 180;
     c.wo[0] = sin(th), c.wo[1] = 0, c.wo[2] = cos(th);
-    if (kind == K_MIXTURE) {
+    if (kind == K_MIXTURE || kind == K_COATED) {
         for (int k = 0; k < 3; k++) c.mat.base[k] = base[k];
         c.mat.metallic = metallic, c.mat.roughness = alpha_or_r, c.mat.specular = specular;
         c.alpha = fmax(alpha_or_r * alpha_or_r, 0.002);
@@ -212,10 +214,27 @@ static void run_chi2(int kind, const char *name)
 {
     double pmin = 1, pmax = 0;
     int n = CHI2_SAMPLES, retries = 0;
+    int cases = 0;
     for (int k = 0; k < NPAIRS; k++) {
+        /* the coated mixture on four pairs (its cell integrals cost twice the uncoated ones) */
+        if (kind == K_COATED && k != 0 && k != 2 && k != 6 && k != 9) continue;
+        cases++;
         const double b1[3] = {0.8, 0.6, 0.3}, b2[3] = {0.95, 0.9, 0.85}, b3[3] = {0.2, 0.2, 0.2};
         scase c;
-        if (kind == K_MIXTURE) {
+        if (kind == K_COATED) {
+            /* a coat over the three base kinds, coat roughness from the pair's alpha, base roughness
+             * 0.6 / 0.3 / 1; every other case with a tilted coat normal (a coat normal map) */
+            const double *b = k % 3 == 0 ? b1 : k % 3 == 1 ? b2 : b3;
+            double m = k % 3 == 0 ? 0.0 : k % 3 == 1 ? 1.0 : 0.5;
+            c = make_case(K_COATED, pairs[k][0], k % 3 == 0 ? 0.6 : k % 3 == 1 ? 0.3 : 1.0, b, m, 1.0);
+            c.mat.clearcoat = k == 9 ? 0.5 : 1.0;
+            c.mat.clearcoat_roughness = sqrt(pairs[k][1]);
+            c.alpha = pairs[k][1];
+            if (k == 2 || k == 6) {
+                double t = 0.35, ph = 0.7 * k;
+                c.mat.coat_n[0] = sin(t) * cos(ph), c.mat.coat_n[1] = sin(t) * sin(ph), c.mat.coat_n[2] = cos(t);
+            }
+        } else if (kind == K_MIXTURE) {
             /* roughness r = sqrt(alpha); materials cycle through dielectric, metal, half metal */
             const double *b = k % 3 == 0 ? b1 : k % 3 == 1 ? b2 : b3;
             double m = k % 3 == 0 ? 0.0 : k % 3 == 1 ? 1.0 : 0.5;
@@ -238,12 +257,13 @@ static void run_chi2(int kind, const char *name)
         CHECK_MSG(p >= 0.01, "%s theta %g alpha %g: p = %.4g", name, pairs[k][0], pairs[k][1], p);
     }
     printf("%s: %d (theta, alpha) pairs, %d samples each, first-stage p in [%.4f, %.4f], %d re-run(s)\n", name,
-           NPAIRS, n, pmin, pmax, retries);
+           cases, n, pmin, pmax, retries);
 }
 
 static void test_chi2_cosine(void) { run_chi2(K_COSINE, "cosine"); }
 static void test_chi2_ggx(void) { run_chi2(K_GGX, "ggx_vndf_reflect"); }
 static void test_chi2_mixture(void) { run_chi2(K_MIXTURE, "mixture"); }
+static void test_chi2_coated(void) { run_chi2(K_COATED, "coated mixture (clear coat lobe)"); }
 
 /* The test has power: GGX samples drawn with alpha 0.55 binned against the pdf of alpha 0.5 (and
  * cosine samples against the pdf of a cosine^1.1 lobe's neighbour, alpha-scaled GGX) must fail. */
@@ -261,6 +281,17 @@ static void test_chi2_detects(void)
            p_ok, p_bad, p_bad2);
     CHECK(p_ok >= 0.01);
     CHECK(p_bad < 1e-6);
+    /* and for the coat lobe: samples of a coat whose normal is tilted by 0.1 rad binned against the
+     * pdf of the untilted coat */
+    const double base[3] = {0.8, 0.6, 0.3};
+    scase cc = make_case(K_COATED, 30, 0.5, base, 0.0, 1.0);
+    cc.mat.clearcoat = 1.0, cc.mat.clearcoat_roughness = 0.3;
+    prw_bsdf tilted = cc.mat;
+    tilted.coat_n[0] = sin(0.1), tilted.coat_n[2] = cos(0.1);
+    cc.sample_mat = &tilted;
+    double p_coat = chi2_case(&cc, 400000, 4243, &vf);
+    printf("chi2 power check: coat normal tilted by 0.1 rad in the sampler only: p = %.3g\n", p_coat);
+    CHECK(p_coat < 1e-6);
 }
 
 /* ---- normalisation ---- */
@@ -326,9 +357,27 @@ static void test_pdf_normalisation(void)
             worst_upper = fmax(worst_upper, fabs(mu - mf));
             CHECK_MSG(fabs(mu - mf) <= 0.01 * mf + 3 * sqrt(mf * (1 - mf) / n),
                       "mixture theta %g r %g: integral %.5f, valid fraction %.5f", thetas[t], sqrt(alphas[a]), mu, mf);
+            /* the same material under a clear coat of this roughness (base roughness 0.5), coat normal tilted
+             * (every other view angle) */
+            if (t % 2 == 0) continue;
+            scase cm = make_case(K_COATED, thetas[t], 0.5, base, a % 2 ? 1.0 : 0.3, 1.0);
+            cm.mat.clearcoat = 1.0, cm.mat.clearcoat_roughness = sqrt(alphas[a]);
+            if (t % 4 == 1 && alphas[a] >= 0.2) cm.mat.coat_n[0] = sin(0.3), cm.mat.coat_n[2] = cos(0.3);
+            cm.alpha = alphas[a];
+            pdf_ctx pcm = {&cm};
+            double muc = mt_integrate_wm(cm.wo[2], cm.alpha, 24, 1, pdf_fn, &pcm);
+            valid = 0;
+            for (int k = 0; k < n; k++) {
+                double wi[3];
+                valid += draw(&cm, &r, wi);
+            }
+            double cf = (double)valid / n;
+            worst_upper = fmax(worst_upper, fabs(muc - cf));
+            CHECK_MSG(fabs(muc - cf) <= 0.01 * cf + 3 * sqrt(cf * (1 - cf) / n),
+                      "coated theta %g r_c %g: integral %.5f, valid fraction %.5f", thetas[t], sqrt(alphas[a]), muc, cf);
         }
     printf("pdf normalisation: GGX reflected over the sphere worst |int - 1| = %.3g; upper-hemisphere integrals "
-           "(GGX and mixture) vs valid-sample fractions worst %.3g\n",
+           "(GGX, mixture, coated mixture) vs valid-sample fractions worst %.3g\n",
            worst_full, worst_upper);
 }
 
@@ -343,6 +392,12 @@ static void test_sample_pdf_consistency(void)
         prw_bsdf b;
         for (int c = 0; c < 3; c++) b.base[c] = mt_rand(&r);
         b.metallic = mt_rand(&r), b.roughness = mt_rand(&r), b.specular = mt_rand(&r);
+        b.clearcoat = b.clearcoat_roughness = 0, b.coat_n[0] = b.coat_n[1] = b.coat_n[2] = 0;
+        if (k % 2) { /* half of them under a clear coat, its normal up to ~40 degrees off */
+            b.clearcoat = mt_rand(&r), b.clearcoat_roughness = mt_rand(&r);
+            double cc = 0.75 + 0.25 * mt_rand(&r), sc = sqrt(1 - cc * cc), pc = 2 * MT_PI * mt_rand(&r);
+            b.coat_n[0] = sc * cos(pc), b.coat_n[1] = sc * sin(pc), b.coat_n[2] = cc;
+        }
         double ct = fmax(1e-3, mt_rand(&r)), ph = 2 * MT_PI * mt_rand(&r), st = sqrt(1 - ct * ct);
         double wo[3] = {st * cos(ph), st * sin(ph), ct}, u[3] = {mt_rand(&r), mt_rand(&r), mt_rand(&r)};
         double wi[3], pdf;
@@ -420,6 +475,7 @@ static const prw_test_case cases[] = {
     {"chi2_cosine", test_chi2_cosine},
     {"chi2_ggx_vndf", test_chi2_ggx},
     {"chi2_mixture", test_chi2_mixture},
+    {"chi2_coated", test_chi2_coated},
     {"chi2_detects_wrong_pdf", test_chi2_detects},
     {"pdf_normalisation", test_pdf_normalisation},
     {"sample_pdf_consistency", test_sample_pdf_consistency},

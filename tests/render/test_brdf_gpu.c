@@ -1,6 +1,7 @@
 /* The shared material header (materials/prw_brdf.h) evaluated by a compute shader equals the C
  * evaluation on 10^4 random configurations (relative difference <= 1e-5; values below 1e-6 /sr
- * compared absolutely at 1e-11). */
+ * compared absolutely at 1e-11): the base model, and the coated model (clear coat) with its own
+ * coat normal. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,68 +37,72 @@ static brdf_case random_case(void)
     return c;
 }
 
-static void test_gpu_equals_cpu(void)
+typedef struct coat_case {
+    float NoV, NoL, NoH, VoH, NcV, NcL, NcH, base, metallic, roughness, specular, clearcoat, rc;
+} coat_case;
+
+/* A coated configuration: random n, v, l as above and a coat normal up to ~40 degrees off n (a coat
+ * normal map), so the coat's cosines differ from the base's (and may be negative). */
+static coat_case random_coat_case(void)
 {
-    enum { N = 10000 };
-    prw_error e;
+    float th_v = acosf(rnd()), th_l = acosf(rnd()), ph = 6.2831853f * rnd();
+    float v[3] = {sinf(th_v), 0, cosf(th_v)};
+    float l[3] = {sinf(th_l) * cosf(ph), sinf(th_l) * sinf(ph), cosf(th_l)};
+    float h[3] = {v[0] + l[0], v[1] + l[1], v[2] + l[2]};
+    float hl = sqrtf(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    for (int i = 0; i < 3; i++) h[i] /= hl > 0 ? hl : 1;
+    float tc = rnd() < 0.3f ? 0.0f : 0.7f * rnd(), pc = 6.2831853f * rnd();
+    float nc[3] = {sinf(tc) * cosf(pc), sinf(tc) * sinf(pc), cosf(tc)};
+    coat_case c = {v[2], l[2], h[2], v[0] * h[0] + v[1] * h[1] + v[2] * h[2],
+                   nc[0] * v[0] + nc[1] * v[1] + nc[2] * v[2], nc[0] * l[0] + nc[1] * l[1] + nc[2] * l[2],
+                   nc[0] * h[0] + nc[1] * h[1] + nc[2] * h[2], rnd(), rnd() < 0.3f ? 1.0f : rnd(), rnd(),
+                   rnd() < 0.2f ? 0.0f : rnd(), rnd() < 0.2f ? 1.0f : rnd(), rnd() < 0.1f ? 0.0f : rnd()};
+    return c;
+}
+
+/* Runs `shader` over n cases of `stride` bytes into n floats. */
+static bool run_cases(prw_spirv shader, const void *cases, size_t stride, int n, float *results, prw_error *e)
+{
     prw_gpu *gpu = NULL;
     prw_gpu_desc d = {.device_index = -1, .validation = true};
-    CHECK_OK(prw_gpu_create(&d, &gpu, &e), &e);
+    if (!prw_gpu_create(&d, &gpu, e)) return false;
     prw_buffer in = {0}, out = {0};
     VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
     VkPipelineLayout pl = VK_NULL_HANDLE;
     VkPipeline pipe = VK_NULL_HANDLE;
     prw_desc_pool *pool = NULL;
-    brdf_case *cases = prw_malloc(N * sizeof *cases);
-    for (int i = 0; i < N; i++) cases[i] = random_case();
     VkDescriptorSetLayoutBinding b[2] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
     };
     VkDescriptorSet set;
     VkCommandBuffer cmd;
-    bool ok = prw_buffer_create(gpu, N * sizeof *cases, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_UPLOAD, &in, &e) &&
-              prw_buffer_create(gpu, N * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_READBACK, &out,
-                                &e) &&
-              prw_desc_layout_create(gpu, b, 2, &dsl, &e) && prw_pipeline_layout_create(gpu, &dsl, 1, 4, &pl, &e) &&
-              prw_pipeline_compute(gpu, prw_shader_brdf_test_comp(), pl, &pipe, &e) &&
-              prw_desc_pool_create(gpu, &pool, &e) && prw_desc_alloc(gpu, pool, dsl, &set, &e);
+    bool ok = prw_buffer_create(gpu, n * stride, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_UPLOAD, &in, e) &&
+              prw_buffer_create(gpu, n * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_READBACK, &out,
+                                e) &&
+              prw_desc_layout_create(gpu, b, 2, &dsl, e) && prw_pipeline_layout_create(gpu, &dsl, 1, 4, &pl, e) &&
+              prw_pipeline_compute(gpu, shader, pl, &pipe, e) && prw_desc_pool_create(gpu, &pool, e) &&
+              prw_desc_alloc(gpu, pool, dsl, &set, e);
     if (ok) {
-        memcpy(in.mapped, cases, N * sizeof *cases);
+        memcpy(in.mapped, cases, n * stride);
         prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &in, 0, VK_WHOLE_SIZE);
         prw_desc_write_buffer(gpu, set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &out, 0, VK_WHOLE_SIZE);
-        ok = prw_cmd_begin(gpu, &cmd, &e);
+        ok = prw_cmd_begin(gpu, &cmd, e);
     }
     if (ok) {
-        uint32_t count = N;
+        uint32_t count = (uint32_t)n;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
         vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_ALL, 0, 4, &count);
-        vkCmdDispatch(cmd, (N + 63) / 64, 1, 1);
+        vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
         VkMemoryBarrier2 mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, NULL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                                VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT};
         VkDependencyInfo di = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
                                .pMemoryBarriers = &mb};
         vkCmdPipelineBarrier2(cmd, &di);
-        ok = prw_cmd_submit_wait(gpu, cmd, &e);
+        ok = prw_cmd_submit_wait(gpu, cmd, e);
     }
-    CHECK_MSG(ok, "%s", e.msg);
-    if (ok) {
-        const float *gpu_v = out.mapped;
-        double worst = 0;
-        int bad = 0, worst_i = 0;
-        for (int i = 0; i < N; i++) {
-            const brdf_case *c = &cases[i];
-            float cpu = prw_brdf_channel(c->NoV, c->NoL, c->NoH, c->VoH, c->base, c->metallic, c->roughness, c->specular);
-            double diff = fabs((double)cpu - (double)gpu_v[i]);
-            double rel = fabs(cpu) > 1e-6 ? diff / fabs(cpu) : diff * 1e-5 / 1e-11;
-            if (!isfinite(gpu_v[i]) || !(rel <= 1e-5)) bad++;
-            if (rel > worst) worst = rel, worst_i = i;
-        }
-        printf("brdf gpu vs cpu: %d cases, worst relative %.3g (case %d), %d beyond 1e-5\n", N, worst, worst_i, bad);
-        CHECK(bad == 0);
-    }
-    free(cases);
+    if (ok) memcpy(results, out.mapped, n * sizeof(float));
     if (pool) prw_desc_pool_destroy(gpu, pool);
     if (pipe) vkDestroyPipeline(prw_gpu_device(gpu), pipe, NULL);
     if (pl) vkDestroyPipelineLayout(prw_gpu_device(gpu), pl, NULL);
@@ -105,13 +110,81 @@ static void test_gpu_equals_cpu(void)
     prw_buffer_destroy(gpu, &in);
     prw_buffer_destroy(gpu, &out);
     prw_gpu_destroy(gpu);
+    return ok;
+}
+
+/* relative difference, values below 1e-6 /sr compared absolutely at 1e-11 */
+static double rel_diff(float cpu, float gpu)
+{
+    double diff = fabs((double)cpu - (double)gpu);
+    return fabs(cpu) > 1e-6 ? diff / fabs(cpu) : diff * 1e-5 / 1e-11;
+}
+
+static void test_gpu_equals_cpu(void)
+{
+    enum { N = 10000 };
+    prw_error e;
+    brdf_case *cases = prw_malloc(N * sizeof *cases);
+    float *gpu_v = prw_malloc(N * sizeof(float));
+    for (int i = 0; i < N; i++) cases[i] = random_case();
+    bool ok = run_cases(prw_shader_brdf_test_comp(), cases, sizeof *cases, N, gpu_v, &e);
+    CHECK_MSG(ok, "%s", e.msg);
+    if (ok) {
+        double worst = 0;
+        int bad = 0, worst_i = 0;
+        for (int i = 0; i < N; i++) {
+            const brdf_case *c = &cases[i];
+            float cpu = prw_brdf_channel(c->NoV, c->NoL, c->NoH, c->VoH, c->base, c->metallic, c->roughness, c->specular);
+            double rel = rel_diff(cpu, gpu_v[i]);
+            if (!isfinite(gpu_v[i]) || !(rel <= 1e-5)) bad++;
+            if (rel > worst) worst = rel, worst_i = i;
+        }
+        printf("brdf gpu vs cpu: %d cases, worst relative %.3g (case %d), %d beyond 1e-5\n", N, worst, worst_i, bad);
+        CHECK(bad == 0);
+    }
+    free(cases);
+    free(gpu_v);
     CHECK(prw_gpu_validation_total() == 0); /* includes leak reports made at destroy */
 }
 
-static const prw_test_case cases_[] = {{"brdf_gpu_equals_cpu", test_gpu_equals_cpu}};
+/* The coated model (second GGX lobe of KHR_materials_clearcoat), the same way. */
+static void test_coat_gpu_equals_cpu(void)
+{
+    enum { N = 10000 };
+    prw_error e;
+    coat_case *cases = prw_malloc(N * sizeof *cases);
+    float *gpu_v = prw_malloc(N * sizeof(float));
+    for (int i = 0; i < N; i++) cases[i] = random_coat_case();
+    bool ok = run_cases(prw_shader_brdf_coat_test_comp(), cases, sizeof *cases, N, gpu_v, &e);
+    CHECK_MSG(ok, "%s", e.msg);
+    if (ok) {
+        double worst = 0;
+        int bad = 0, worst_i = 0, coated = 0;
+        for (int i = 0; i < N; i++) {
+            const coat_case *c = &cases[i];
+            float cpu = prw_brdf_coated_channel(c->NoV, c->NoL, c->NoH, c->VoH, c->NcV, c->NcL, c->NcH, c->base,
+                                                c->metallic, c->roughness, c->specular, c->clearcoat, c->rc);
+            coated += c->clearcoat > 0 && c->NcV > 0 && c->NcL > 0;
+            double rel = rel_diff(cpu, gpu_v[i]);
+            if (!isfinite(gpu_v[i]) || !(rel <= 1e-5)) bad++;
+            if (rel > worst) worst = rel, worst_i = i;
+        }
+        printf("coated brdf gpu vs cpu: %d cases (%d with the coat lobe active), worst relative %.3g (case %d), %d "
+               "beyond 1e-5\n",
+               N, coated, worst, worst_i, bad);
+        CHECK(bad == 0);
+        CHECK(coated > N / 2);
+    }
+    free(cases);
+    free(gpu_v);
+    CHECK(prw_gpu_validation_total() == 0);
+}
+
+static const prw_test_case cases_[] = {{"brdf_gpu_equals_cpu", test_gpu_equals_cpu},
+                                       {"coat_gpu_equals_cpu", test_coat_gpu_equals_cpu}};
 
 int main(int argc, char **argv)
 {
     prw_threads_set(2);
-    return prw_test_main(argc, argv, cases_, 1);
+    return prw_test_main(argc, argv, cases_, 2);
 }

@@ -15,7 +15,8 @@
  *  - barriers: 0 validation messages, synchronization hazards included;
  *  - rebuild: the scene gains a mirror (prw_renderer_sync_scene): mirror and glossy join the graph
  *    (before: not in it, "no mirror in the scene"), their images are allocated per view, they record
- *    for both views after the base pass and the mirror draws the scene.
+ *    for both views after the base pass and the mirror draws the scene; then again with a MASK
+ *    material (the glTF-extension pipelines, clip-plane variant included).
  * And a table whose glossy pass comes before the mirror pass (it would read the mirror image before it
  * is written) is refused when the graph is built, naming the pass and the image.
  */
@@ -207,6 +208,15 @@ static void test_coming_passes(void)
     check_log("test_ism:0 test_mirror:0 test_mirror:1 test_glossy:0 test_glossy:1 test_ssdo:0 test_ssdo:1 "
               "test_baked:0 test_baked:1 test_env:0 test_env:1");
     printf("mirror pass drew %llu triangles\n", (unsigned long long)tp_mirror_triangles);
+    CHECK(tp_mirror_triangles > 0);
+    /* the ball becomes a MASK material: the glTF-extension pipelines in every pass that draws the scene
+     * (the mirror's clip-plane variant, the cut-out shadow caster) under the same checks (the coated
+     * shaders are left to test_gltf_materials: they cost lavapipe ~20 s to compile) */
+    s->materials[1].alpha_mode = PRW_ALPHA_MASK;
+    CHECK_OK(prw_renderer_sync_scene(r, &e), &e);
+    tp_mirror_triangles = 0;
+    CHECK_OK(frame(r, eyes, &st, &e), &e);
+    printf("with a MASK ball: mirror pass drew %llu triangles\n", (unsigned long long)tp_mirror_triangles);
     CHECK(tp_mirror_triangles > 0);
     /* a pass reading what no earlier pass in the graph writes is refused at build */
     rd.debug = &dbg_bad;
