@@ -24,13 +24,6 @@
 #include "prw_scene.h"
 #include "prw_test.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define PRW_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define PRW_ASAN 1
-#endif
-#endif
 
 static void expect(bool ok, const prw_error *e, const char *a, const char *b)
 {

@@ -11,14 +11,8 @@
 #include <unistd.h>
 
 #include "prw_image.h"
+#include "prw_test.h" /* PRW_ASAN */
 
-#if defined(__SANITIZE_ADDRESS__)
-#define PRW_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define PRW_ASAN 1
-#endif
-#endif
 /* peak RSS means nothing under ASan (shadow memory, quarantine): checked in plain builds only */
 #ifdef PRW_ASAN
 #define RSS_OK(kb) ((void)(kb), 1)

@@ -57,6 +57,16 @@ typedef struct prw_test_case {
 /* Runs the cases (all, or only those named in argv[1..]); returns the process exit code. */
 int prw_test_main(int argc, char **argv, const prw_test_case *cases, int count);
 
+/* PRW_ASAN is 1 where the including file is compiled with AddressSanitizer (gcc or clang): peak RSS
+ * and address-space limits mean nothing there (shadow memory, quarantine). */
+#if defined(__SANITIZE_ADDRESS__)
+#define PRW_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PRW_ASAN 1
+#endif
+#endif
+
 /* Light mode: true in sanitizer builds (PRW_SANITIZE, 3-10x slower), or when the environment sets
  * PRW_TEST_LIGHT=1 (PRW_TEST_LIGHT=0 forces the full workload).  Heavy cases then run fewer random
  * trials / samples over the same code paths and checks (prw_test_scale). */
