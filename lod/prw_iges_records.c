@@ -557,7 +557,7 @@ bool iges_real(const iges_file *f, const iges_de *d, int i, double dflt, double 
 
 bool iges_int(const iges_file *f, const iges_de *d, int i, int dflt, int *out, prw_error *e)
 {
-    double v;
+    double v = 0; /* set whenever iges_real succeeds; gcc -O3 cannot see it through iges_fail */
     if (!iges_real(f, d, i, dflt, &v, e)) return false;
     if (v != floor(v) || fabs(v) > 1e9) return iges_fail(f, d, i, e, "%g is not an integer", v);
     *out = (int)v;
@@ -566,7 +566,7 @@ bool iges_int(const iges_file *f, const iges_de *d, int i, int dflt, int *out, p
 
 bool iges_ptr(const iges_file *f, const iges_de *d, int i, bool allow_null, int *out, prw_error *e)
 {
-    int v;
+    int v = 0; /* as in iges_int */
     if (!iges_int(f, d, i, 0, &v, e)) return false;
     if (v == 0) {
         if (!allow_null) return iges_fail(f, d, i, e, "null pointer where an entity is required");
