@@ -110,6 +110,26 @@ vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, fl
     return brdf_cos(dot(n, v), dot(n, l), dot(n, h), dot(v, h), base, metallic, roughness, specular);
 }
 
+// A point, spot or directional light at p: the direction to it (l) and its irradiance factor on a
+// surface facing it (E: 1 / d^2 with the range window and the spot cone; 1 for a directional light).
+void punctual_incidence(prw_gpu_light L, int type, vec3 p, out vec3 l, out float E)
+{
+    if (type == PRW_GPU_LIGHT_DIRECTIONAL) {
+        l = -L.dir_range.xyz;
+        E = 1.0;
+        return;
+    }
+    vec3 d = L.pos_type.xyz - p;
+    float d2 = max(dot(d, d), 1e-8);
+    l = d * inversesqrt(d2);
+    E = 1.0 / d2;
+    if (L.dir_range.w > 0.0) E *= prw_range_window(d2, L.dir_range.w);
+    if (type == PRW_GPU_LIGHT_SPOT) {
+        float cd = dot(-l, L.dir_range.xyz);
+        E *= prw_spot_factor(cd, L.cone_shadow.x, L.cone_shadow.y);
+    }
+}
+
 // Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance.
 // shadow_offset: the receiver's normal offset for the shadow lookups, texels (shadows.glsl).
 void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, float metallic, float roughness,
@@ -144,20 +164,7 @@ void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, fl
         }
         vec3 l;
         float E;
-        if (type == PRW_GPU_LIGHT_DIRECTIONAL) {
-            l = -L.dir_range.xyz;
-            E = 1.0;
-        } else {
-            vec3 d = L.pos_type.xyz - p;
-            float d2 = max(dot(d, d), 1e-8);
-            l = d * inversesqrt(d2);
-            E = 1.0 / d2;
-            if (L.dir_range.w > 0.0) E *= prw_range_window(d2, L.dir_range.w);
-            if (type == PRW_GPU_LIGHT_SPOT) {
-                float cd = dot(-l, L.dir_range.xyz);
-                E *= prw_spot_factor(cd, L.cone_shadow.x, L.cone_shadow.y);
-            }
-        }
+        punctual_incidence(L, type, p, l, E);
         float NoL = dot(n, l);
         if (NoL <= 0.0 || E <= 0.0) continue;
         radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, p, n, shadow_offset);
@@ -228,20 +235,7 @@ void prw_direct_light_coated(inout vec3 radiance, vec3 p, vec3 n, vec3 nc, vec3 
         }
         vec3 l;
         float E;
-        if (type == PRW_GPU_LIGHT_DIRECTIONAL) {
-            l = -L.dir_range.xyz;
-            E = 1.0;
-        } else {
-            vec3 d = L.pos_type.xyz - p;
-            float d2 = max(dot(d, d), 1e-8);
-            l = d * inversesqrt(d2);
-            E = 1.0 / d2;
-            if (L.dir_range.w > 0.0) E *= prw_range_window(d2, L.dir_range.w);
-            if (type == PRW_GPU_LIGHT_SPOT) {
-                float cd = dot(-l, L.dir_range.xyz);
-                E *= prw_spot_factor(cd, L.cone_shadow.x, L.cone_shadow.y);
-            }
-        }
+        punctual_incidence(L, type, p, l, E);
         float NoL = dot(n, l);
         if (NoL <= 0.0 || E <= 0.0) continue;
         radiance += brdf_coated(n, nc, v, l, base, metallic, roughness, specular, cc, rc) * rgb * (E * NoL) *
