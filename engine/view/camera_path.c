@@ -2,11 +2,11 @@
  * The interpolation scheme is stated in prw_camera_path.h; this file follows it. */
 #define _POSIX_C_SOURCE 200809L
 #include "prw_camera_path.h"
+#include "prw_strbuf.h"
 #include "prw_json_doc.h"
 
 #include <cJSON.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -351,46 +351,23 @@ bool prw_camera_path_load(const char *path, prw_camera_path *out, prw_error *e)
 
 /* ---------------------------------------------------------------- writing */
 
-typedef struct sbuf {
-    char *p;
-    size_t n, cap;
-} sbuf;
-
-static void sb_printf(sbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void sb_printf(sbuf *b, const char *fmt, ...)
-{
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        int w = vsnprintf(b->p + b->n, b->cap - b->n, fmt, ap);
-        va_end(ap);
-        if (w < 0) return;
-        if ((size_t)w < b->cap - b->n) {
-            b->n += (size_t)w;
-            return;
-        }
-        b->cap = b->cap * 2 + (size_t)w + 1;
-        b->p = prw_realloc(b->p, b->cap);
-    }
-}
-
 bool prw_camera_path_to_json(const prw_camera_path *p, char **text, size_t *size, prw_error *e)
 {
     if (p->count < 2) return prw_fail(e, "camera path: needs at least 2 keyframes to save (has %u)", p->count);
-    sbuf b = {prw_malloc(4096), 0, 4096};
+    prw_strbuf b = {prw_malloc(4096), 0, 4096};
     b.p[0] = '\0';
-    sb_printf(&b, "{\n  \"prw_camera_path\": %d,\n", PRW_CAMERA_PATH_VERSION);
-    if (p->fps != 0) sb_printf(&b, "  \"fps\": %.17g,\n", p->fps);
-    sb_printf(&b, "  \"keyframes\": [\n");
+    prw_strbuf_printf(&b, "{\n  \"prw_camera_path\": %d,\n", PRW_CAMERA_PATH_VERSION);
+    if (p->fps != 0) prw_strbuf_printf(&b, "  \"fps\": %.17g,\n", p->fps);
+    prw_strbuf_printf(&b, "  \"keyframes\": [\n");
     for (uint32_t i = 0; i < p->count; i++) {
         const prw_camera_keyframe *k = &p->keys[i];
-        sb_printf(&b,
+        prw_strbuf_printf(&b,
                   "    {\"t\": %.17g, \"position\": [%.17g, %.17g, %.17g], "
                   "\"orientation\": [%.17g, %.17g, %.17g, %.17g], \"yfov_deg\": %.17g, \"ipd_m\": %.17g}%s\n",
                   k->t, k->position.x, k->position.y, k->position.z, k->orientation.x, k->orientation.y,
                   k->orientation.z, k->orientation.w, k->yfov_deg, k->ipd_m, i + 1 < p->count ? "," : "");
     }
-    sb_printf(&b, "  ]\n}\n");
+    prw_strbuf_printf(&b, "  ]\n}\n");
     *text = b.p;
     if (size) *size = b.n;
     return true;

@@ -34,7 +34,6 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,6 +43,7 @@
 #include "prw_metrics.h"
 #include "prw_reference.h"
 #include "prw_render.h"
+#include "prw_strbuf.h"
 #include "prw_test.h"
 
 #define W 96u
@@ -53,28 +53,6 @@
 static prw_gpu *g_gpu;
 
 /* ---- a small glTF writer ---- */
-
-typedef struct strbuf {
-    char *p;
-    size_t n, cap;
-} strbuf;
-
-static void sb_printf(strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void sb_printf(strbuf *b, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int k = vsnprintf(NULL, 0, fmt, ap);
-    va_end(ap);
-    if (b->n + (size_t)k + 1 > b->cap) {
-        b->cap = (b->n + (size_t)k + 1) * 2;
-        b->p = realloc(b->p, b->cap);
-    }
-    va_start(ap, fmt);
-    vsnprintf(b->p + b->n, (size_t)k + 1, fmt, ap);
-    va_end(ap);
-    b->n += (size_t)k;
-}
 
 typedef struct gmesh {
     float *pos, *nrm, *uv, *uv1; /* uv1 may be NULL */
@@ -149,14 +127,14 @@ static gmesh sphere(const double c[3], double r, int slices, int stacks, int mat
     return m;
 }
 
-static int add_view(uint8_t **bin, size_t *len, strbuf *bv, int *views, const void *data, size_t n)
+static int add_view(uint8_t **bin, size_t *len, prw_strbuf *bv, int *views, const void *data, size_t n)
 {
     size_t off = (*len + 3) & ~(size_t)3;
     *bin = realloc(*bin, off + n);
     memset(*bin + *len, 0, off - *len);
     memcpy(*bin + off, data, n);
     *len = off + n;
-    sb_printf(bv, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", *views ? "," : "", off, n);
+    prw_strbuf_printf(bv, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", *views ? "," : "", off, n);
     return (*views)++;
 }
 
@@ -173,7 +151,7 @@ static const char *write_gltf(const char *name, const gfile *f)
     uint8_t *bin = NULL;
     size_t len = 0;
     int views = 0, accs = 0;
-    strbuf bv = {0}, ac = {0}, me = {0}, no = {0}, sn = {0};
+    prw_strbuf bv = {0}, ac = {0}, me = {0}, no = {0}, sn = {0};
     for (int i = 0; i < f->mesh_count; i++) {
         const gmesh *m = &f->mesh[i];
         float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
@@ -185,59 +163,59 @@ static const char *write_gltf(const char *name, const gfile *f)
         int vu = add_view(&bin, &len, &bv, &views, m->uv, m->nv * 8);
         int vu1 = m->uv1 ? add_view(&bin, &len, &bv, &views, m->uv1, m->nv * 8) : -1;
         int vi = add_view(&bin, &len, &bv, &views, m->idx, m->ni * 4);
-        sb_printf(&ac, "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\",\"min\":[%g,%g,%g],"
+        prw_strbuf_printf(&ac, "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\",\"min\":[%g,%g,%g],"
                        "\"max\":[%g,%g,%g]}",
                   accs ? "," : "", vp, m->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-        sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", vn, m->nv);
-        sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", vu, m->nv);
+        prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", vn, m->nv);
+        prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", vu, m->nv);
         accs += 3;
         if (vu1 >= 0) {
-            sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", vu1, m->nv);
+            prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", vu1, m->nv);
             accs++;
         }
-        sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", vi, m->ni);
+        prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", vi, m->ni);
         int ai = accs++;
-        sb_printf(&me, "%s{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d,\"TEXCOORD_0\":%d", i ? "," : "",
+        prw_strbuf_printf(&me, "%s{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d,\"TEXCOORD_0\":%d", i ? "," : "",
                   a, a + 1, a + 2);
-        if (vu1 >= 0) sb_printf(&me, ",\"TEXCOORD_1\":%d", a + 3);
-        sb_printf(&me, "},\"indices\":%d,\"material\":%d}]}", ai, m->material);
-        sb_printf(&no, "%s{\"name\":\"mesh%d\",\"mesh\":%d,\"translation\":[%.17g,%.17g,%.17g]}", i ? "," : "", i, i,
+        if (vu1 >= 0) prw_strbuf_printf(&me, ",\"TEXCOORD_1\":%d", a + 3);
+        prw_strbuf_printf(&me, "},\"indices\":%d,\"material\":%d}]}", ai, m->material);
+        prw_strbuf_printf(&no, "%s{\"name\":\"mesh%d\",\"mesh\":%d,\"translation\":[%.17g,%.17g,%.17g]}", i ? "," : "", i, i,
                   m->at[0], m->at[1], m->at[2]);
-        sb_printf(&sn, "%s%d", i ? "," : "", i);
+        prw_strbuf_printf(&sn, "%s%d", i ? "," : "", i);
     }
     int nodes = f->mesh_count;
     prw_dquat q = look_rotation(f->eye, f->target);
-    sb_printf(&no, ",{\"name\":\"cam\",\"camera\":0,\"translation\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g]}",
+    prw_strbuf_printf(&no, ",{\"name\":\"cam\",\"camera\":0,\"translation\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g]}",
               f->eye[0], f->eye[1], f->eye[2], q.x, q.y, q.z, q.w);
-    sb_printf(&sn, ",%d", nodes++);
+    prw_strbuf_printf(&sn, ",%d", nodes++);
     const char *lights = "";
     if (f->light) {
         prw_dquat lq = look_rotation(f->light_at, f->light_to);
-        sb_printf(&no, ",{\"name\":\"light\",\"translation\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g],"
+        prw_strbuf_printf(&no, ",{\"name\":\"light\",\"translation\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g],"
                        "\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}",
                   f->light_at[0], f->light_at[1], f->light_at[2], lq.x, lq.y, lq.z, lq.w);
-        sb_printf(&sn, ",%d", nodes++);
+        prw_strbuf_printf(&sn, ",%d", nodes++);
         lights = f->light == 1 ? "\"directional\"" : "\"point\"";
     }
-    strbuf tx = {0};
+    prw_strbuf tx = {0};
     for (int i = 0; i < f->image_count; i++)
-        sb_printf(&tx, "%s{\"source\":%d}", i ? "," : "", i);
-    strbuf im = {0};
-    for (int i = 0; i < f->image_count; i++) sb_printf(&im, "%s{\"uri\":\"%s\"}", i ? "," : "", f->images[i]);
+        prw_strbuf_printf(&tx, "%s{\"source\":%d}", i ? "," : "", i);
+    prw_strbuf im = {0};
+    for (int i = 0; i < f->image_count; i++) prw_strbuf_printf(&im, "%s{\"uri\":\"%s\"}", i ? "," : "", f->images[i]);
     char binname[128];
     snprintf(binname, sizeof binname, "%s.bin", name);
-    strbuf j = {0};
-    sb_printf(&j, "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_lights_punctual\",\"KHR_materials_specular\"%s%s],",
+    prw_strbuf j = {0};
+    prw_strbuf_printf(&j, "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_lights_punctual\",\"KHR_materials_specular\"%s%s],",
               f->ext_used ? "," : "", f->ext_used ? f->ext_used : "");
-    sb_printf(&j, "\"scene\":0,\"scenes\":[{\"nodes\":[%s]}],\"nodes\":[%s],\"meshes\":[%s],", sn.p, no.p, me.p);
-    sb_printf(&j, "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":%.17g,\"znear\":0.05,\"aspectRatio\":%.17g}}],",
+    prw_strbuf_printf(&j, "\"scene\":0,\"scenes\":[{\"nodes\":[%s]}],\"nodes\":[%s],\"meshes\":[%s],", sn.p, no.p, me.p);
+    prw_strbuf_printf(&j, "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":%.17g,\"znear\":0.05,\"aspectRatio\":%.17g}}],",
               f->yfov, (double)W / H);
     if (f->light)
-        sb_printf(&j, "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":%s,\"intensity\":%.17g}]}},", lights,
+        prw_strbuf_printf(&j, "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":%s,\"intensity\":%.17g}]}},", lights,
                   f->intensity);
-    sb_printf(&j, "\"materials\":[%s],", f->materials);
-    if (f->image_count) sb_printf(&j, "\"textures\":[%s],\"images\":[%s],", tx.p, im.p);
-    sb_printf(&j, "\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],\"bufferViews\":[%s],\"accessors\":[%s]}\n", binname,
+    prw_strbuf_printf(&j, "\"materials\":[%s],", f->materials);
+    if (f->image_count) prw_strbuf_printf(&j, "\"textures\":[%s],\"images\":[%s],", tx.p, im.p);
+    prw_strbuf_printf(&j, "\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],\"bufferViews\":[%s],\"accessors\":[%s]}\n", binname,
               len, bv.p, ac.p);
     prw_test_write_file(prw_test_path(binname), bin, len);
     char gname[128];

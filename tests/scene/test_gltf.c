@@ -1,12 +1,12 @@
 /* glTF import: the test writes its own small .gltf (+ .bin + .png) and .glb files, Draco streams
  * included (libdraco's encoder, tests/scene/draco_encode.cpp). */
 #include <png.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "draco_encode.h"
 #include "prw_scene.h"
+#include "prw_strbuf.h"
 #include "prw_test.h"
 
 #define tmp_path prw_test_path
@@ -385,37 +385,15 @@ typedef struct gen_file {
     const char *more;     /* more top-level members after the generated ones, each preceded by ',' */
 } gen_file;
 
-typedef struct strbuf {
-    char *p;
-    size_t n, cap;
-} strbuf;
-
-static void sb_printf(strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void sb_printf(strbuf *b, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int k = vsnprintf(NULL, 0, fmt, ap);
-    va_end(ap);
-    if (b->n + (size_t)k + 1 > b->cap) {
-        b->cap = (b->n + (size_t)k + 1) * 2;
-        b->p = realloc(b->p, b->cap);
-    }
-    va_start(ap, fmt);
-    vsnprintf(b->p + b->n, (size_t)k + 1, fmt, ap);
-    va_end(ap);
-    b->n += (size_t)k;
-}
-
 /* Appends bytes to the bin (4-aligned) and declares a bufferView; returns its index. */
-static int gen_view(uint8_t **bin, size_t *len, int *views, strbuf *bv, const void *data, size_t n)
+static int gen_view(uint8_t **bin, size_t *len, int *views, prw_strbuf *bv, const void *data, size_t n)
 {
     size_t off = (*len + 3) & ~(size_t)3;
     *bin = realloc(*bin, off + n + 4);
     memset(*bin + *len, 0, off - *len);
     memcpy(*bin + off, data, n);
     *len = off + n;
-    sb_printf(bv, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", *views ? "," : "", off, n);
+    prw_strbuf_printf(bv, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", *views ? "," : "", off, n);
     return (*views)++;
 }
 
@@ -424,7 +402,7 @@ static const char *gen_write(const gen_file *g)
     uint8_t *bin = NULL;
     size_t len = 0;
     int views = 0, accs = 0;
-    strbuf bv = {0}, ac = {0}, pr = {0};
+    prw_strbuf bv = {0}, ac = {0}, pr = {0};
     char binname[128];
     snprintf(binname, sizeof binname, "%s.bin", g->name);
     for (int i = 0; i < g->prim_count; i++) {
@@ -435,53 +413,53 @@ static const char *gen_write(const gen_file *g)
                 lo[c] = fminf(lo[c], p->pos[3 * v + c]);
                 hi[c] = fmaxf(hi[c], p->pos[3 * v + c]);
             }
-        sb_printf(&pr, "%s{\"attributes\":{", i ? "," : "");
+        prw_strbuf_printf(&pr, "%s{\"attributes\":{", i ? "," : "");
         if (p->draco) {
             const gen_draco *d = p->draco;
             int dv = gen_view(&bin, &len, &views, &bv, d->data, d->size);
             int apos = accs++;
-            sb_printf(&ac, "%s{\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]}",
+            prw_strbuf_printf(&ac, "%s{\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\",\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]}",
                       apos ? "," : "", p->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-            sb_printf(&pr, "\"POSITION\":%d", apos);
+            prw_strbuf_printf(&pr, "\"POSITION\":%d", apos);
             if (d->nrm) {
-                sb_printf(&ac, ",{\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", p->nv);
-                sb_printf(&pr, ",\"NORMAL\":%d", accs++);
+                prw_strbuf_printf(&ac, ",{\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", p->nv);
+                prw_strbuf_printf(&pr, ",\"NORMAL\":%d", accs++);
             }
             if (d->uv) {
-                sb_printf(&ac, ",{\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", p->nv);
-                sb_printf(&pr, ",\"TEXCOORD_0\":%d", accs++);
+                prw_strbuf_printf(&ac, ",{\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", p->nv);
+                prw_strbuf_printf(&pr, ",\"TEXCOORD_0\":%d", accs++);
             }
-            sb_printf(&ac, ",{\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", p->ni);
+            prw_strbuf_printf(&ac, ",{\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", p->ni);
             int aidx = accs++;
-            sb_printf(&pr, "},\"indices\":%d,\"extensions\":{\"KHR_draco_mesh_compression\":{\"bufferView\":%d,"
+            prw_strbuf_printf(&pr, "},\"indices\":%d,\"extensions\":{\"KHR_draco_mesh_compression\":{\"bufferView\":%d,"
                            "\"attributes\":{\"POSITION\":%u",
                       aidx, dv, d->uid_pos);
-            if (d->nrm) sb_printf(&pr, ",\"NORMAL\":%u", d->uid_nrm);
-            if (d->uv) sb_printf(&pr, ",\"TEXCOORD_0\":%u", d->uid_uv);
-            sb_printf(&pr, "}}}");
+            if (d->nrm) prw_strbuf_printf(&pr, ",\"NORMAL\":%u", d->uid_nrm);
+            if (d->uv) prw_strbuf_printf(&pr, ",\"TEXCOORD_0\":%u", d->uid_uv);
+            prw_strbuf_printf(&pr, "}}}");
         } else {
             int v = gen_view(&bin, &len, &views, &bv, p->pos, (size_t)p->nv * 12);
-            sb_printf(&ac, "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\","
+            prw_strbuf_printf(&ac, "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\","
                            "\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]}",
                       accs ? "," : "", v, p->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-            sb_printf(&pr, "\"POSITION\":%d", accs++);
+            prw_strbuf_printf(&pr, "\"POSITION\":%d", accs++);
             if (p->uv1) {
                 v = gen_view(&bin, &len, &views, &bv, p->uv1, (size_t)p->nv * 8);
-                sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", v, p->nv);
-                sb_printf(&pr, ",\"TEXCOORD_1\":%d", accs++);
+                prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", v, p->nv);
+                prw_strbuf_printf(&pr, ",\"TEXCOORD_1\":%d", accs++);
             }
-            sb_printf(&pr, "}");
+            prw_strbuf_printf(&pr, "}");
             if (p->idx) {
                 v = gen_view(&bin, &len, &views, &bv, p->idx, (size_t)p->ni * 4);
-                sb_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", v, p->ni);
-                sb_printf(&pr, ",\"indices\":%d", accs++);
+                prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", v, p->ni);
+                prw_strbuf_printf(&pr, ",\"indices\":%d", accs++);
             }
         }
-        if (p->mode >= 0) sb_printf(&pr, ",\"mode\":%d", p->mode);
-        sb_printf(&pr, "%s}", p->extra ? p->extra : "");
+        if (p->mode >= 0) prw_strbuf_printf(&pr, ",\"mode\":%d", p->mode);
+        prw_strbuf_printf(&pr, "%s}", p->extra ? p->extra : "");
     }
-    strbuf j = {0};
-    sb_printf(&j,
+    prw_strbuf j = {0};
+    prw_strbuf_printf(&j,
               "{\"asset\":{\"version\":\"%s\"},%s\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
               "\"nodes\":[{\"name\":\"n\",\"mesh\":0}],\"meshes\":[{\"name\":\"m\",\"primitives\":[%s]}],"
               "\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],\"bufferViews\":[%s],\"accessors\":[%s]%s}\n",
