@@ -161,35 +161,32 @@ PRW_FN float prw_ggx_ms_shape(float NoV, float NoL, float roughness)
     return prw_ggx_Ec(NoV, roughness) * prw_ggx_Ec(NoL, roughness) / (PRW_BRDF_PI * ec_avg);
 }
 
-/* The diffuse lobe of one channel: (1 - metallic) * f_diffuse (see the top).  Cosines clamped. */
-PRW_FN float prw_brdf_diffuse_channel(float NoV, float NoL, float base, float metallic, float roughness,
-                                      float specular)
+/* The fitted albedos an evaluation at one roughness needs (see the top): ec_avg = Ec_avg, ed_avg = Ed_avg,
+ * ec_o/ec_i = Ec and ed_o/ed_i = Ed at the clamped cosines min(n.v, 1) and min(n.l, 1).  They do not
+ * depend on the colour channel: an RGB evaluation computes them once and calls the *_terms lobes per
+ * channel; the per-channel functions below are these with the fits computed in place (same float operations). */
+PRW_FN float prw_brdf_diffuse_terms(float base, float metallic, float specular, float ec_avg, float ed_avg, float ec_o,
+                                    float ec_i, float ed_o, float ed_i)
 {
-    if (NoL <= 0.0 || NoV <= 0.0) return 0.0;
     float m = prw_clamp01(metallic);
     float s = prw_clamp01(specular);
-    float mo = PRW_B_MIN(NoV, 1.0), mi = PRW_B_MIN(NoL, 1.0);
-    float ec_avg = prw_ggx_Ec_avg(roughness);
     float fms = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, ec_avg);
-    float e_o = s * prw_ggx_Ed(mo, roughness) + fms * prw_ggx_Ec(mo, roughness);
-    float e_i = s * prw_ggx_Ed(mi, roughness) + fms * prw_ggx_Ec(mi, roughness);
-    float e_avg = s * prw_ggx_Ed_avg(roughness) + fms * ec_avg;
+    float e_o = s * ed_o + fms * ec_o;
+    float e_i = s * ed_i + fms * ec_i;
+    float e_avg = s * ed_avg + fms * ec_avg;
     return (1.0 - m) * prw_lambert(base) * ((1.0 - e_o) * (1.0 - e_i) / (1.0 - e_avg));
 }
 
-/* The specular lobes of one channel (single + multiple scattering, dielectric and metal parts). */
-PRW_FN float prw_brdf_specular_channel(float NoV, float NoL, float NoH, float VoH, float base, float metallic,
-                                       float roughness, float specular)
+/* The specular lobes from the cosines (already clamped: mo, mi in (0, 1]) and the fitted terms. */
+PRW_FN float prw_brdf_specular_terms(float mo, float mi, float NoH, float VoH, float base, float metallic,
+                                     float roughness, float specular, float ec_avg, float ec_o, float ec_i)
 {
-    if (NoL <= 0.0 || NoV <= 0.0) return 0.0;
     float alpha = prw_alpha_from_roughness(roughness);
     float m = prw_clamp01(metallic);
     float s = prw_clamp01(specular);
-    float mo = PRW_B_MIN(NoV, 1.0), mi = PRW_B_MIN(NoL, 1.0);
     float c = prw_clamp01(VoH);
     float dv = prw_D_ggx(prw_clamp01(NoH), alpha) * prw_V_smith_ggx(mo, mi, alpha);
-    float ec_avg = prw_ggx_Ec_avg(roughness);
-    float ms = prw_ggx_ms_shape(mo, mi, roughness);
+    float ms = ec_o * ec_i / (PRW_BRDF_PI * PRW_B_MAX(ec_avg, 1e-6));
     float f_diel = s * prw_F_dielectric(c);
     float f_metal = prw_F_schlick(base, c);
     float fms_diel = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, ec_avg);
@@ -197,6 +194,27 @@ PRW_FN float prw_brdf_specular_channel(float NoV, float NoL, float NoH, float Vo
     float diel = dv * f_diel + ms * fms_diel;
     float metal = dv * f_metal + ms * fms_metal;
     return (1.0 - m) * diel + m * metal;
+}
+
+/* The diffuse lobe of one channel: (1 - metallic) * f_diffuse (see the top).  Cosines clamped. */
+PRW_FN float prw_brdf_diffuse_channel(float NoV, float NoL, float base, float metallic, float roughness,
+                                      float specular)
+{
+    if (NoL <= 0.0 || NoV <= 0.0) return 0.0;
+    float mo = PRW_B_MIN(NoV, 1.0), mi = PRW_B_MIN(NoL, 1.0);
+    return prw_brdf_diffuse_terms(base, metallic, specular, prw_ggx_Ec_avg(roughness), prw_ggx_Ed_avg(roughness),
+                                  prw_ggx_Ec(mo, roughness), prw_ggx_Ec(mi, roughness), prw_ggx_Ed(mo, roughness),
+                                  prw_ggx_Ed(mi, roughness));
+}
+
+/* The specular lobes of one channel (single + multiple scattering, dielectric and metal parts). */
+PRW_FN float prw_brdf_specular_channel(float NoV, float NoL, float NoH, float VoH, float base, float metallic,
+                                       float roughness, float specular)
+{
+    if (NoL <= 0.0 || NoV <= 0.0) return 0.0;
+    float mo = PRW_B_MIN(NoV, 1.0), mi = PRW_B_MIN(NoL, 1.0);
+    return prw_brdf_specular_terms(mo, mi, NoH, VoH, base, metallic, roughness, specular, prw_ggx_Ec_avg(roughness),
+                                   prw_ggx_Ec(mo, roughness), prw_ggx_Ec(mi, roughness));
 }
 
 /* Full BRDF for one channel (1/sr).  Cosines are clamped; returns 0 below either horizon. */
@@ -223,14 +241,21 @@ PRW_FN float prw_coat_transmission(float mu, float clearcoat, float rc)
     return 1.0 - prw_clamp01(clearcoat) * prw_coat_albedo(mu, rc);
 }
 
+/* The coat lobe from clamped cosines mo, mi in (0, 1] and the coat roughness's fitted terms. */
+PRW_FN float prw_brdf_coat_terms(float mo, float mi, float NcH, float VoH, float rc, float ec_avg, float ec_o, float ec_i)
+{
+    float alpha = prw_alpha_from_roughness(rc);
+    float ss = prw_D_ggx(prw_clamp01(NcH), alpha) * prw_V_smith_ggx(mo, mi, alpha) * prw_F_dielectric(prw_clamp01(VoH));
+    float ms = ec_o * ec_i / (PRW_BRDF_PI * PRW_B_MAX(ec_avg, 1e-6));
+    return ss + ms * prw_F_ms(PRW_DIELECTRIC_F_AVG, ec_avg);
+}
+
 /* The coat lobe f_coat (1/sr, weight not applied) from cosines against the coat normal. */
 PRW_FN float prw_brdf_coat_lobe(float NcV, float NcL, float NcH, float VoH, float rc)
 {
     if (NcL <= 0.0 || NcV <= 0.0) return 0.0;
-    float alpha = prw_alpha_from_roughness(rc);
     float mo = PRW_B_MIN(NcV, 1.0), mi = PRW_B_MIN(NcL, 1.0);
-    float ss = prw_D_ggx(prw_clamp01(NcH), alpha) * prw_V_smith_ggx(mo, mi, alpha) * prw_F_dielectric(prw_clamp01(VoH));
-    return ss + prw_ggx_ms_shape(mo, mi, rc) * prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
+    return prw_brdf_coat_terms(mo, mi, NcH, VoH, rc, prw_ggx_Ec_avg(rc), prw_ggx_Ec(mo, rc), prw_ggx_Ec(mi, rc));
 }
 
 /* The coated model for one channel: NoV, NoL, NoH against the base's shading normal, NcV, NcL, NcH

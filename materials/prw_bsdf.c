@@ -43,19 +43,32 @@ static void eval(const prw_bsdf *b, const double wo[3], const double wi[3], bool
     float VoH = (float)(0.5 * (dot3(wo, h) + dot3(wi, h)));
     float base[3] = {(float)b->base[0], (float)b->base[1], (float)b->base[2]};
     float m = (float)b->metallic, r = (float)b->roughness, sp = (float)b->specular;
-    if (!has_coat(b)) {
-        for (int c = 0; c < 3; c++)
-            f[c] = diffuse_only ? prw_brdf_diffuse_channel(NoV, NoL, base[c], m, r, sp)
-                                : prw_brdf_channel(NoV, NoL, NoH, VoH, base[c], m, r, sp);
+    /* prw_brdf_channel / prw_brdf_diffuse_channel per channel, with the fitted albedos (which do not
+     * depend on the channel) evaluated once: the same float operations, so the same bits. */
+    float fb[3] = {0, 0, 0};
+    if (NoL > 0.0 && NoV > 0.0) {
+        float mo = fminf(NoV, 1.0f), mi = fminf(NoL, 1.0f);
+        float ec_avg = prw_ggx_Ec_avg(r), ed_avg = prw_ggx_Ed_avg(r);
+        float ec_o = prw_ggx_Ec(mo, r), ec_i = prw_ggx_Ec(mi, r), ed_o = prw_ggx_Ed(mo, r), ed_i = prw_ggx_Ed(mi, r);
+        for (int c = 0; c < 3; c++) {
+            fb[c] = prw_brdf_diffuse_terms(base[c], m, sp, ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i);
+            if (!diffuse_only) fb[c] += prw_brdf_specular_terms(mo, mi, NoH, VoH, base[c], m, r, sp, ec_avg, ec_o, ec_i);
+        }
+    }
+    float cc = (float)b->clearcoat, c = prw_clamp01(cc);
+    if (!has_coat(b) || c <= 0.0) {
+        for (int k = 0; k < 3; k++) f[k] = fb[k];
         return;
     }
+    /* prw_brdf_coated_channel / prw_brdf_coated_diffuse_channel: the coat's transmission and lobe do not
+     * depend on the channel either */
     double nc[3];
     coat_normal(b, nc);
     float NcV = (float)dot3(nc, wo), NcL = (float)dot3(nc, wi), NcH = (float)dot3(nc, h);
-    float cc = (float)b->clearcoat, rc = (float)b->clearcoat_roughness;
-    for (int c = 0; c < 3; c++)
-        f[c] = diffuse_only ? prw_brdf_coated_diffuse_channel(NoV, NoL, NcV, NcL, base[c], m, r, sp, cc, rc)
-                            : prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base[c], m, r, sp, cc, rc);
+    float rc = (float)b->clearcoat_roughness;
+    float t = prw_coat_transmission(NcV, c, rc) * prw_coat_transmission(NcL, c, rc);
+    float lobe = diffuse_only ? 0.0f : prw_brdf_coat_lobe(NcV, NcL, NcH, VoH, rc);
+    for (int k = 0; k < 3; k++) f[k] = diffuse_only ? t * fb[k] : c * lobe + t * fb[k];
 }
 
 void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3]) { eval(b, wo, wi, false, f); }
@@ -145,7 +158,8 @@ static double spec_probability(const prw_bsdf *b, double mu_o, double *albedo)
 {
     float mo = (float)clampd(mu_o, 0, 1), r = (float)clampd(b->roughness, 0, 1);
     double m = clampd(b->metallic, 0, 1), s = clampd(b->specular, 0, 1);
-    double e = 1 - prw_ggx_Ec(mo, r), ec = prw_ggx_Ec(mo, r), ec_avg = prw_ggx_Ec_avg(r);
+    float ecf = prw_ggx_Ec(mo, r);
+    double ec = ecf, e = 1 - ecf, ec_avg = prw_ggx_Ec_avg(r); /* 1 - ecf in float */
     double ed = prw_ggx_Ed(mo, r);
     double fms_d = prw_F_ms((float)(s * PRW_DIELECTRIC_F_AVG), (float)ec_avg);
     double e_ds = s * ed + fms_d * ec;
@@ -204,61 +218,84 @@ static double base_pdf(const prw_bsdf *b, double ps, const double wo[3], const d
     return ps * prw_pdf_ggx_reflect(wo, wi, alpha_of(b)) + (1 - ps) * prw_pdf_cosine(wi);
 }
 
-double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3])
+prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3])
+{
+    prw_bsdf_lobes l = {.ps = 0, .pc = 0};
+    if (wo[2] <= 0) return l;
+    double albedo;
+    l.ps = spec_probability(b, wo[2], &albedo);
+    if (has_coat(b)) {
+        coat_frame f = make_coat_frame(b);
+        l.pc = coat_probability(b, &f, wo, albedo);
+    }
+    return l;
+}
+
+double prw_bsdf_pdf_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3])
 {
     if (wo[2] <= 0 || wi[2] <= 0) return 0;
-    double albedo, ps = spec_probability(b, wo[2], &albedo);
-    if (!has_coat(b)) return base_pdf(b, ps, wo, wi);
-    coat_frame f = make_coat_frame(b);
-    double pc = coat_probability(b, &f, wo, albedo);
-    double pcoat = 0;
+    if (!has_coat(b)) return base_pdf(b, l->ps, wo, wi);
+    double pc = l->pc, pcoat = 0;
     if (pc > 0) {
+        coat_frame f = make_coat_frame(b);
         double wo_c[3], wi_c[3];
         to_coat(&f, wo, wo_c);
         to_coat(&f, wi, wi_c);
         pcoat = prw_pdf_ggx_reflect(wo_c, wi_c, coat_alpha(b));
     }
-    return pc * pcoat + (1 - pc) * base_pdf(b, ps, wo, wi);
+    return pc * pcoat + (1 - pc) * base_pdf(b, l->ps, wo, wi);
 }
 
-bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf)
+double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3])
+{
+    prw_bsdf_lobes l = prw_bsdf_lobes_at(b, wo);
+    return prw_bsdf_pdf_at(b, &l, wo, wi);
+}
+
+bool prw_bsdf_sample_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double u[3],
+                        double wi[3], double *pdf)
 {
     *pdf = 0;
     if (wo[2] <= 0) return false;
-    double albedo, ps = spec_probability(b, wo[2], &albedo);
     double u0 = u[0];
     if (has_coat(b)) {
         /* the coat lobe first (u0 < pc), else u0 is rescaled to [0, 1) for the base's lobe choice */
-        coat_frame f = make_coat_frame(b);
-        double pc = coat_probability(b, &f, wo, albedo);
+        double pc = l->pc;
         if (u0 < pc) {
+            coat_frame f = make_coat_frame(b);
             double wo_c[3], wm[3];
             to_coat(&f, wo, wo_c);
             prw_sample_ggx_vndf(wo_c, coat_alpha(b), u + 1, wm);
             double om = dot3(wo_c, wm), wi_c[3];
             for (int k = 0; k < 3; k++) wi_c[k] = 2 * om * wm[k] - wo_c[k];
             for (int k = 0; k < 3; k++) wi[k] = f.t[k] * wi_c[0] + f.b[k] * wi_c[1] + f.n[k] * wi_c[2];
-            double l = sqrt(dot3(wi, wi));
-            for (int k = 0; k < 3; k++) wi[k] /= l;
+            double len = sqrt(dot3(wi, wi));
+            for (int k = 0; k < 3; k++) wi[k] /= len;
             if (wi[2] <= 0) return false;
-            *pdf = prw_bsdf_pdf(b, wo, wi);
+            *pdf = prw_bsdf_pdf_at(b, l, wo, wi);
             return *pdf > 0;
         }
         u0 = (u0 - pc) / (1 - pc);
     }
-    if (u0 < ps) {
+    if (u0 < l->ps) {
         double wm[3];
         prw_sample_ggx_vndf(wo, alpha_of(b), u + 1, wm);
         double om = dot3(wo, wm);
         for (int k = 0; k < 3; k++) wi[k] = 2 * om * wm[k] - wo[k];
-        double l = sqrt(dot3(wi, wi));
-        for (int k = 0; k < 3; k++) wi[k] /= l;
+        double len = sqrt(dot3(wi, wi));
+        for (int k = 0; k < 3; k++) wi[k] /= len;
     } else {
         prw_sample_cosine(u + 1, wi);
     }
     if (wi[2] <= 0) return false;
-    *pdf = prw_bsdf_pdf(b, wo, wi);
+    *pdf = prw_bsdf_pdf_at(b, l, wo, wi);
     return *pdf > 0;
+}
+
+bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf)
+{
+    prw_bsdf_lobes l = prw_bsdf_lobes_at(b, wo);
+    return prw_bsdf_sample_at(b, &l, wo, u, wi, pdf);
 }
 
 void prw_frame_from_normal(const double n[3], double t[3], double b[3])

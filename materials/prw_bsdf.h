@@ -44,6 +44,17 @@ void prw_bsdf_eval_diffuse(const prw_bsdf *b, const double wo[3], const double w
 double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3]);
 bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf);
 
+/* The mixture's lobe probabilities at one wo (they depend on wo only), computed once per shading
+ * point and passed to the *_at forms, which return exactly what prw_bsdf_pdf / prw_bsdf_sample do. */
+typedef struct prw_bsdf_lobes {
+    double ps; /* GGX lobe of the base (else the cosine lobe) */
+    double pc; /* the coat lobe first (0 without a coat) */
+} prw_bsdf_lobes;
+prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3]);
+double prw_bsdf_pdf_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3]);
+bool prw_bsdf_sample_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double u[3],
+                        double wi[3], double *pdf);
+
 /* Lobes on their own. */
 void prw_sample_cosine(const double u[2], double wi[3]);
 double prw_pdf_cosine(const double wi[3]);

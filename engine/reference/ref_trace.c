@@ -322,6 +322,7 @@ typedef struct shade {
     prw_bsdf b;
     double t[3], bt[3], n[3]; /* local frame, n = shading normal */
     double wo[3];             /* local */
+    prw_bsdf_lobes lobes;     /* prw_bsdf_lobes_at(b, wo): shared by the BSDF sample and the MIS pdfs */
 } shade;
 
 static void to_local(const shade *sh, const double w[3], double l[3])
@@ -442,6 +443,7 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
         to_local(sh, nc, sh->b.coat_n);
         norm3(sh->b.coat_n);
     }
+    sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
 }
 
 /* Class weight per channel for the diffuse-last / glossy-last filters: the diffuse lobe's share
@@ -499,7 +501,7 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     }
     if (occluded(pa->r, o, sd, tmax, skip_rect, ray_key(pa->rng, pa->k, tag), pa->rays)) return;
     double w = 1;
-    if (pdf_l > 0) w = power_heuristic(pdf_l, prw_bsdf_pdf(&sh->b, sh->wo, wl)) / pdf_l;
+    if (pdf_l > 0) w = power_heuristic(pdf_l, prw_bsdf_pdf_at(&sh->b, &sh->lobes, sh->wo, wl)) / pdf_l;
     double cw[3] = {1, 1, 1};
     if (pa->k == 1) class_weight(pa->f, sh, wl, fv, cw);
     for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * wl[2] * Li[c] * w;
@@ -706,7 +708,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
         rng->dim = base;
         double u[3] = {ref_rand(rng), ref_rand(rng), ref_rand(rng)};
         double wl[3], pdf;
-        if (!prw_bsdf_sample(&sh.b, sh.wo, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
+        if (!prw_bsdf_sample_at(&sh.b, &sh.lobes, sh.wo, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
         double wi[3];
         to_world(&sh, wl, wi);
         norm3(wi);

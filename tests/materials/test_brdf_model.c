@@ -189,6 +189,7 @@ static void test_ggx_albedo(void)
  * not depend on phi), the specular part over the half vector (resolves the GGX peak). */
 typedef struct full_ctx {
     float base, metallic, r, s;
+    float mo, ec_avg, ec_o; /* the fitted terms that do not depend on wi (prw_brdf_specular_terms) */
 } full_ctx;
 
 static double header_spec(const double wo[3], const double wi[3], void *ctx)
@@ -197,8 +198,12 @@ static double header_spec(const double wo[3], const double wi[3], void *ctx)
     double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
     double hl = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
     float VoH = (float)((wo[0] * h[0] + wo[1] * h[1] + wo[2] * h[2]) / hl);
-    return prw_brdf_specular_channel((float)wo[2], (float)wi[2], (float)(h[2] / hl), VoH, c->base, c->metallic, c->r,
-                                     c->s);
+    /* prw_brdf_specular_channel with the wi-independent fits hoisted (the same float operations) */
+    float NoV = (float)wo[2], NoL = (float)wi[2];
+    if (NoL <= 0.0 || NoV <= 0.0) return 0.0;
+    float mi = fminf(NoL, 1.0f);
+    return prw_brdf_specular_terms(c->mo, mi, (float)(h[2] / hl), VoH, c->base, c->metallic, c->r, c->s, c->ec_avg,
+                                   c->ec_o, prw_ggx_Ec(mi, c->r));
 }
 
 static double full_albedo(double mu, full_ctx c, int panels)
@@ -212,6 +217,7 @@ static double full_albedo(double mu, full_ctx c, int panels)
                  prw_brdf_diffuse_channel((float)mu, (float)mi, c.base, c.metallic, c.r, c.s);
         }
     double alpha = prw_alpha_from_roughness(c.r);
+    c.mo = fminf((float)mu, 1.0f), c.ec_avg = prw_ggx_Ec_avg(c.r), c.ec_o = prw_ggx_Ec(c.mo, c.r);
     return d + mt_integrate_halfvector(mu, alpha, panels, header_spec, &c);
 }
 
@@ -230,7 +236,7 @@ static void test_energy(void)
                 for (int im = 0; im < 3; im++)
                     for (int is = 0; is < 3; is++) {
                         if (prw_test_light() && (a + q + ib + im + is) % 3) continue; /* light: a third */
-                        full_ctx c = {(float)vals[ib], (float)vals[im], (float)rs[q], (float)vals[is]};
+                        full_ctx c = {.base = (float)vals[ib], .metallic = (float)vals[im], .r = (float)rs[q], .s = (float)vals[is]};
                         double al = full_albedo(mus[a], c, 16);
                         nconf++;
                         if (mus[a] >= 0.1) worst_wide = fmax(worst_wide, al);
@@ -254,7 +260,7 @@ static void test_energy(void)
     double lo = 2, hi = 0, lo_cfg[2] = {0}, hi_cfg[2] = {0}, lo_w = 2, hi_w = 0;
     for (int q = 0; q <= 20; q++)
         for (int a = 0; a < 6; a++) {
-            full_ctx c = {1, 1, (float)(q / 20.0), 1};
+            full_ctx c = {.base = 1, .metallic = 1, .r = (float)(q / 20.0), .s = 1};
             double al = full_albedo(mus[a], c, 12);
             if (al < lo) lo = al, lo_cfg[0] = mus[a], lo_cfg[1] = q / 20.0;
             if (al > hi) hi = al, hi_cfg[0] = mus[a], hi_cfg[1] = q / 20.0;

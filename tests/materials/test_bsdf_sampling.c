@@ -68,7 +68,19 @@ typedef struct scase {
     prw_bsdf mat;
     const prw_bsdf *sample_mat; /* if set: the mixture samples this material instead (power check) */
     double wo[3];
+    bool has_lobes;        /* lobes = prw_bsdf_lobes_at(mat, wo) (with_lobes): pdfs through prw_bsdf_pdf_at */
+    prw_bsdf_lobes lobes;
 } scase;
+
+/* c with its lobe probabilities computed once (they depend on wo only; prw_bsdf_pdf_at returns
+ * exactly prw_bsdf_pdf, which the sample-pdf consistency test checks). */
+static scase with_lobes(const scase *c)
+{
+    scase r = *c;
+    r.lobes = prw_bsdf_lobes_at(&r.mat, r.wo);
+    r.has_lobes = true;
+    return r;
+}
 
 static bool draw(const scase *c, mt_rng *r, double wi[3])
 {
@@ -92,6 +104,7 @@ static double pdf_of(const scase *c, const double wi[3])
 {
     if (c->kind == K_COSINE) return prw_pdf_cosine(wi);
     if (c->kind == K_GGX) return prw_pdf_ggx_reflect(c->wo, wi, c->alpha);
+    if (c->has_lobes) return prw_bsdf_pdf_at(&c->mat, &c->lobes, c->wo, wi);
     return prw_bsdf_pdf(&c->mat, c->wo, wi);
 }
 
@@ -121,8 +134,10 @@ static double cell_integral(const scase *c, double c0, double p0, int S)
 /* Histogram over (cos theta in [-1, 1], phi in [0, 2 pi)) against N times the pdf integrated over
  * each cell (cell_integral, refined where needed); cells expecting fewer than 5 are pooled (and the
  * pool, if still below 5, joins the smallest regular cell).  Returns the p-value. */
-static double chi2_case(const scase *c, int n, uint64_t seed, double *valid_frac)
+static double chi2_case(const scase *cin, int n, uint64_t seed, double *valid_frac)
 {
+    scase cl = with_lobes(cin);
+    const scase *c = &cl;
     static double expect[NT * NP];
     static long obs[NT * NP];
     memset(obs, 0, sizeof obs);
@@ -346,6 +361,7 @@ static void test_pdf_normalisation(void)
             /* the mixture of a material with this roughness */
             const double base[3] = {0.7, 0.5, 0.3};
             scase mix = make_case(K_MIXTURE, thetas[t], sqrt(alphas[a]), base, a % 2 ? 1.0 : 0.3, 1.0);
+            mix = with_lobes(&mix);
             pdf_ctx pm = {&mix};
             double mu = mt_integrate_wm(mix.wo[2], mix.alpha, 24, 1, pdf_fn, &pm);
             int valid = 0;
@@ -364,6 +380,7 @@ static void test_pdf_normalisation(void)
             cm.mat.clearcoat = 1.0, cm.mat.clearcoat_roughness = sqrt(alphas[a]);
             if (t % 4 == 1 && alphas[a] >= 0.2) cm.mat.coat_n[0] = sin(0.3), cm.mat.coat_n[2] = cos(0.3);
             cm.alpha = alphas[a];
+            cm = with_lobes(&cm);
             pdf_ctx pcm = {&cm};
             double muc = mt_integrate_wm(cm.wo[2], cm.alpha, 24, 1, pdf_fn, &pcm);
             valid = 0;
@@ -386,7 +403,7 @@ static void test_pdf_normalisation(void)
 static void test_sample_pdf_consistency(void)
 {
     mt_rng r = {5};
-    int n = prw_test_scale(200000, 4), bad = 0, bad_dv = 0, bad_support = 0, drawn = 0;
+    int n = prw_test_scale(200000, 4), bad = 0, bad_dv = 0, bad_support = 0, bad_at = 0, drawn = 0;
     double worst = 0, worst_dv = 0;
     for (int k = 0; k < n; k++) {
         prw_bsdf b;
@@ -430,11 +447,20 @@ static void test_sample_pdf_consistency(void)
         for (int q = 0; q < 3; q++) wj[q] /= l;
         double f[3];
         prw_bsdf_eval(&b, wo, wj, f);
-        if ((f[0] > 0 || f[1] > 0 || f[2] > 0) && !(prw_bsdf_pdf(&b, wo, wj) > 0)) bad_support++;
+        double pj = prw_bsdf_pdf(&b, wo, wj);
+        if ((f[0] > 0 || f[1] > 0 || f[2] > 0) && !(pj > 0)) bad_support++;
+        /* the per-vertex forms (lobes computed once) return the same bits */
+        prw_bsdf_lobes lb = prw_bsdf_lobes_at(&b, wo);
+        double wa[3], pa;
+        bool sa = prw_bsdf_sample_at(&b, &lb, wo, u, wa, &pa), sb = prw_bsdf_sample(&b, wo, u, wi, &pdf);
+        if (prw_bsdf_pdf_at(&b, &lb, wo, wj) != pj || sa != sb || (sb && (pa != pdf || memcmp(wa, wi, sizeof wa))))
+            bad_at++;
     }
     printf("sample/pdf: %d samples, worst relative pdf mismatch %.3g; VNDF pdf vs D_v/(4 wo.wm) worst %.3g; "
            "%d support violations\n",
            drawn, worst, worst_dv, bad_support);
+    printf("prw_bsdf_pdf_at / prw_bsdf_sample_at differing from prw_bsdf_pdf / prw_bsdf_sample: %d of %d\n", bad_at, n);
+    CHECK(bad_at == 0);
     CHECK(bad == 0);
     CHECK(bad_dv == 0);
     CHECK(bad_support == 0);
