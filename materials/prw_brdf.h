@@ -154,11 +154,15 @@ PRW_FN float prw_F_ms(float f_avg, float ec_avg)
     return f_avg * f_avg * (1.0 - ec_avg) / (1.0 - f_avg * ec_avg);
 }
 
-/* The multiple-scattering shape Ec(mu_o) Ec(mu_i) / (pi Ec_avg) (F = 1). */
+/* The multiple-scattering shape Ec(mu_o) Ec(mu_i) / (pi Ec_avg) (F = 1) from the fitted terms; prw_ggx_ms_shape: from the cosines. */
+PRW_FN float prw_ggx_ms_terms(float ec_avg, float ec_o, float ec_i)
+{
+    return ec_o * ec_i / (PRW_BRDF_PI * PRW_B_MAX(ec_avg, 1e-6));
+}
+
 PRW_FN float prw_ggx_ms_shape(float NoV, float NoL, float roughness)
 {
-    float ec_avg = PRW_B_MAX(prw_ggx_Ec_avg(roughness), 1e-6);
-    return prw_ggx_Ec(NoV, roughness) * prw_ggx_Ec(NoL, roughness) / (PRW_BRDF_PI * ec_avg);
+    return prw_ggx_ms_terms(prw_ggx_Ec_avg(roughness), prw_ggx_Ec(NoV, roughness), prw_ggx_Ec(NoL, roughness));
 }
 
 /* The fitted albedos an evaluation at one roughness needs (see the top): ec_avg = Ec_avg, ed_avg = Ed_avg,
@@ -186,7 +190,7 @@ PRW_FN float prw_brdf_specular_terms(float mo, float mi, float NoH, float VoH, f
     float s = prw_clamp01(specular);
     float c = prw_clamp01(VoH);
     float dv = prw_D_ggx(prw_clamp01(NoH), alpha) * prw_V_smith_ggx(mo, mi, alpha);
-    float ms = ec_o * ec_i / (PRW_BRDF_PI * PRW_B_MAX(ec_avg, 1e-6));
+    float ms = prw_ggx_ms_terms(ec_avg, ec_o, ec_i);
     float f_diel = s * prw_F_dielectric(c);
     float f_metal = prw_F_schlick(base, c);
     float fms_diel = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, ec_avg);
@@ -246,7 +250,7 @@ PRW_FN float prw_brdf_coat_terms(float mo, float mi, float NcH, float VoH, float
 {
     float alpha = prw_alpha_from_roughness(rc);
     float ss = prw_D_ggx(prw_clamp01(NcH), alpha) * prw_V_smith_ggx(mo, mi, alpha) * prw_F_dielectric(prw_clamp01(VoH));
-    float ms = ec_o * ec_i / (PRW_BRDF_PI * PRW_B_MAX(ec_avg, 1e-6));
+    float ms = prw_ggx_ms_terms(ec_avg, ec_o, ec_i);
     return ss + ms * prw_F_ms(PRW_DIELECTRIC_F_AVG, ec_avg);
 }
 

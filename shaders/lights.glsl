@@ -83,11 +83,37 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
     return f * (sum * 4.0 * lu * lv / float(nu * nv));
 }
 
-// Multiple-scattering specular (Kulla-Conty) per channel: a smooth, diffuse-like lobe.
-vec3 specular_ms(float NoV, float NoL, vec3 base, float metallic, float roughness, float specular)
+// The fitted albedos (prw_ggx_fit.h) of one roughness at the clamped cosines mo, mi: evaluated once per
+// light and shared by the three channels' lobes (prw_brdf_*_terms: the per-channel functions' operations).
+struct ggx_terms {
+    float ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i;
+};
+
+ggx_terms ggx_terms_at(float mo, float mi, float roughness)
 {
-    float ec_avg = prw_ggx_Ec_avg(roughness);
-    float ms = prw_ggx_ms_shape(min(NoV, 1.0), min(NoL, 1.0), roughness);
+    ggx_terms t;
+    t.ec_avg = prw_ggx_Ec_avg(roughness);
+    t.ed_avg = prw_ggx_Ed_avg(roughness);
+    t.ec_o = prw_ggx_Ec(mo, roughness);
+    t.ec_i = prw_ggx_Ec(mi, roughness);
+    t.ed_o = prw_ggx_Ed(mo, roughness);
+    t.ed_i = prw_ggx_Ed(mi, roughness);
+    return t;
+}
+
+// prw_brdf_diffuse_channel per RGB channel (cosines > 0, clamped to 1 in t).
+vec3 diffuse_rgb(ggx_terms t, vec3 base, float metallic, float specular)
+{
+    return vec3(prw_brdf_diffuse_terms(base.r, metallic, specular, t.ec_avg, t.ed_avg, t.ec_o, t.ec_i, t.ed_o, t.ed_i),
+                prw_brdf_diffuse_terms(base.g, metallic, specular, t.ec_avg, t.ed_avg, t.ec_o, t.ec_i, t.ed_o, t.ed_i),
+                prw_brdf_diffuse_terms(base.b, metallic, specular, t.ec_avg, t.ed_avg, t.ec_o, t.ec_i, t.ed_o, t.ed_i));
+}
+
+// Multiple-scattering specular (Kulla-Conty) per channel: a smooth, diffuse-like lobe.
+vec3 specular_ms(ggx_terms t, vec3 base, float metallic, float specular)
+{
+    float ec_avg = t.ec_avg;
+    float ms = prw_ggx_ms_terms(ec_avg, t.ec_o, t.ec_i);
     float m = prw_clamp01(metallic);
     float diel = prw_F_ms(prw_clamp01(specular) * PRW_DIELECTRIC_F_AVG, ec_avg);
     vec3 metal = vec3(prw_F_ms(base.r + (1.0 - base.r) * (1.0 / 21.0), ec_avg),
@@ -96,12 +122,16 @@ vec3 specular_ms(float NoV, float NoL, vec3 base, float metallic, float roughnes
     return ms * ((1.0 - m) * diel + m * metal);
 }
 
-// The shared material model (prw_brdf.h) per RGB channel, from cosines.
+// The shared material model (prw_brdf.h, prw_brdf_channel) per RGB channel, from cosines.
 vec3 brdf_cos(float NoV, float NoL, float NoH, float VoH, vec3 base, float metallic, float roughness, float specular)
 {
-    return vec3(prw_brdf_channel(NoV, NoL, NoH, VoH, base.r, metallic, roughness, specular),
-                prw_brdf_channel(NoV, NoL, NoH, VoH, base.g, metallic, roughness, specular),
-                prw_brdf_channel(NoV, NoL, NoH, VoH, base.b, metallic, roughness, specular));
+    if (NoL <= 0.0 || NoV <= 0.0) return vec3(0.0);
+    float mo = min(NoV, 1.0), mi = min(NoL, 1.0);
+    ggx_terms t = ggx_terms_at(mo, mi, roughness);
+    return diffuse_rgb(t, base, metallic, specular) +
+           vec3(prw_brdf_specular_terms(mo, mi, NoH, VoH, base.r, metallic, roughness, specular, t.ec_avg, t.ec_o, t.ec_i),
+                prw_brdf_specular_terms(mo, mi, NoH, VoH, base.g, metallic, roughness, specular, t.ec_avg, t.ec_o, t.ec_i),
+                prw_brdf_specular_terms(mo, mi, NoH, VoH, base.b, metallic, roughness, specular, t.ec_avg, t.ec_o, t.ec_i));
 }
 
 vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
@@ -153,10 +183,8 @@ void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, fl
             // factors taken at the vector form factor's direction.  Single-scattering specular:
             // quadrature over the quad (rect_specular_single).
             float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
-            vec3 fd = vec3(prw_brdf_diffuse_channel(NoV, NoLd, base.r, metallic, roughness, specular),
-                           prw_brdf_diffuse_channel(NoV, NoLd, base.g, metallic, roughness, specular),
-                           prw_brdf_diffuse_channel(NoV, NoLd, base.b, metallic, roughness, specular));
-            fd += specular_ms(NoV, NoLd, base, metallic, roughness, specular);
+            ggx_terms t = ggx_terms_at(min(NoV, 1.0), min(NoLd, 1.0), roughness);
+            vec3 fd = diffuse_rgb(t, base, metallic, specular) + specular_ms(t, base, metallic, specular);
             vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
                                                    metallic, roughness, specular);
             radiance += f * rgb * shadow_factor(L, p, n, shadow_offset);
@@ -180,9 +208,12 @@ vec3 brdf_coated(vec3 n, vec3 nc, vec3 v, vec3 l, vec3 base, float metallic, flo
     vec3 h = normalize(v + l);
     float NoV = dot(n, v), NoL = dot(n, l), NoH = dot(n, h), VoH = dot(v, h);
     float NcV = dot(nc, v), NcL = dot(nc, l), NcH = dot(nc, h);
-    return vec3(prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base.r, metallic, roughness, specular, cc, rc),
-                prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base.g, metallic, roughness, specular, cc, rc),
-                prw_brdf_coated_channel(NoV, NoL, NoH, VoH, NcV, NcL, NcH, base.b, metallic, roughness, specular, cc, rc));
+    // prw_brdf_coated_channel per channel: the coat's transmission and lobe are the same for all three
+    vec3 f = brdf_cos(NoV, NoL, NoH, VoH, base, metallic, roughness, specular);
+    float c = prw_clamp01(cc);
+    if (c <= 0.0) return f;
+    float t = prw_coat_transmission(NcV, c, rc) * prw_coat_transmission(NcL, c, rc);
+    return c * prw_brdf_coat_lobe(NcV, NcL, NcH, VoH, rc) + t * f;
 }
 
 // prw_direct_light for a clear-coated surface (coat normal nc, weight cc, roughness rc).  Rect lights:
@@ -213,10 +244,8 @@ void prw_direct_light_coated(inout vec3 radiance, vec3 p, vec3 n, vec3 nc, vec3 
             float NcV = max(dot(nc, v), 1e-4);
             if (E > 0.0) {
                 float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
-                vec3 fd = vec3(prw_brdf_diffuse_channel(NoV, NoLd, base.r, metallic, roughness, specular),
-                               prw_brdf_diffuse_channel(NoV, NoLd, base.g, metallic, roughness, specular),
-                               prw_brdf_diffuse_channel(NoV, NoLd, base.b, metallic, roughness, specular));
-                fd += specular_ms(NoV, NoLd, base, metallic, roughness, specular);
+                ggx_terms tb = ggx_terms_at(min(NoV, 1.0), min(NoLd, 1.0), roughness);
+                vec3 fd = diffuse_rgb(tb, base, metallic, specular) + specular_ms(tb, base, metallic, specular);
                 float t = prw_coat_transmission(NcV, cc, rc) * prw_coat_transmission(dot(nc, fdir), cc, rc);
                 f += t * (fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
                                                         metallic, roughness, specular));
