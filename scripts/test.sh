@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # README command 2: set up, build and run the whole test suite.
-#  1. RelWithDebInfo build, all tests (rendering tests run serially with the validation layer on).
+#  1. RelWithDebInfo build, all tests (rendering tests one at a time (RESOURCE_LOCK) with the validation layer on).
 #  2. clang build with ASan + UBSan (Debug, -O1) and the libFuzzer targets (PRW_FUZZ=ON), one build
 #     for both: the unit and cli tests (heavy cases in light mode, tests/testlib/prw_test.h) with
 #     suppressions for Mesa/LLVM/the loader, and every libFuzzer target replaying its seed corpus
