@@ -2,8 +2,8 @@
 # README command 2: set up, build and run the whole test suite.
 #  1. RelWithDebInfo build, all tests (rendering tests one at a time (RESOURCE_LOCK) with the validation layer on).
 #  2. clang build with ASan + UBSan (Debug, -O1) and the libFuzzer targets (PRW_FUZZ=ON), one build
-#     for both: the unit and cli tests (heavy cases in light mode, tests/testlib/prw_test.h) with
-#     suppressions for Mesa/LLVM/the loader, and every libFuzzer target replaying its seed corpus
+#     for both: every test (unit, cli and render; heavy cases in light mode, tests/testlib/prw_test.h)
+#     with suppressions for Mesa/LLVM/the loader, and every libFuzzer target replaying its seed corpus
 #     once (label "fuzz"; tests/CMakeLists.txt refuses to configure when a libFuzzer target has no
 #     corpus replay).
 #  3. Release build (gcc -O3) of prw and every library it links, no tests: warnings that only the
@@ -13,6 +13,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
 stage() { printf '\n== %s\n' "$*"; }
+# ctest starts the tests it knows to be long first, from the times of earlier runs; a fresh clone has
+# none, so it gets measured ones (regenerate: cp build/Testing/Temporary/CTestCostData.txt
+# tests/ctest_costs.txt, and the same from build-asan to tests/ctest_costs_asan.txt, after a full run).
+seed_costs() {
+  mkdir -p "$1/Testing/Temporary"
+  [ -f "$1/Testing/Temporary/CTestCostData.txt" ] || cp "$2" "$1/Testing/Temporary/CTestCostData.txt"
+}
 t0=$(date +%s)
 stage "setup"
 bash scripts/setup.sh
@@ -23,12 +30,15 @@ cmake --build build -j"$jobs"
 t1=$(date +%s)
 
 stage "tests"
+seed_costs build tests/ctest_costs.txt
 (cd build && ctest --output-on-failure -j"$jobs")
 t2=$(date +%s)
 
-stage "sanitizer + fuzz build (clang, ASan + UBSan, libFuzzer) and unit, cli and fuzz tests"
+stage "sanitizer + fuzz build (clang, ASan + UBSan, libFuzzer) and all tests"
+# -gline-tables-only: enough for the sanitizers' file:line reports, and a faster build than -g.
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DPRW_SANITIZE=ON -DPRW_FUZZ=ON \
-  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ >/dev/null
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_C_FLAGS_DEBUG=-gline-tables-only -DCMAKE_CXX_FLAGS_DEBUG=-gline-tables-only >/dev/null
 nfuzz=$(cd build-asan && ctest -N -L fuzz | grep -c '_libfuzzer$' || true)
 if [ "$nfuzz" -eq 0 ]; then
   echo "no fuzz targets registered (ctest -L fuzz)" >&2
@@ -38,7 +48,8 @@ cmake --build build-asan -j"$jobs"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/ubsan.supp:print_stacktrace=1:halt_on_error=1"
-(cd build-asan && ctest --output-on-failure -j"$jobs" -L 'unit|cli|fuzz')
+seed_costs build-asan tests/ctest_costs_asan.txt
+(cd build-asan && ctest --output-on-failure -j"$jobs")
 t3=$(date +%s)
 
 stage "Release build (gcc -O3): prw and its libraries"

@@ -53,7 +53,7 @@
  * cases judged against the path tracer; lavapipe spends most of this test clearing and rasterizing
  * shadow maps. */
 #define SHADOW_VIEWS 512u
-#define SPP 32u
+#define SPP ((uint64_t)prw_test_scale(32, 4)) /* light mode (sanitizers): 8; the tolerances are noise-aware */
 
 static prw_gpu *g_gpu;
 
