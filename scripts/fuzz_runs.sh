@@ -2,11 +2,12 @@
 # Runs every libFuzzer target of a fuzz build for a number of executions and prints one line per
 # target: executions done, seconds, new corpus entries, and crashes (artifacts are kept).
 #
-#   scripts/fuzz_runs.sh [--build DIR] [--runs N] [--max-time S] [--jobs J]
+#   scripts/fuzz_runs.sh [--build DIR] [--runs N] [--max-time S] [--jobs J] [--only REGEX]
 #
 # --build: a tree configured with -DPRW_FUZZ=ON and clang (default build-asan, as scripts/test.sh
 #          makes it); --runs: executions per target (default 1000000); --max-time: seconds per
-#          target at most (default 1800); --jobs: targets run at the same time (default 1).
+#          target at most (default 1800); --jobs: targets run at the same time (default 1); --only:
+#          the targets whose binary name matches the extended regular expression.
 # The seed corpora are copied, not changed; new inputs and crash artifacts go to
 # <build>/fuzz-runs/<target>/.  Exit status 1 when any target crashed, leaked or timed out.
 set -uo pipefail
@@ -16,12 +17,14 @@ build="$here/build-asan"
 runs=1000000
 max_time=1800
 jobs=1
+only=.
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$(cd "$2" 2>/dev/null && pwd || echo "$2")"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --max-time) max_time="$2"; shift 2 ;;
     --jobs) jobs="$2"; shift 2 ;;
+    --only) only="$2"; shift 2 ;;
     -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fuzz_runs: unknown argument $1 (--help)" >&2; exit 2 ;;
   esac
@@ -32,7 +35,12 @@ if [ "${nfuzz:-0}" -eq 0 ]; then
   exit 2
 fi
 # "<binary> <corpus>" from the replay tests' command lines
-mapfile -t cmds < <(cd "$build" && ctest -N -V -L fuzz | sed -n 's/^[0-9]*: Test command: //p')
+mapfile -t cmds < <(cd "$build" && ctest -N -V -L fuzz | sed -n 's/^[0-9]*: Test command: //p' |
+  awk -v re="$only" '{ n = $1; gsub(/"/, "", n); sub(/.*\//, "", n); if (n ~ re) print }')
+if [ "${#cmds[@]}" -eq 0 ]; then
+  echo "fuzz_runs: no libFuzzer target matches '$only'" >&2
+  exit 2
+fi
 run_one() {
   local line="$1" bin corpus name out log
   bin=$(echo "$line" | awk '{print $1}')
