@@ -29,7 +29,7 @@
 #include "prw_test.h"
 
 #define SIZE 128u
-#define SPP 32u
+#define SPP ((uint64_t)prw_test_scale(32, 4)) /* light mode (sanitizers): 8; the bound is beyond the reference noise */
 #define FLIP_BOUND 0.03
 
 static prw_gpu *g_gpu;
@@ -193,7 +193,7 @@ static bool compare_model(const char *what, char *(*model)(size_t *), prw_image 
     size_t cr = covered(raster), cf = covered(ref_a);
     printf("%s: raster vs direct reference (%u spp) mean LDR-FLIP %.4f, reference noise %.4f, beyond noise %.4f "
            "(bound %.2f); covered pixels raster %zu, reference %zu\n",
-           what, SPP, err, *noise, err - *noise, FLIP_BOUND, cr, cf);
+           what, (unsigned)SPP, err, *noise, err - *noise, FLIP_BOUND, cr, cf);
     CHECK_MSG(err - *noise <= FLIP_BOUND, "%s: FLIP beyond noise %.4f > %.2f", what, err - *noise, FLIP_BOUND);
     CHECK(cf > SIZE * SIZE / 8);                   /* the solid fills a good part of the image */
     CHECK(fabs((double)cr - (double)cf) <= 0.02 * (double)cf); /* silhouettes: a few edge pixels */
