@@ -8,6 +8,7 @@
 #     corpus replay).
 #  3. Release build (gcc -O3) of prw and every library it links, no tests: warnings that only the
 #     optimiser finds (-Werror=maybe-uninitialized) cannot land.
+#  2 and 3 build in the background at nice 19 during the tests before them (idle cycles only).
 # Prints each stage's wall time.  Exit status non-zero when anything fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,12 +30,24 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build -j"$jobs"
 t1=$(date +%s)
 
-stage "tests"
-seed_costs build tests/ctest_costs.txt
-(cd build && ctest --output-on-failure -j"$jobs")
-t2=$(date +%s)
+# The sanitizer and Release builds start in the background at nice 19 while the tests of the stage
+# before them run: they take only the cycles those tests leave idle (a rendering test compiling its
+# pipelines keeps one core busy, and the tails are serial), and are finished in the foreground.
+trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
+bg_build() { # dir [args]: nice 19, output to dir.log, exit status to dir.rc
+  local dir=$1
+  shift
+  (nice -n 19 cmake --build "$dir" -j"$jobs" "$@" >"$dir.log" 2>&1; echo $? >"$dir.rc") &
+}
+bg_finish() { # dir: wait for its background build, show the log on failure, build the rest
+  wait
+  if [ "$(cat "$1.rc" 2>/dev/null)" != 0 ]; then
+    cat "$1.log" >&2
+    echo "background build of $1 failed" >&2
+    exit 1
+  fi
+}
 
-stage "sanitizer + fuzz build (clang, ASan + UBSan, libFuzzer) and all tests"
 # -gline-tables-only: enough for the sanitizers' file:line reports, and a faster build than -g.
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DPRW_SANITIZE=ON -DPRW_FUZZ=ON \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
@@ -44,7 +57,18 @@ if [ "$nfuzz" -eq 0 ]; then
   echo "no fuzz targets registered (ctest -L fuzz)" >&2
   exit 1
 fi
+bg_build build-asan
+
+stage "tests (the sanitizer build runs in the background at nice 19)"
+seed_costs build tests/ctest_costs.txt
+(cd build && ctest --output-on-failure -j"$jobs")
+t2=$(date +%s)
+
+stage "sanitizer + fuzz build (clang, ASan + UBSan, libFuzzer), rest of it, and all tests"
+bg_finish build-asan
 cmake --build build-asan -j"$jobs"
+cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release >/dev/null
+bg_build build-release --target prw
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/ubsan.supp:print_stacktrace=1:halt_on_error=1"
@@ -52,8 +76,8 @@ seed_costs build-asan tests/ctest_costs_asan.txt
 (cd build-asan && ctest --output-on-failure -j"$jobs")
 t3=$(date +%s)
 
-stage "Release build (gcc -O3): prw and its libraries"
-cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release >/dev/null
+stage "Release build (gcc -O3): prw and its libraries, rest of it"
+bg_finish build-release
 cmake --build build-release -j"$jobs" --target prw
 t5=$(date +%s)
 printf '\nwall time: build %ds, tests %ds, sanitizer + fuzz %ds, release build %ds, total %ds\n' $((t1 - t0)) \
