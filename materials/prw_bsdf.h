@@ -3,8 +3,9 @@
  *
  * Promises:
  *  - Local shading frame: the normal is +Z; wo points towards the viewer, wi towards the light; both unit.
- *  - prw_bsdf_eval() returns f(wo, wi) in 1/sr per RGB channel (no cosine), computed by
- *    prw_brdf_channel() of prw_brdf.h, so the rasterizer and the reference evaluate the same model.
+ *  - prw_bsdf_eval() returns f(wo, wi) in 1/sr per RGB channel (no cosine), exactly prw_brdf_channel()
+ *    of prw_brdf.h per channel (through its *_terms forms, the fitted albedos evaluated once), so the
+ *    rasterizer and the reference evaluate the same model.
  *  - With clearcoat > 0 the coated model of prw_brdf.h (prw_brdf_coated_channel): a second GGX lobe
  *    around the coat normal coat_n (local frame; all zero = +Z) over the base; clearcoat 0 is the
  *    uncoated model exactly (same code path).
