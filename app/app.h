@@ -39,6 +39,9 @@ bool prw_parse_double(const char *s, const char *what, double lo, double hi, dou
 
 /* Loads a manifest (path) or, for NULL/"demo", the built-in demo scene. */
 bool prw_app_load_scene(const char *path, prw_scene **out, prw_error *e);
+/* prw_app_load_scene for the commands that draw: also fails ("nothing to render", naming the file)
+ * when the scene has no geometry. */
+bool prw_app_load_renderable(const char *path, prw_scene **out, prw_error *e);
 /* Makes a loaded scene ready for the renderer and the reference: the baker (engine/bake,
  * prw_bake_scene) attaches every NURBS entry's model and LOD hierarchy, from the cache or built;
  * one progress line per entry on stderr (log level info). */

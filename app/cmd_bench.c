@@ -283,7 +283,7 @@ int prw_cmd_bench(int argc, char **argv)
         if (!prw_quality_parse_config(c->o.vs, &c->res.configs[0].q, &probe, &e)) goto done;
     }
     rc = 1;
-    if (!prw_app_load_scene(c->o.scene_path, &c->scene, &e)) goto done;
+    if (!prw_app_load_renderable(c->o.scene_path, &c->scene, &e)) goto done;
     if (!load_path(c, &e)) goto done;
     if (!prw_app_bake_scene(c->scene, &e)) goto done; /* before the reference children: they hit the cache */
     camera_settings(c);

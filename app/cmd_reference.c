@@ -178,7 +178,7 @@ int prw_cmd_reference(int argc, char **argv)
     prw_ref_renderer *r = NULL;
     prw_ref_acc acc = {0};
     prw_view view;
-    if (!prw_app_load_scene(scene_path, &scene, &e)) goto done;
+    if (!prw_app_load_renderable(scene_path, &scene, &e)) goto done;
     if (!prw_ref_view_for_camera(scene, camera, width, height, &view, &e)) goto done;
     if (!prw_app_bake_scene(scene, &e)) goto done;
     double t0 = prw_now();

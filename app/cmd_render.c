@@ -160,7 +160,7 @@ static int prw_render_job_run(const render_job *job)
     if (!prw_check_writable(job->out, true, &e) || !prw_check_writable(job->png, true, &e) ||
         (job->display_exr && !prw_check_writable(job->display_exr, true, &e)))
         goto done;
-    if (!prw_app_load_scene(job->scene_path, &scene, &e)) goto done;
+    if (!prw_app_load_renderable(job->scene_path, &scene, &e)) goto done;
     int cam = prw_scene_find_camera(scene, job->camera);
     if (cam < 0) {
         prw_fail(&e, "%s: no camera named '%s'", scene->source, job->camera ? job->camera : "(first)");

@@ -284,7 +284,7 @@ static int walk_run(const walk_opts *o)
         c.have_script = true;
     }
     if (o->replay && !prw_camera_path_load(o->replay, &replay, &e)) goto done;
-    if (!prw_app_load_scene(o->scene, &c.scene, &e)) goto done;
+    if (!prw_app_load_renderable(o->scene, &c.scene, &e)) goto done;
     int cam = prw_scene_find_camera(c.scene, o->camera);
     if (cam < 0) {
         prw_fail(&e, "%s: no camera named '%s'", c.scene->source, o->camera ? o->camera : "(first)");

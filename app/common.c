@@ -15,6 +15,31 @@ prw_global_opts g_prw_opts;
 #define HEADLIGHT_LUX 100.0
 #define FRAMING_EV100 7.0
 
+/* Below this estimated illuminance (the emissive surfaces' flux spread over the scene's bounding
+ * sphere) emissive surfaces do not count as lighting the scene: labels, displays, indicator lamps. */
+#define EMISSIVE_LIT_LUX (HEADLIGHT_LUX / 100.0)
+
+/* A point light at the first camera, the same for the rasterizer and the path tracer. */
+static bool add_headlight(prw_scene *s, const char *path, const char *why)
+{
+    const prw_dmat4 *w = &s->nodes[s->cameras[0].node].world;
+    prw_dvec3 eye = prw_v3(w->m[12], w->m[13], w->m[14]);
+    prw_dvec3 c = prw_v3_scale(prw_v3_add(s->bounds_min, s->bounds_max), 0.5);
+    double d = fmax(prw_v3_len(prw_v3_sub(c, eye)), 1e-3);
+    prw_light l = {.type = PRW_LIGHT_POINT, .color = {1, 1, 1}, .intensity = HEADLIGHT_LUX * d * d};
+    snprintf(l.name, sizeof l.name, "headlight");
+    prw_node n = prw_node_default();
+    snprintf(n.name, sizeof n.name, "headlight");
+    n.translation = eye;
+    l.node = prw_scene_add_node(s, &n);
+    if (l.node < 0 || prw_scene_add_light(s, &l) < 0) return false;
+    prw_scene_update(s);
+    prw_log(PRW_LOG_INFO, "%s: %s: added a headlight at camera '%s': a point light of %.4g cd (%.0f lux at the "
+            "scene centre, %.3g m away), no shadows; the reference renders it too",
+            path, why, s->cameras[0].name, l.intensity, HEADLIGHT_LUX, d);
+    return true;
+}
+
 /* What a scene without a camera or a light gets, said on stderr; the loaders' other warnings too. */
 static void scene_defaults(prw_scene *s, const char *path)
 {
@@ -31,26 +56,35 @@ static void scene_defaults(prw_scene *s, const char *path)
                     s->cameras[c].yfov * 180.0 / PRW_PI, FRAMING_EV100);
         }
     }
-    if (prw_scene_find_warning(s, PRW_WARN_NO_LIGHT) >= 0 && s->light_count == 0 && s->camera_count > 0 &&
-        s->has_bounds) {
-        /* a point light at the first camera, the same for the rasterizer and the path tracer */
-        const prw_dmat4 *w = &s->nodes[s->cameras[0].node].world;
-        prw_dvec3 eye = prw_v3(w->m[12], w->m[13], w->m[14]);
-        prw_dvec3 c = prw_v3_scale(prw_v3_add(s->bounds_min, s->bounds_max), 0.5);
-        double d = fmax(prw_v3_len(prw_v3_sub(c, eye)), 1e-3);
-        prw_light l = {.type = PRW_LIGHT_POINT, .color = {1, 1, 1}, .intensity = HEADLIGHT_LUX * d * d};
-        snprintf(l.name, sizeof l.name, "headlight");
-        prw_node n = prw_node_default();
-        snprintf(n.name, sizeof n.name, "headlight");
-        n.translation = eye;
-        l.node = prw_scene_add_node(s, &n);
-        if (l.node >= 0 && prw_scene_add_light(s, &l) >= 0) {
-            prw_scene_update(s);
-            prw_log(PRW_LOG_INFO, "%s: no light: added a headlight at camera '%s': a point light of %.4g cd (%.0f lux "
-                    "at the scene centre, %.3g m away), no shadows; the reference renders it too",
-                    path, s->cameras[0].name, l.intensity, HEADLIGHT_LUX, d);
-        }
+    if (s->light_count || s->environment.present || s->camera_count == 0 || !s->has_bounds) return;
+    /* Only light sources and an environment light the rasterizer today; emissive surfaces light it
+     * once the GI issue's emissive-mesh lights exist.  Strong emitters (a lamp, a Cornell-box ceiling)
+     * still keep the scene as its author made it: the path tracer renders their light. */
+    prw_emitters em = prw_scene_emitters(s);
+    double r = fmax(0.5 * prw_v3_len(prw_v3_sub(s->bounds_max, s->bounds_min)), 1e-3);
+    double lux = em.mesh_flux_lm / (4.0 * PRW_PI * r * r);
+    char why[160];
+    if (em.nurbs_count || lux >= EMISSIVE_LIT_LUX) {
+        prw_log(PRW_LOG_INFO, "%s: lit only by emissive surfaces (%.4g lm%s): the path tracer renders their light, "
+                "the rasterizer does not light from them yet", path, em.mesh_flux_lm,
+                em.nurbs_count ? " from meshes, plus emissive NURBS models" : "");
+        return;
     }
+    if (em.mesh_count)
+        snprintf(why, sizeof why, "no light source; its emissive surfaces (%.3g lm, about %.2g lux over the scene) "
+                 "are too weak to light it", em.mesh_flux_lm, lux);
+    else
+        snprintf(why, sizeof why, "no light");
+    if (!add_headlight(s, path, why)) return;
+    /* glTF cameras carry no exposure (EV100 0 clips the headlight's ~16 cd/m^2 to white): a model
+     * opened directly is exposed for the headlight, as the framing camera is */
+    if (prw_scene_is_model_file(path))
+        for (uint32_t i = 0; i < s->camera_count; i++)
+            if (s->cameras[i].ev100 == 0.0) {
+                s->cameras[i].ev100 = FRAMING_EV100;
+                prw_log(PRW_LOG_INFO, "%s: camera '%s' has no exposure (glTF has none): EV100 %.0f for the headlight "
+                        "(--ev100 overrides)", path, s->cameras[i].name, FRAMING_EV100);
+            }
 }
 
 bool prw_app_load_scene(const char *path, prw_scene **out, prw_error *e)
@@ -68,6 +102,18 @@ bool prw_app_load_scene(const char *path, prw_scene **out, prw_error *e)
     }
     *out = s;
     return true;
+}
+
+bool prw_app_load_renderable(const char *path, prw_scene **out, prw_error *e)
+{
+    if (!prw_app_load_scene(path, out, e)) return false;
+    prw_scene *s = *out;
+    if (s->has_bounds) return true;
+    prw_fail(e, "%s: nothing to render: the scene has no meshes or surfaces (%u nodes, %u cameras, %u lights)",
+             s->source[0] ? s->source : path, s->node_count, s->camera_count, s->light_count);
+    prw_scene_destroy(s);
+    *out = NULL;
+    return false;
 }
 
 static void bake_progress(void *user, const char *line)

@@ -76,7 +76,7 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     for (int i = 0; i < 4; i++) /* before any work */
         if (!prw_check_writable(paths[i], true, &e)) goto done;
     if (job->hmd && !prw_hmd_resolve(job->hmd, &hmd, &e)) goto done;
-    if (!prw_app_load_scene(job->scene_path, &scene, &e)) goto done;
+    if (!prw_app_load_renderable(job->scene_path, &scene, &e)) goto done;
     int cam = prw_scene_find_camera(scene, job->camera);
     if (cam < 0) {
         prw_fail(&e, "%s: no camera named '%s'", scene->source, job->camera ? job->camera : "(first)");

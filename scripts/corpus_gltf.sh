@@ -4,7 +4,7 @@
 # then the counts.  Each file is imported by tests/scene/gltf_check (one process per file, 120 s
 # timeout).  With --render OUTDIR every file that imports is also opened directly by
 # `prw render FILE --size 160x120` (one process, same timeout) and its PNG judged by
-# scripts/png_stats.py (covered and lit pixels, distinct colours: "image", or black / empty / flat).
+# scripts/png_stats.py (covered and lit pixels, distinct colours: "image", or black / empty / flat / clipped).
 # Exit status: 0 when no file crashed or timed out (and, with --render, every render that exited 0
 # is an "image"), 1 otherwise.
 #

@@ -3,14 +3,16 @@
 
     scripts/png_stats.py FILE.png
 
-one line "covered C lit L distinct D chroma S verdict V":
+one line "covered C lit L clipped K distinct D chroma S verdict V":
   covered   fraction of pixels that differ from the corner colour (the background),
   lit       fraction of covered pixels brighter than 8/255,
   distinct  number of distinct colours (6 bits per channel) among covered pixels,
+  clipped   fraction of covered pixels with every channel >= 250 (over-exposed white),
   chroma    mean |max(R,G,B) - min(R,G,B)| / 255 over covered pixels,
   verdict   "image" when at least 0.5 % of the pixels are covered and lit and there are at least
             8 distinct colours; else "black" (nothing lit), "empty" (nothing but background) or
-            "flat" (a single colour: a silhouette).
+            "flat" (a single colour: a silhouette) or "clipped" (a quarter or more of the covered pixels
+            over-exposed).
 Exit status 0 for "image", 1 otherwise, 2 for a file this reader cannot decode."""
 import struct
 import sys
@@ -73,7 +75,7 @@ def main():
         print("%s: %s" % (sys.argv[1], err), file=sys.stderr)
         return 2
     bg = tuple(rows[0][0:3])
-    covered = lit = 0
+    covered = lit = clipped = 0
     chroma = 0.0
     colours = set()
     for line in rows:
@@ -84,6 +86,8 @@ def main():
             covered += 1
             if max(px) > 8:
                 lit += 1
+            if min(px) >= 250:
+                clipped += 1
             chroma += (max(px) - min(px)) / 255.0
             colours.add((px[0] >> 2, px[1] >> 2, px[2] >> 2))
     n = w * h
@@ -91,12 +95,15 @@ def main():
         verdict = "empty"
     elif lit < 0.005 * n:
         verdict = "black"
+    elif clipped >= 0.25 * covered:
+        verdict = "clipped"
     elif len(colours) < 8:
         verdict = "flat"
     else:
         verdict = "image"
-    print("covered %.3f lit %.3f distinct %d chroma %.3f verdict %s" %
-          (covered / n, lit / max(covered, 1), len(colours), chroma / max(covered, 1), verdict))
+    print("covered %.3f lit %.3f clipped %.3f distinct %d chroma %.3f verdict %s" %
+          (covered / n, lit / max(covered, 1), clipped / max(covered, 1), len(colours), chroma / max(covered, 1),
+           verdict))
     return 0 if verdict == "image" else 1
 
 

@@ -240,7 +240,7 @@ typedef struct prw_scene {
     uint32_t light_count;
     bool has_bounds;
     prw_dvec3 bounds_min, bounds_max; /* world */
-    char source[256]; /* manifest path or "demo" */
+    char source[256]; /* manifest or model file path, or "demo" (set by the loaders when empty) */
     prw_environment environment; /* zeroed: none */
     prw_scene_nurbs *nurbs; /* NURBS models with LOD (issue 7) */
     uint32_t nurbs_count;
@@ -306,6 +306,18 @@ bool prw_scene_frame_camera(const prw_scene *s, double aspect, prw_framing *out)
  * 0 = from the image, ev100 0) named `name` (NULL: "framing"); returns the camera index, or -1 when
  * the scene has no bounds.  Runs prw_scene_update. */
 int prw_scene_add_framing_camera(prw_scene *s, double aspect, const char *name);
+
+/* The light the scene's emissive surfaces send out, for deciding whether a scene is lit (the
+ * rasterizer does not light from emissive meshes yet).  mesh_flux_lm: luminous flux of the drawn
+ * meshes with an emissive material, sum of pi x luminance x world area (x 2 when double-sided), the
+ * luminance being emission's Rec.709 Y times the emissive texture's mean (sRGB decoded); mesh_count:
+ * how many such drawn meshes; nurbs_count: NURBS entries with an emissive material (their area is
+ * known only after the bake, so no flux).  Call after prw_scene_update. */
+typedef struct prw_emitters {
+    double mesh_flux_lm;
+    uint32_t mesh_count, nurbs_count;
+} prw_emitters;
+prw_emitters prw_scene_emitters(const prw_scene *s);
 
 /* Opens a model file as (part of) a scene: .gltf / .glb through prw_scene_import_gltf, .igs / .iges as
  * one trimmed-NURBS entry (its own node, a light grey double-sided material; the hierarchy is baked

@@ -19,9 +19,18 @@ bool prw_scene_is_model_file(const char *path)
                     ends_with(path, ".iges"));
 }
 
+static void set_source(prw_scene *s, const char *path)
+{
+    if (!s->source[0]) snprintf(s->source, sizeof s->source, "%s", path);
+}
+
 bool prw_scene_open_model(prw_scene *s, const char *path, prw_error *e)
 {
-    if (ends_with(path, ".gltf") || ends_with(path, ".glb")) return prw_scene_import_gltf(s, path, -1, e);
+    if (ends_with(path, ".gltf") || ends_with(path, ".glb")) {
+        if (!prw_scene_import_gltf(s, path, -1, e)) return false;
+        set_source(s, path);
+        return true;
+    }
     if (!ends_with(path, ".igs") && !ends_with(path, ".iges"))
         return prw_fail(e, "%s: not a model file prw opens directly (.gltf, .glb, .igs, .iges; scenes: .json)", path);
     prw_scene_mark mark = prw_scene_mark_get(s);
@@ -55,5 +64,6 @@ bool prw_scene_open_model(prw_scene *s, const char *path, prw_error *e)
         return prw_fail(e, "%s: cannot add the model", path);
     }
     prw_scene_note_missing(s, path);
+    set_source(s, path);
     return true;
 }

@@ -1,6 +1,7 @@
 # Runs one prw command line and checks its outcome.
 # -DCMD="prw;arg;..."  -DEXPECT_RC=0|nonzero  [-DSTDERR_REGEX=...] [-DSTDOUT_REGEX=...]
 # [-DONE_ERROR_LINE=1] [-DMUST_NOT_EXIST="a;b"] [-DMUST_EXIST="a;b"] [-DSETUP_FILE=path -DSETUP_TEXT=...]
+# [-DCHECK_CMD="program;arg;..."]  (run after the checks below; must exit 0)
 # [-DSKIP_UNLESS=program]  (exit 77 = ctest "skipped" when the program is absent)
 if(SKIP_UNLESS)
   find_program(_p ${SKIP_UNLESS})
@@ -55,3 +56,10 @@ foreach(f ${MUST_EXIST})
     message(FATAL_ERROR "expected output ${f} missing")
   endif()
 endforeach()
+if(CHECK_CMD)
+  execute_process(COMMAND ${CHECK_CMD} RESULT_VARIABLE crc OUTPUT_VARIABLE cout ERROR_VARIABLE cerr TIMEOUT 120)
+  message("check: ${CHECK_CMD}\nrc=${crc}\n${cout}${cerr}")
+  if(NOT crc EQUAL 0)
+    message(FATAL_ERROR "check command failed")
+  endif()
+endif()
