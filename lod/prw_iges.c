@@ -110,8 +110,16 @@ static size_t list_counts(char *buf, size_t cap, size_t n, const int *counts)
     return n < cap ? n : cap - 1;
 }
 
+long prw_iges_default_work(size_t size) { return 4000000 + 64L * (long)(size > (1u << 30) ? (1u << 30) : size); }
+
 bool prw_iges_parse(const char *data, size_t size, const char *name, prw_nurbs_model *out, prw_iges_info *info,
                     prw_error *e)
+{
+    return prw_iges_parse_limited(data, size, name, prw_iges_default_work(size), out, info, e);
+}
+
+bool prw_iges_parse_limited(const char *data, size_t size, const char *name, long work, prw_nurbs_model *out,
+                            prw_iges_info *info, prw_error *e)
 {
     prw_iges_info dummy;
     if (!info) info = &dummy;
@@ -125,7 +133,7 @@ bool prw_iges_parse(const char *data, size_t size, const char *name, prw_nurbs_m
     }
     info->entities = f.nde;
     info->metres_per_unit = f.unit_m / f.model_scale;
-    iges_ctx x = {&f, e, 0, 4000000 + 64L * (long)size, 0, 0};
+    iges_ctx x = {&f, e, 0, work, 0, 0};
     /* surfaces referenced by a 144 / 143 / 510, faces by a shell and shells by a solid are never
      * drawn on their own */
     for (int k = 0; k < f.nde; k++) {

@@ -10,17 +10,23 @@
  *    or D exponents).  Units: Global unit flag 1–11 (flag 3: the unit name) → metres, divided by
  *    the model space scale (parameter 13: model/real-world ratio).  Transformation matrices (124,
  *    chained) are applied.  The output is in metres.
- *  - Converted: 100, 102, 110, 124, 126, 128, 142, 144, 314; 108 (a bilinear patch covering the
- *    bounding / trim curves, or the display size), 118 (degree (p, 1) ruled NURBS on equal
- *    relative parameters), 120 (A8.1 revolution, rational quadratic circle of ≤ 4 arcs), 122
- *    (C(u) + v·d) — exactly, see lod/nurbs_json.md §IGES for the constructions.
- *  - Drawn: every 144, 128, 108, 118, 120 and 122 whose Directory Entry subordinate switch is
- *    "independent" or "logically dependent" (physically dependent entities are parts of others);
- *    a surface referenced by a 144 is never drawn untrimmed.  A 142 without a parameter-space
+ *  - Converted: 100, 102, 110, 112 (Bezier pieces, its own parameter kept), 124, 126, 128, 142,
+ *    144, 314; 108 (a bilinear patch covering the bounding / trim curves, or the display size), 118
+ *    (degree (p, 1) ruled NURBS on equal relative parameters), 120 (A8.1 revolution, rational
+ *    quadratic circle of ≤ 4 arcs), 122 (C(u) + v·d) — exactly, see lod/nurbs_json.md §IGES for the
+ *    constructions; bounded surfaces (143 with 141 boundaries) and B-rep solids and shells (186,
+ *    514, 510, 508, 504, 502; a face's orientation flag reverses it in u) become trimmed surfaces.
+ *  - Drawn: every 144, 143, 128, 108, 118, 120 and 122 whose Directory Entry subordinate switch is
+ *    "independent" or "logically dependent" (physically dependent entities are parts of others),
+ *    every face of a 186, of a 514 no solid uses, and every 510 no shell uses; a surface
+ *    referenced by a 144 / 143 / 510 is never drawn untrimmed.  A 142 without a parameter-space
  *    curve (or on a 108, which has no IGES parameterisation) is projected into (u, v) by point
  *    inversion.
- *  - Everything else (e.g. 143, 186, 502–514, annotation) is skipped: info->warning lists each
- *    skipped type with its count, in one line; nothing is printed.
+ *  - Everything else (e.g. 140, annotation) is skipped, and a face that needs a skipped entity is
+ *    left out: info->warning lists each skipped type with its count and the faces left out, in one
+ *    line; nothing is printed.
+ *  - Work is bounded: curve pieces plus projected points beyond prw_iges_default_work(size) fail
+ *    the read ("too much geometry").
  *  - A malformed record fails the whole read with "<name>:<line>: <reason>", line = 1-based line
  *    of the offending record in the file.
  */
@@ -46,6 +52,12 @@ typedef struct prw_iges_info {
 
 bool prw_iges_parse(const char *data, size_t size, const char *name, prw_nurbs_model *out, prw_iges_info *info,
                     prw_error *e);
+/* prw_iges_parse with its work limit given: `work` curve pieces and projected points in all (beyond
+ * it the read fails, "too much geometry"); prw_iges_parse allows prw_iges_default_work(size) =
+ * 4e6 + 64 x size.  For callers that must bound the time per file more tightly (the fuzz target). */
+bool prw_iges_parse_limited(const char *data, size_t size, const char *name, long work, prw_nurbs_model *out,
+                            prw_iges_info *info, prw_error *e);
+long prw_iges_default_work(size_t size);
 bool prw_iges_load(const char *path, prw_nurbs_model *out, prw_iges_info *info, prw_error *e);
 
 #ifdef __cplusplus

@@ -14,6 +14,7 @@
  *   122  tabulated cylinder: S(u, v) = C(u) + v·(L − C(u0)), u reparameterised to [0, 1].
  *   128  direct; the parameter range U0..U1 × V0..V1 is cut out by knot insertion when it is
  *        narrower than the knot domain.  126 likewise for V0..V1. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -628,8 +629,12 @@ bool iges_project_loop(iges_ctx *x, const iges_de *d, int param, iges_clist *mod
         prw_nurbs_curve c;
         double dist = 0;
         prw_error sub;
-        ok = spend(x, d, 64) && (prw_nurbs_surface_project_curve(&t->surface, &model->c[i], tol, &c, &dist, &sub) ||
-                                 iges_fail(x->f, d, param, x->e, "%s", sub.msg));
+        /* what is left of the budget bounds the points before any is inverted */
+        ok = spend(x, d, 64) && spend(x, d, 2);
+        x->budget += 2;
+        int left = x->budget > INT_MAX ? INT_MAX : (int)x->budget;
+        ok = ok && (prw_nurbs_surface_project_curve(&t->surface, &model->c[i], tol, left, &c, &dist, &sub) ||
+                    iges_fail(x->f, d, param, x->e, "%s", sub.msg));
         if (ok) {
             ok = spend(x, d, c.n);
             iges_clist_push(&uv, &c);

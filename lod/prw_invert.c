@@ -8,21 +8,38 @@
 
 #define MAX_PROJ_POINTS 200000
 
-/* Nearest point of a coarse parameter grid.  skip_degenerate: ignore grid points that coincide
- * with a grid neighbour (rows on a collapsed edge — a pole), where Newton cannot start. */
-static void grid_start(const prw_nurbs_surface *s, prw_dvec3 p, bool skip_degenerate, double scale, double *u, double *v)
-{
+/* A coarse parameter grid of surface points, evaluated once per surface and reused by every start
+ * (a projected curve restarts from it for many points). */
+typedef struct grid {
+    int nu, nv;
     double u0, u1, v0, v1;
-    prw_nurbs_surface_domain(s, &u0, &u1, &v0, &v1);
+    prw_dvec3 *q; /* (nu + 1) x (nv + 1), row j = v */
+} grid;
+
+static void grid_build(const prw_nurbs_surface *s, grid *g)
+{
+    prw_nurbs_surface_domain(s, &g->u0, &g->u1, &g->v0, &g->v1);
     int nu = 2 * s->nu + 4, nv = 2 * s->nv + 4;
     if (nu > 64) nu = 64;
     if (nv > 64) nv = 64;
-    prw_dvec3 *q = prw_malloc(sizeof(prw_dvec3) * (size_t)(nu + 1) * (size_t)(nv + 1));
+    g->nu = nu, g->nv = nv;
+    g->q = prw_malloc(sizeof(prw_dvec3) * (size_t)(nu + 1) * (size_t)(nv + 1));
     for (int j = 0; j <= nv; j++)
-        for (int i = 0; i <= nu; i++) q[j * (nu + 1) + i] = prw_nurbs_surface_eval(s, u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
+        for (int i = 0; i <= nu; i++)
+            g->q[j * (nu + 1) + i] = prw_nurbs_surface_eval(s, g->u0 + (g->u1 - g->u0) * i / nu, g->v0 + (g->v1 - g->v0) * j / nv);
+}
+
+/* Nearest point of the grid.  skip_degenerate: ignore grid points that coincide with a grid
+ * neighbour (rows on a collapsed edge — a pole), where Newton cannot start. */
+static void grid_start(const prw_nurbs_surface *s, grid *g, prw_dvec3 p, bool skip_degenerate, double scale, double *u,
+                       double *v)
+{
+    if (!g->q) grid_build(s, g);
+    int nu = g->nu, nv = g->nv;
+    const prw_dvec3 *q = g->q;
     double best = INFINITY;
-    *u = u0;
-    *v = v0;
+    *u = g->u0;
+    *v = g->v0;
     for (int j = 0; j <= nv; j++)
         for (int i = 0; i <= nu; i++) {
             prw_dvec3 x = q[j * (nu + 1) + i];
@@ -37,11 +54,10 @@ static void grid_start(const prw_nurbs_surface *s, prw_dvec3 p, bool skip_degene
             double d = prw_v3_len(prw_v3_sub(x, p));
             if (d < best) {
                 best = d;
-                *u = u0 + (u1 - u0) * i / nu;
-                *v = v0 + (v1 - v0) * j / nv;
+                *u = g->u0 + (g->u1 - g->u0) * i / nu;
+                *v = g->v0 + (g->v1 - g->v0) * j / nv;
             }
         }
-    free(q);
 }
 
 /* Damped Newton from (*u, *v); returns the distance; *degenerate: it stopped where S_u or S_v
@@ -96,33 +112,47 @@ static double newton(const prw_nurbs_surface *s, prw_dvec3 p, double scale, doub
     return prw_v3_len(prw_v3_sub(prw_nurbs_surface_eval(s, uu, vv), p));
 }
 
-double prw_nurbs_surface_invert(const prw_nurbs_surface *s, prw_dvec3 p, bool use_start, double *u, double *v)
+static double invert(const prw_nurbs_surface *s, grid *g, double scale, prw_dvec3 p, bool use_start, double *u,
+                     double *v)
 {
-    prw_dvec3 lo, hi;
-    prw_nurbs_surface_bounds(s, &lo, &hi);
-    double scale = prw_v3_len(prw_v3_sub(hi, lo)) + prw_v3_len(p);
-    if (!use_start || !isfinite(*u) || !isfinite(*v)) grid_start(s, p, false, scale, u, v);
+    if (!use_start || !isfinite(*u) || !isfinite(*v)) grid_start(s, g, p, false, scale, u, v);
     bool degenerate;
     double d = newton(s, p, scale, u, v, &degenerate);
     if (degenerate && d > 1e-12 * scale) {
         /* stuck on a pole (no derivative there to leave it by): once more from the nearest grid
          * point off the collapsed rows, keeping the nearer answer */
         double u2, v2;
-        grid_start(s, p, true, scale, &u2, &v2);
+        grid_start(s, g, p, true, scale, &u2, &v2);
         double d2 = newton(s, p, scale, &u2, &v2, &degenerate);
         if (d2 < d) d = d2, *u = u2, *v = v2;
     }
     return d;
 }
 
+/* The distance scale of the stopping tests: the control hull's diagonal + |p|. */
+static double surface_diag(const prw_nurbs_surface *s)
+{
+    prw_dvec3 lo, hi;
+    prw_nurbs_surface_bounds(s, &lo, &hi);
+    return prw_v3_len(prw_v3_sub(hi, lo));
+}
+
+double prw_nurbs_surface_invert(const prw_nurbs_surface *s, prw_dvec3 p, bool use_start, double *u, double *v)
+{
+    grid g = {0};
+    double d = invert(s, &g, surface_diag(s) + prw_v3_len(p), p, use_start, u, v);
+    free(g.q);
+    return d;
+}
+
 typedef struct plist {
     prw_dvec3 *p;
-    int n, cap;
+    int n, cap, max;
 } plist;
 
 static bool push3(plist *l, prw_dvec3 p, prw_error *e)
 {
-    if (l->n >= MAX_PROJ_POINTS) return prw_fail(e, "curve projection: more than %d points", MAX_PROJ_POINTS);
+    if (l->n >= l->max) return prw_fail(e, "curve projection: more than %d points", l->max);
     if (l->n == l->cap) {
         l->cap = l->cap ? 2 * l->cap : 64;
         l->p = prw_realloc(l->p, sizeof(prw_dvec3) * (size_t)l->cap);
@@ -144,10 +174,10 @@ static bool flatten3(const prw_nurbs_curve *c, double a, double b, prw_dvec3 pa,
     return push3(l, pb, e);
 }
 
-bool prw_nurbs_surface_project_curve(const prw_nurbs_surface *s, const prw_nurbs_curve *c, double tol,
+bool prw_nurbs_surface_project_curve(const prw_nurbs_surface *s, const prw_nurbs_curve *c, double tol, int max_points,
                                      prw_nurbs_curve *uv, double *max_dist, prw_error *e)
 {
-    plist l = {0};
+    plist l = {.max = max_points > 0 && max_points < MAX_PROJ_POINTS ? max_points : MAX_PROJ_POINTS};
     double t0, t1;
     prw_nurbs_curve_domain(c, &t0, &t1);
     prw_dvec3 prev = prw_nurbs_curve_eval(c, t0);
@@ -176,12 +206,14 @@ bool prw_nurbs_surface_project_curve(const prw_nurbs_surface *s, const prw_nurbs
     prw_dvec3 lo, hi;
     prw_nurbs_surface_bounds(s, &lo, &hi);
     double restart = 1e-9 * prw_v3_len(prw_v3_sub(hi, lo));
+    grid g = {0};
+    double diag = surface_diag(s);
     for (int i = 0; i < l.n; i++) {
-        double uc = u, vc = v;
-        double d = prw_nurbs_surface_invert(s, l.p[i], i > 0, &uc, &vc);
+        double uc = u, vc = v, scale = diag + prw_v3_len(l.p[i]);
+        double d = invert(s, &g, scale, l.p[i], i > 0, &uc, &vc);
         if (i > 0 && d > restart) {
             double ug = 0, vg = 0;
-            double dg = prw_nurbs_surface_invert(s, l.p[i], false, &ug, &vg);
+            double dg = invert(s, &g, scale, l.p[i], false, &ug, &vg);
             if (dg < d) d = dg, uc = ug, vc = vg;
         }
         md = fmax(md, d);
@@ -191,6 +223,7 @@ bool prw_nurbs_surface_project_curve(const prw_nurbs_surface *s, const prw_nurbs
         q[n++] = prw_v3(u, v, 0);
     }
     free(l.p);
+    free(g.q);
     if (n < 2) {
         free(q);
         return prw_fail(e, "curve projection: the curve maps to a single (u, v) point");

@@ -10,7 +10,9 @@
  *    collapsed rows and keeps the nearer answer.  Returns the distance.
  *  - prw_nurbs_surface_project_curve flattens a model-space curve (3-D chordal tolerance tol)
  *    and inverts each point (continuation from the previous point; a coarse-grid restart when that
- *    is worse than the grid start), giving a degree-1 (u, v) curve and the largest distance.
+ *    is worse than the grid start), giving a degree-1 (u, v) curve and the largest distance.  The
+ *    flattening stops with an error beyond max_points points (at most 200000; <= 0: 200000), before
+ *    any point is inverted, so a caller's budget bounds the work.
  *    Limitation: loops that cross the seam of a closed surface are not unwrapped.
  */
 #ifndef PRW_INVERT_H
@@ -23,7 +25,7 @@ extern "C" {
 #endif
 
 double prw_nurbs_surface_invert(const prw_nurbs_surface *s, prw_dvec3 p, bool use_start, double *u, double *v);
-bool prw_nurbs_surface_project_curve(const prw_nurbs_surface *s, const prw_nurbs_curve *c, double tol,
+bool prw_nurbs_surface_project_curve(const prw_nurbs_surface *s, const prw_nurbs_curve *c, double tol, int max_points,
                                      prw_nurbs_curve *uv, double *max_dist, prw_error *e);
 
 #ifdef __cplusplus

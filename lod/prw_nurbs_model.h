@@ -76,6 +76,14 @@ bool prw_nurbs_model_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *
  *  - within prw_nurbs_model_bounds (sub-patch control points are convex combinations);
  *  - false when the model is empty; when no loop encloses anything, prw_nurbs_model_bounds. */
 bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi);
+/* The same with other limits than prw_nurbs_model_trimmed_bounds' (work 4e8 per model, 200000
+ * trim-curve samples per face); still conservative when they run out, only looser. */
+typedef struct prw_bounds_limits {
+    long work;    /* control points x degrees of the cut-out patches, per model */
+    long samples; /* trim-curve points per face */
+} prw_bounds_limits;
+bool prw_nurbs_model_trimmed_bounds_limited(const prw_nurbs_model *m, const prw_bounds_limits *lim, prw_dvec3 *lo,
+                                            prw_dvec3 *hi);
 
 #ifdef __cplusplus
 }

@@ -22,8 +22,8 @@
 #define MAX_RECTS 200000      /* per face and pass; beyond it hulls are taken as they are */
 #define MAX_CHORDS 1000000    /* per face (curve pieces beyond it keep a larger radius) */
 #define MAX_CURVE_DEPTH 24
-#define MAX_SAMPLES 200000    /* model-space points per face's trim curves */
-#define MAX_WORK 400000000L   /* per model: control points of all cut-out patches x their degrees */
+#define MAX_SAMPLES 200000    /* model-space points per face's trim curves (default) */
+#define MAX_WORK 400000000L   /* per model (default): control points of all cut-out patches x their degrees */
 
 typedef struct chord {
     double a[2], b[2], r;
@@ -42,7 +42,8 @@ typedef struct face_ctx {
     /* chords by v: bucket b holds (CSR) the chords whose v range meets [vb0 + b·dvb, vb0 + (b+1)·dvb] */
     int nb, *bstart, *bidx;
     double vb0, dvb;
-    long *work; /* model-wide cost so far (MAX_WORK) */
+    long *work; /* model-wide cost so far */
+    long max_work, max_samples;
     box *inner; /* points on faces (model-wide) */
     box *outer; /* the result (model-wide) */
     double eps;
@@ -160,7 +161,7 @@ static void sample_curve(face_ctx *f, const prw_nurbs_curve *c, double a, double
     double m = 0.5 * (a + b);
     prw_dvec3 q = prw_nurbs_curve_eval(c, m);
     add_trim_point(f, q.x, q.y);
-    if (depth >= MAX_CURVE_DEPTH || ++f->samples > MAX_SAMPLES) return;
+    if (depth >= MAX_CURVE_DEPTH || ++f->samples > f->max_samples) return;
     prw_dvec3 pm = prw_nurbs_surface_eval(&f->t->surface, q.x, q.y);
     if (depth >= 2 && !(prw_v3_len(prw_v3_sub(pm, prw_v3_scale(prw_v3_add(pa, pb), 0.5))) > tol)) return;
     sample_curve(f, c, a, m, pa, pm, tol, depth + 1);
@@ -342,7 +343,7 @@ static void visit(face_ctx *f, const prw_nurbs_surface *P, double u0, double u1,
     }
     prw_dvec3 lo, hi;
     prw_nurbs_surface_bounds(P, &lo, &hi);
-    bool last = depth >= (f->pass2 ? MAX_DEPTH : PASS1_DEPTH) || f->rects >= MAX_RECTS || *f->work > MAX_WORK ||
+    bool last = depth >= (f->pass2 ? MAX_DEPTH : PASS1_DEPTH) || f->rects >= MAX_RECTS || *f->work > f->max_work ||
                 (u1 - u0 <= 1e-12 * (f->u1 - f->u0) && v1 - v0 <= 1e-12 * (f->v1 - f->v0));
     if (f->pass2 && (last || within(f, lo, hi))) {
         if (!within(f, lo, hi)) f->capped = true;
@@ -460,6 +461,13 @@ static bool face_setup(face_ctx *f, box *inner)
 
 bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw_dvec3 *hi)
 {
+    prw_bounds_limits lim = {.work = MAX_WORK, .samples = MAX_SAMPLES};
+    return prw_nurbs_model_trimmed_bounds_limited(m, &lim, lo, hi);
+}
+
+bool prw_nurbs_model_trimmed_bounds_limited(const prw_nurbs_model *m, const prw_bounds_limits *lim, prw_dvec3 *lo,
+                                            prw_dvec3 *hi)
+{
     if (!m->count) return false;
     face_ctx *fc = prw_calloc(m->count, sizeof *fc);
     bool *bad = prw_calloc(m->count, sizeof *bad);
@@ -470,7 +478,7 @@ bool prw_nurbs_model_trimmed_bounds(const prw_nurbs_model *m, prw_dvec3 *lo, prw
     for (size_t i = 0; i < m->count; i++) {
         face_ctx *f = &fc[i];
         f->t = &m->surfaces[i];
-        f->outer = &outer, f->work = &work;
+        f->outer = &outer, f->work = &work, f->max_work = lim->work, f->max_samples = lim->samples;
         prw_nurbs_surface_domain(&f->t->surface, &f->u0, &f->u1, &f->v0, &f->v1);
         bad[i] = !face_setup(f, &inner);
     }

@@ -1,7 +1,11 @@
 /* Fuzz target for the IGES reader: the input is parsed in memory; a success must give a model
  * whose surfaces validate and evaluate to finite points, and whose trimmed bounds are finite and
  * inside the control hulls' bounds; a failure must leave one message of the form
- * "<file>:<line>: <reason>".  Violations abort. */
+ * "<file>:<line>: <reason>".  Violations abort.
+ * The reader and the bounds run with smaller work limits than a real load (prw_iges_parse_limited,
+ * prw_nurbs_model_trimmed_bounds_limited; the same code, the limits are parameters), so that an input
+ * costs milliseconds and a run reaches millions of executions; the limits' own failure and fallback
+ * paths are exercised more often, not less. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -17,7 +21,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     prw_nurbs_model m;
     prw_iges_info info;
     prw_error e = {{0}};
-    if (!prw_iges_parse((const char *)data, size, "fuzz.igs", &m, &info, &e)) {
+    if (!prw_iges_parse_limited((const char *)data, size, "fuzz.igs", 25000 + (long)size / 4, &m, &info, &e)) {
         if (strncmp(e.msg, "fuzz.igs:", 9) != 0 || !e.msg[9] || !strstr(e.msg + 9, ": ")) abort();
         return 0;
     }
@@ -34,7 +38,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 if (!prw_nurbs_curve_validate(&t->loops[l].segs[s].uv, NULL)) abort();
     }
     prw_dvec3 lo, hi, hlo, hhi;
-    if (prw_nurbs_model_trimmed_bounds(&m, &lo, &hi) != prw_nurbs_model_bounds(&m, &hlo, &hhi)) abort();
+    const prw_bounds_limits lim = {.work = 4000000, .samples = 2000};
+    if (prw_nurbs_model_trimmed_bounds_limited(&m, &lim, &lo, &hi) != prw_nurbs_model_bounds(&m, &hlo, &hhi)) abort();
     if (m.count) {
         double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, hl[3] = {hlo.x, hlo.y, hlo.z}, hh[3] = {hhi.x, hhi.y, hhi.z};
         for (int k = 0; k < 3; k++) {

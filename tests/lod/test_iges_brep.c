@@ -197,6 +197,36 @@ static void test_bare_records(void)
     free(s);
 }
 
+/* The work limits: a budget too small for the cylinder's projected loops fails the read with one
+ * "<file>:<line>: <reason>" message before the points are inverted; the default budget reads it;
+ * trimmed bounds with tiny limits stay conservative (contain the default's box) and within the hulls. */
+static void test_limits(void)
+{
+    size_t n;
+    char *s = iges_model_brep_cylinder(&n);
+    prw_nurbs_model m;
+    prw_iges_info info;
+    prw_error e;
+    CHECK(!prw_iges_parse_limited(s, n, "cyl.igs", 500, &m, &info, &e));
+    printf("  budget 500: %s\n", e.msg);
+    CHECK(strncmp(e.msg, "cyl.igs:", 8) == 0 && (strstr(e.msg, "more than") || strstr(e.msg, "too much geometry")));
+    CHECK(prw_iges_default_work(n) == 4000000 + 64L * (long)n);
+    CHECK_OK(prw_iges_parse_limited(s, n, "cyl.igs", prw_iges_default_work(n), &m, &info, &e), &e);
+    free(s);
+    prw_dvec3 lo, hi, tlo, thi, hlo, hhi;
+    CHECK(prw_nurbs_model_trimmed_bounds(&m, &lo, &hi) && prw_nurbs_model_bounds(&m, &hlo, &hhi));
+    const prw_bounds_limits tiny = {.work = 1000, .samples = 10};
+    CHECK(prw_nurbs_model_trimmed_bounds_limited(&m, &tiny, &tlo, &thi));
+    double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, tl[3] = {tlo.x, tlo.y, tlo.z}, th[3] = {thi.x, thi.y, thi.z},
+           hl[3] = {hlo.x, hlo.y, hlo.z}, hh[3] = {hhi.x, hhi.y, hhi.z};
+    for (int k = 0; k < 3; k++) {
+        double slack = 1e-12 * (fabs(hl[k]) + fabs(hh[k]));
+        CHECK(tl[k] <= l[k] + slack && th[k] >= h[k] - slack);
+        CHECK(tl[k] >= hl[k] - slack && th[k] <= hh[k] + slack);
+    }
+    prw_nurbs_model_free(&m);
+}
+
 static void test_unsupported_face(void)
 {
     /* the box with one face's surface pointer aimed at a 140 (offset surface): that face is left
@@ -230,6 +260,7 @@ int main(int argc, char **argv)
         {"freeform", test_freeform},
         {"bare_records", test_bare_records},
         {"unsupported_face", test_unsupported_face},
+        {"limits", test_limits},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
