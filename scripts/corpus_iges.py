@@ -2,6 +2,7 @@
 """Runs `prw bake` and `prw info` on every IGES file of a directory and prints a table.
 
 usage: scripts/corpus_iges.py DIR [--prw PATH] [--timeout S] [--tsv OUT.tsv] [--compare BASE.tsv]
+                              [--render OUTDIR]
 
 For each *.igs / *.iges file (sorted by name): the exporter (native system ID, Global parameter 5,
 else the preprocessor version, parameter 6), the surfaces the reader kept, and two results:
@@ -9,8 +10,11 @@ else the preprocessor version, parameter 6), the surfaces the reader kept, and t
         / timeout; "ok*" when the hierarchy has failed patches;
   info: `prw info` of a one-entry manifest naming the file: ok / refused / crash / timeout.
 A file LOADS when `prw info` accepts it; it is RENDER-READY when `prw bake` builds its hierarchy
-with no failed patch.  --tsv writes the rows; --compare BASE.tsv (a --tsv of another build) lists
-files that load in BASE but not here.  Exit status 1 when any run crashed or timed out.
+with no failed patch.  --render OUTDIR also opens each file directly, `prw render FILE --size
+160x120` (its own bake, same timeout), and judges the PNG with scripts/png_stats.py (an image, or
+black / empty / flat / clipped).  --tsv writes the rows; --compare BASE.tsv (a --tsv of another build) lists
+files that load in BASE but not here.  Exit status 1 when any run crashed or timed out, or (with
+--render) a render that exited 0 is not an image.
 Only the Python standard library; the corpus itself is never part of the repository.
 """
 import argparse
@@ -113,7 +117,13 @@ def main():
     ap.add_argument('--timeout', type=float, default=120)
     ap.add_argument('--tsv')
     ap.add_argument('--compare')
+    ap.add_argument('--render')
     a = ap.parse_args()
+    if a.render:
+        sys.path.insert(0, here)
+        import png_stats
+        os.makedirs(a.render, exist_ok=True)
+    renders = {'image': 0, 'not an image': 0, 'refused': 0, 'crash': 0, 'timeout': 0}
     files = sorted(f for f in os.listdir(a.dir) if f.lower().endswith(('.igs', '.iges')))
     if not files:
         sys.exit('corpus_iges: no .igs / .iges files in %s' % a.dir)
@@ -140,6 +150,29 @@ def main():
             rows.append((name, exp, surf, info.split(':')[0], '%.1f' % dt, bake))
             print('%-40s %-34.34s %5s  %-9s %7.1f  %s' % (name[:40], exp, surf, info.split(':')[0], dt, bake[:160]),
                   flush=True)
+            if a.render:
+                out = os.path.join(a.render, name + '.exr')
+                png = os.path.join(a.render, name + '.png')
+                rres, _, _, rdt = run([a.prw, 'render', path, '--size', '160x120', '--out', out, '--png', png],
+                                      a.timeout, env)
+                if rres == 'ok':
+                    try:
+                        st = png_stats.stats(png)
+                        verdict = st['verdict']
+                    except (OSError, ValueError) as err:
+                        verdict, st = 'unreadable (%s)' % err, None
+                    key = 'image' if verdict == 'image' else 'not an image'
+                    renders[key] += 1
+                    if key != 'image':
+                        bad += 1
+                    print('    render %.1f s: %s  (%s)' % (rdt, png_stats.describe(st) if st else verdict, png),
+                          flush=True)
+                else:
+                    key = 'refused' if rres.startswith('refused') else rres.split(' ')[0]
+                    renders[key] += 1
+                    if key in ('crash', 'timeout'):
+                        bad += 1
+                    print('    render %.1f s: %s' % (rdt, rres[:200]), flush=True)
     loads = sum(r[3] == 'ok' for r in rows)
     ready = sum(r[5] == 'ok' for r in rows)
     crash = sum(r[3].startswith('crash') or r[5].startswith('crash') for r in rows)
@@ -148,6 +181,8 @@ def main():
     print('\n%d files, %d load (prw info), %d render-ready (bake ok, no failed patch), %d refused by info, '
           '%d crashes, %d timeouts; %d exporters' % (len(rows), loads, ready, len(rows) - loads - crash - hang,
                                                     crash, hang, len(exps)))
+    if a.render:
+        print('renders (prw render FILE): %s' % ', '.join('%s %d' % kv for kv in renders.items()))
     if a.tsv:
         with open(a.tsv, 'w') as f:
             f.write('file\texporter\tsurfaces\tinfo\tbake_s\tbake\n')

@@ -65,15 +65,12 @@ def read_png(path):
     return w, h, bpp, rows
 
 
-def main():
-    if len(sys.argv) != 2:
-        print(__doc__, file=sys.stderr)
-        return 2
+def stats(path):
+    """The figures of the one-line summary, as a dict (raises OSError / ValueError on bad files)."""
     try:
-        w, h, bpp, rows = read_png(sys.argv[1])
-    except (OSError, ValueError, zlib.error, struct.error) as err:
-        print("%s: %s" % (sys.argv[1], err), file=sys.stderr)
-        return 2
+        w, h, bpp, rows = read_png(path)
+    except (zlib.error, struct.error) as err:
+        raise ValueError(str(err))
     bg = tuple(rows[0][0:3])
     covered = lit = clipped = 0
     chroma = 0.0
@@ -101,10 +98,26 @@ def main():
         verdict = "flat"
     else:
         verdict = "image"
-    print("covered %.3f lit %.3f clipped %.3f distinct %d chroma %.3f verdict %s" %
-          (covered / n, lit / max(covered, 1), clipped / max(covered, 1), len(colours), chroma / max(covered, 1),
-           verdict))
-    return 0 if verdict == "image" else 1
+    return {"covered": covered / n, "lit": lit / max(covered, 1), "clipped": clipped / max(covered, 1),
+            "distinct": len(colours), "chroma": chroma / max(covered, 1), "verdict": verdict}
+
+
+def describe(st):
+    return "covered %.3f lit %.3f clipped %.3f distinct %d chroma %.3f verdict %s" % (
+        st["covered"], st["lit"], st["clipped"], st["distinct"], st["chroma"], st["verdict"])
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    try:
+        st = stats(sys.argv[1])
+    except (OSError, ValueError) as err:
+        print("%s: %s" % (sys.argv[1], err), file=sys.stderr)
+        return 2
+    print(describe(st))
+    return 0 if st["verdict"] == "image" else 1
 
 
 if __name__ == "__main__":
