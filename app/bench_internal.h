@@ -61,6 +61,8 @@ typedef struct bench_row {
     bool ref;
     bench_err err, noise;      /* NaN unless ref */
     double pass_ms[BENCH_MAX_PASS_NAMES]; /* timestamped run; NaN = skipped or not in the graph */
+    double base_ms, floor_ms;  /* timestamped run, same frame (prw_frame_stats_base_floor); NaN = none.
+                                  Printed by the run, not written to the CSV */
 } bench_row;
 
 /* Header facts, in output order ("key: value"). */
@@ -94,6 +96,10 @@ typedef struct bench_ctx {
     bench_err *noise;         /* [frame_count] */
     bench_result res;
 } bench_ctx;
+
+/* bench_out.c: prints "floor ms F, base ms B, base/floor R" per config, medians over the rows of
+ * the timestamped run (nothing when no row has a floor). */
+void bench_print_base_floor(const bench_result *r);
 
 /* cmd_bench.c */
 bool bench_frame_view(const bench_ctx *c, uint32_t frame, prw_view *out, prw_error *e);

@@ -89,6 +89,28 @@ void bench_row_init(bench_row *row, uint32_t config, uint32_t frame)
     row->t_s = row->frame_ms = row->cpu_ms = NAN;
     row->err = row->noise = (bench_err){NAN, NAN, NAN, NAN};
     for (int i = 0; i < BENCH_MAX_PASS_NAMES; i++) row->pass_ms[i] = NAN;
+    row->base_ms = row->floor_ms = NAN;
+}
+
+void bench_print_base_floor(const bench_result *r)
+{
+    double *v = prw_calloc(3 * (r->row_count + 1), sizeof(double));
+    for (uint32_t ci = 0; ci < r->config_count; ci++) {
+        size_t n = 0, cap = r->row_count + 1;
+        for (size_t i = 0; i < r->row_count; i++) {
+            const bench_row *w = &r->rows[i];
+            if (w->config != ci || !(w->floor_ms > 0) || isnan(w->base_ms)) continue;
+            v[n] = w->floor_ms, v[cap + n] = w->base_ms, v[2 * cap + n] = w->base_ms / w->floor_ms;
+            n++;
+        }
+        if (n == 0) continue;
+        /* floor and base are timed in the same frames: the ratio is the median of per-frame ratios */
+        printf("config %u (%s): floor ms %.3f, base ms %.3f, base/floor %.2f (medians of %zu frames, both in every "
+               "frame%s)\n",
+               ci, r->configs[ci].label, prw_stats_median(v, n), prw_stats_median(v + cap, n),
+               prw_stats_median(v + 2 * cap, n), n, n < 30 ? "; 30 frames or more for a figure" : "");
+    }
+    free(v);
 }
 
 bench_row *bench_result_row(bench_result *r, uint32_t config, uint32_t frame)

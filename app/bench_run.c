@@ -111,6 +111,8 @@ bool bench_run_timestamped(bench_ctx *c, prw_gpu *gpu, prw_error *e)
                 int col = pass_column(res, st.passes[p].name);
                 if (col >= 0) row->pass_ms[col] = st.passes[p].skipped ? NAN : st.passes[p].gpu_ms;
             }
+            double b, fl;
+            if (prw_frame_stats_base_floor(&st, &b, &fl)) row->base_ms = b, row->floor_ms = fl;
             if (c->is_ref[k]) ok = measure_error(c, r, k, row, e);
             if (i + 1 == c->nframes || (i + 1) % 10 == 0) {
                 fprintf(stderr, "\rframes: config %u/%u  %u/%u with timestamps   ", ci + 1, res->config_count, i + 1,

@@ -318,6 +318,7 @@ int prw_cmd_bench(int argc, char **argv)
     bench_result_sort(&c->res);
     if (!bench_write_outputs(&c->res, c->o.out_dir, &e)) goto done;
     bench_plots(&c->res, c->o.out_dir);
+    bench_print_base_floor(&c->res);
     printf("bench: %u frames x %u configs, %u reference frames, wall time %.1f s; results in %s\n", c->nframes,
            c->res.config_count, (c->frame_count + c->ref_every - 1) / c->ref_every, prw_now() - t0, c->o.out_dir);
     rc = 0;

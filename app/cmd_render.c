@@ -44,7 +44,9 @@ static void render_usage(void)
            "                     tone mapping the PNG / display EXR (the scene EXR stays unglared); off by default\n"
            "  --tm-overlay       paint those pixels (below black blue, above peak red, out of gamut magenta)\n"
            "  --pass-times       time each pass with GPU timestamps (a separate measurement: each\n"
-           "                     timestamp flushes on lavapipe, so frame times then include that cost)\n"
+           "                     timestamp flushes on lavapipe, so frame times then include that cost); also\n"
+           "                     runs the base pass's floor (its draws with a constant shader) in every frame\n"
+           "                     and prints 'floor ms, base ms, base/floor' (medians over --frames)\n"
            "stereo (both eyes as one view set; writes FILE-left.exr, FILE-right.exr, FILE-composed.exr/.png):\n"
            "  --stereo           desktop stereo: off-axis frusta, --size per eye, composed side by side\n"
            "  --ipd M            eye separation in metres (default 0.063)\n"
@@ -154,7 +156,7 @@ static int prw_render_job_run(const render_job *job)
     prw_renderer *r = NULL;
     prw_image hdr = {0};
     uint8_t *ldr = NULL;
-    double *times = NULL;
+    double *times = NULL, *bf = NULL;
     int rc = 1;
     /* before any work: every output can be written */
     if (!prw_check_writable(job->out, true, &e) || !prw_check_writable(job->png, true, &e) ||
@@ -184,9 +186,16 @@ static int prw_render_job_run(const render_job *job)
     prw_frame_stats st;
     if (!prw_renderer_render(r, &view, 1, &st, &e)) goto done; /* warm-up: pipelines JIT here */
     times = prw_calloc((size_t)job->frames, sizeof(double));
+    bf = prw_calloc(3 * (size_t)job->frames, sizeof(double)); /* per frame: base, floor, base/floor */
+    long nbf = 0;
     for (long f = 0; f < job->frames; f++) {
         if (!prw_renderer_render(r, &view, 1, &st, &e)) goto done;
         times[f] = st.cpu_ms;
+        double b, fl;
+        if (prw_frame_stats_base_floor(&st, &b, &fl) && fl > 0) {
+            bf[nbf] = b, bf[job->frames + nbf] = fl, bf[2 * job->frames + nbf] = b / fl;
+            nbf++;
+        }
     }
     qsort(times, (size_t)job->frames, sizeof(double), cmp_double);
     double median = times[job->frames / 2];
@@ -238,10 +247,18 @@ static int prw_render_job_run(const render_job *job)
                    st.passes[i].host_clock ? "host clock, own submit" : "GPU timestamps");
         else printf("  pass %-10s ran\n", st.passes[i].name);
     }
+    if (nbf > 0) {
+        /* floor and base run in the same frames: the ratio's median is over per-frame ratios */
+        for (int k = 0; k < 3; k++) qsort(bf + k * job->frames, (size_t)nbf, sizeof(double), cmp_double);
+        printf("floor ms %.3f, base ms %.3f, base/floor %.2f (medians of %ld frames, both in every frame%s)\n",
+               bf[job->frames + nbf / 2], bf[nbf / 2], bf[2 * job->frames + nbf / 2], nbf,
+               nbf < 30 ? "; --frames 30 or more for a figure" : "");
+    }
     rc = 0;
 done:
     if (rc != 0) fprintf(stderr, "prw: error: %s\n", e.msg[0] ? e.msg : "render failed");
     free(times);
+    free(bf);
     free(ldr);
     prw_image_free(&hdr);
     prw_renderer_destroy(r);

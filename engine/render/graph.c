@@ -708,6 +708,7 @@ bool prw_graph_execute(prw_graph *g, prw_frame *f, prw_graph_exec *x, prw_frame_
         if (!p->in_graph) continue;
         prw_pass_stat *s = &stats->passes[stats->pass_count++];
         s->name = p->p->name;
+        s->flags = p->p->flags;
         s->gpu_ms = -1.0;
         s->timer_scope = UINT32_MAX;
         s->skipped = !p->live;

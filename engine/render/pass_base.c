@@ -130,6 +130,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
 
 const prw_pass prw_pass_base = {
     .name = "base",
+    .flags = PRW_PASS_RADIANCE,
     .scope = PRW_SCOPE_VIEW,
     .setup = setup,
     .needed = needed,

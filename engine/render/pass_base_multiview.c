@@ -183,6 +183,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
 
 const prw_pass prw_pass_base_multiview = {
     .name = "base_multiview",
+    .flags = PRW_PASS_RADIANCE,
     .scope = PRW_SCOPE_FRAME,
     .setup = setup,
     .create = create,

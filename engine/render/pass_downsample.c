@@ -64,6 +64,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
 
 const prw_pass prw_pass_downsample = {
     .name = "downsample",
+    .flags = PRW_PASS_RADIANCE,
     .scope = PRW_SCOPE_VIEW,
     .queue = PRW_QUEUE_COMPUTE,
     .setup = setup,

@@ -272,6 +272,7 @@ static bool record(prw_pass_ctx *c, prw_error *e)
 
 const prw_pass prw_pass_reproject = {
     .name = "reproject",
+    .flags = PRW_PASS_RADIANCE,
     .scope = PRW_SCOPE_FRAME,
     .setup = setup,
     .create = create,

@@ -52,7 +52,9 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         return prw_fail(e, "render: a clip plane needs the shaderClipDistance feature");
     if (k->clip && layout != env->pipes->base_layout)
         return prw_fail(e, "render: the clip-plane variant needs the base layout (its push constants)");
-    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER;
+    bool floor = k->variant == PRW_BASE_VARIANT_FLOOR || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER;
+    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER;
+    if (floor && mv) return prw_fail(e, "render: multiview has no floor variant");
     if (mv && gbuf) return prw_fail(e, "render: multiview with G-buffer outputs has no shader variant");
     bool ext = (k->features & PRW_PIPE_EXT) != 0, uv1 = ext && !(k->features & PRW_PIPE_NO_UV1);
     bool blend = (k->features & PRW_PIPE_BLEND) != 0;
@@ -65,6 +67,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         if (k->features & PRW_PIPE_COAT)
             fs = mv ? prw_shader_mv_coat_base_frag() : gbuf ? prw_shader_gbuf_coat_base_frag() : prw_shader_coat_base_frag();
     }
+    if (floor) fs = gbuf ? prw_shader_gbuf_floor_frag() : prw_shader_floor_frag(); /* everything else the same */
     VkCullModeFlags cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
     if (blend && (k->features & PRW_PIPE_BACK)) cull = VK_CULL_MODE_FRONT_BIT;
     *d = (prw_graphics_desc){

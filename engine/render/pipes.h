@@ -84,6 +84,8 @@ static inline VkFormat prw_pipes_radiance_format(const prw_render_env *env)
 enum {
     PRW_BASE_VARIANT_PLAIN = 0,
     PRW_BASE_VARIANT_GBUFFER = 1, /* + normal/roughness and material-id colour outputs */
+    PRW_BASE_VARIANT_FLOOR = 2,   /* the base pipeline with floor.frag: a constant colour (pass_floor.c) */
+    PRW_BASE_VARIANT_FLOOR_GBUFFER = 3, /* the same with the G-buffer outputs */
 };
 
 #endif

@@ -57,6 +57,8 @@ typedef enum prw_pass_queue {
 
 enum {
     PRW_PASS_KEEP = 1u << 0, /* never culled: the pass has an effect nobody reads (test knobs) */
+    PRW_PASS_RADIANCE = 1u << 1, /* writes HDR radiance before tone mapping (not a shadow map): the
+                                    passes summed as "base ms" against the floor (pass_floor.c) */
 };
 
 /* Size classes of graph images. */

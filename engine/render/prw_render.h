@@ -94,6 +94,7 @@ typedef struct prw_pass_stat {
     double gpu_ms;         /* < 0 when not timed: GPU timestamps (graphics passes) or the host clock around
                               the pass's own submission (compute passes) */
     bool host_clock;       /* gpu_ms is the host clock around the pass's own submission */
+    uint32_t flags;        /* the pass's PRW_PASS_* flags (prw_pass.h), e.g. PRW_PASS_RADIANCE */
     uint32_t timer_scope;  /* internal */
 } prw_pass_stat;
 
@@ -108,6 +109,11 @@ typedef struct prw_frame_stats {
     double glare_pupil_mm; /* with glare: the pupil diameter used (mm); 0 otherwise */
     int glare_psf_radius;  /* and the PSF radius, pixels */
 } prw_frame_stats;
+
+/* The base passes' time and the floor's of one timestamped frame (pass_floor.c): base = the sum over
+ * the timed passes flagged PRW_PASS_RADIANCE (every pass writing HDR radiance before tone mapping,
+ * shadow maps excluded), floor = the "floor" pass.  false when the frame has no timed floor. */
+bool prw_frame_stats_base_floor(const prw_frame_stats *st, double *base_ms, double *floor_ms);
 
 bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_desc *desc, prw_renderer **out,
                          prw_error *e);

@@ -311,3 +311,18 @@ bool prw_renderer_set_extra_work(prw_renderer *r, double fraction, prw_error *e)
     r->desc.quality.extra_gpu_work = fraction;
     return true;
 }
+
+bool prw_frame_stats_base_floor(const prw_frame_stats *st, double *base_ms, double *floor_ms)
+{
+    double base = 0, floor = -1;
+    for (uint32_t i = 0; i < st->pass_count; i++) {
+        const prw_pass_stat *p = &st->passes[i];
+        if (p->skipped || p->gpu_ms < 0) continue;
+        if (p->flags & PRW_PASS_RADIANCE) base += p->gpu_ms;
+        if (strcmp(p->name, "floor") == 0) floor = p->gpu_ms;
+    }
+    if (!(floor >= 0)) return false;
+    *base_ms = base;
+    *floor_ms = floor;
+    return true;
+}
