@@ -12,28 +12,52 @@
 
 const float PI = 3.14159265358979323846;
 
-// Irradiance per unit radiance from the quad q (camera-relative) at p with normal n, after clipping
-// the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
+// Lambert's formula for one edge a -> b of a polygon seen from the origin: the angle it subtends times
+// the unit normal of the plane through it.
+vec3 lambert_edge(vec3 a, vec3 b)
+{
+    vec3 v0 = normalize(a), v1 = normalize(b);
+    vec3 cr = cross(v0, v1);
+    float l = length(cr);
+    return l > 1e-9 ? atan(l, dot(v0, v1)) * (cr / l) : vec3(0.0);
+}
+
+// The edge a -> b of a convex polygon (relative to the receiver) clipped to the hemisphere of n: adds the
+// part above the horizon to sum and records where the polygon leaves (exit_pt) or re-enters (entry_pt)
+// the hemisphere, so the caller closes it along the horizon.  (No local array: lavapipe makes a
+// dynamically indexed one cost ~300 ms a frame at 1280x720 even when the code never runs.)
+void clip_edge(vec3 a, vec3 b, vec3 n, inout vec3 sum, inout vec3 exit_pt, inout vec3 entry_pt, inout int above)
+{
+    float da = dot(n, a), db = dot(n, b);
+    if (da > 0.0) {
+        above++;
+        if (db > 0.0) {
+            sum += lambert_edge(a, b);
+        } else {
+            exit_pt = a + (b - a) * (da / (da - db));
+            sum += lambert_edge(a, exit_pt);
+        }
+    } else if (db > 0.0) {
+        entry_pt = a + (b - a) * (da / (da - db));
+        sum += lambert_edge(entry_pt, b);
+    }
+}
+
+// Irradiance per unit radiance from the quad q0..q3 (camera-relative, convex, planar) at p with normal n,
+// after clipping the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
 // fdir receives the direction of the vector form factor (the irradiance-weighted mean direction).
-float quad_irradiance(vec3 p, vec3 n, vec3 q[4], out vec3 fdir)
+float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out vec3 fdir)
 {
     fdir = n;
-    vec3 poly[5];
-    int cnt = 0;
-    for (int i = 0; i < 4; i++) {
-        vec3 a = q[i] - p, b = q[(i + 1) % 4] - p;
-        float da = dot(n, a), db = dot(n, b);
-        if (da > 0.0) poly[cnt++] = a;
-        if ((da > 0.0) != (db > 0.0) && cnt < 5) poly[cnt++] = a + (b - a) * (da / (da - db));
-    }
-    if (cnt < 3) return 0.0;
-    vec3 sum = vec3(0.0);
-    for (int i = 0; i < cnt; i++) {
-        vec3 v0 = normalize(poly[i]), v1 = normalize(poly[(i + 1) % cnt]);
-        vec3 cr = cross(v0, v1);
-        float l = length(cr);
-        if (l > 1e-9) sum += atan(l, dot(v0, v1)) * (cr / l);
-    }
+    vec3 a = q0 - p, b = q1 - p, c = q2 - p, d = q3 - p;
+    vec3 sum = vec3(0.0), exit_pt = vec3(0.0), entry_pt = vec3(0.0);
+    int above = 0;
+    clip_edge(a, b, n, sum, exit_pt, entry_pt, above);
+    clip_edge(b, c, n, sum, exit_pt, entry_pt, above);
+    clip_edge(c, d, n, sum, exit_pt, entry_pt, above);
+    clip_edge(d, a, n, sum, exit_pt, entry_pt, above);
+    if (above == 0) return 0.0;
+    if (above < 4) sum += lambert_edge(exit_pt, entry_pt); // along the horizon
     float e = dot(n, sum);
     if (e < 0.0) sum = -sum;
     float len = length(sum);
@@ -83,21 +107,44 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
     return f * (sum * 4.0 * lu * lv / float(nu * nv));
 }
 
-// The fitted albedos (prw_ggx_fit.h) of one roughness at the clamped cosines mo, mi: evaluated once per
-// light and shared by the three channels' lobes (prw_brdf_*_terms: the per-channel functions' operations).
+// The fitted albedos (prw_ggx_fit.h) a surface point needs for every light: those of its roughness and
+// of the view cosine (mo = min(max(n.v, 1e-4), 1); the fits take the same value for every cosine below
+// 0.01, so this equals each light's own clamping), computed once per fragment.
+// The 2-D fits' rows of the roughness (prw_ggx_fit.h) are kept for the lights' cosines: a light then
+// costs 16 terms per fit instead of 256.
+struct ggx_view {
+    float ec_avg, ed_avg, ec_o, ed_o;
+    prw_ggx_row ec_row, ed_row;
+};
+
+ggx_view ggx_view_at(float NoV, float roughness)
+{
+    float mo = min(max(NoV, 1e-4), 1.0);
+    ggx_view w;
+    w.ec_row = prw_ggx_Ec_row(roughness);
+    w.ed_row = prw_ggx_Ed_row(roughness);
+    w.ec_avg = prw_ggx_Ec_avg(roughness);
+    w.ed_avg = prw_ggx_Ed_avg(roughness);
+    w.ec_o = prw_ggx_Ec_at(w.ec_row, mo);
+    w.ed_o = prw_ggx_Ed_at(w.ed_row, mo);
+    return w;
+}
+
+// ... and with one light's clamped cosine mi: the terms prw_brdf_*_terms take (shared by the three
+// channels' lobes).
 struct ggx_terms {
     float ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i;
 };
 
-ggx_terms ggx_terms_at(float mo, float mi, float roughness)
+ggx_terms ggx_terms_at(ggx_view w, float mi, float roughness)
 {
     ggx_terms t;
-    t.ec_avg = prw_ggx_Ec_avg(roughness);
-    t.ed_avg = prw_ggx_Ed_avg(roughness);
-    t.ec_o = prw_ggx_Ec(mo, roughness);
-    t.ec_i = prw_ggx_Ec(mi, roughness);
-    t.ed_o = prw_ggx_Ed(mo, roughness);
-    t.ed_i = prw_ggx_Ed(mi, roughness);
+    t.ec_avg = w.ec_avg;
+    t.ed_avg = w.ed_avg;
+    t.ec_o = w.ec_o;
+    t.ec_i = prw_ggx_Ec_at(w.ec_row, mi);
+    t.ed_o = w.ed_o;
+    t.ed_i = prw_ggx_Ed_at(w.ed_row, mi);
     return t;
 }
 
@@ -123,21 +170,22 @@ vec3 specular_ms(ggx_terms t, vec3 base, float metallic, float specular)
 }
 
 // The shared material model (prw_brdf.h, prw_brdf_channel) per RGB channel, from cosines.
-vec3 brdf_cos(float NoV, float NoL, float NoH, float VoH, vec3 base, float metallic, float roughness, float specular)
+vec3 brdf_cos(ggx_view w, float NoV, float NoL, float NoH, float VoH, vec3 base, float metallic, float roughness,
+              float specular)
 {
     if (NoL <= 0.0 || NoV <= 0.0) return vec3(0.0);
     float mo = min(NoV, 1.0), mi = min(NoL, 1.0);
-    ggx_terms t = ggx_terms_at(mo, mi, roughness);
+    ggx_terms t = ggx_terms_at(w, mi, roughness);
     return diffuse_rgb(t, base, metallic, specular) +
            vec3(prw_brdf_specular_terms(mo, mi, NoH, VoH, base.r, metallic, roughness, specular, t.ec_avg, t.ec_o, t.ec_i),
                 prw_brdf_specular_terms(mo, mi, NoH, VoH, base.g, metallic, roughness, specular, t.ec_avg, t.ec_o, t.ec_i),
                 prw_brdf_specular_terms(mo, mi, NoH, VoH, base.b, metallic, roughness, specular, t.ec_avg, t.ec_o, t.ec_i));
 }
 
-vec3 brdf(vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
+vec3 brdf(ggx_view w, vec3 n, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular)
 {
     vec3 h = normalize(v + l);
-    return brdf_cos(dot(n, v), dot(n, l), dot(n, h), dot(v, h), base, metallic, roughness, specular);
+    return brdf_cos(w, dot(n, v), dot(n, l), dot(n, h), dot(v, h), base, metallic, roughness, specular);
 }
 
 // A point, spot or directional light at p: the direction to it (l) and its irradiance factor on a
@@ -160,67 +208,172 @@ void punctual_incidence(prw_gpu_light L, int type, vec3 p, out vec3 l, out float
     }
 }
 
-// Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance.
+// The light slots of the globals are grouped by shading class (engine/render/shadow_plan.h) and the
+// pipelines specialise these constants on the group sizes (engine/render/pipes.c): on lavapipe every
+// instruction of a shader runs for every fragment whatever its branches decide (they become masks), so a
+// loop over all lights with a branch per kind would pay for every kind's code (and the shadow lookups)
+// per light.  Unspecialised (prw_lights_sorted false): one loop over g.params.x lights, kinds by branch.
+layout(constant_id = PRW_SC_LIGHTS_SORTED) const bool prw_lights_sorted = false;
+layout(constant_id = PRW_SC_N_RECT_SHADOWED) const int prw_n_rect_shadowed = 0;
+layout(constant_id = PRW_SC_N_RECT) const int prw_n_rect = 0;
+layout(constant_id = PRW_SC_N_PUNCTUAL_SHADOWED) const int prw_n_punctual_shadowed = 0;
+layout(constant_id = PRW_SC_N_PUNCTUAL) const int prw_n_punctual = 0;
+
+// The first PRW_UNROLLED slots are written out, one call site each whose kind and shadowing are constants
+// after specialisation (lavapipe does not unroll a loop whose bound is a specialisation constant, and a
+// light indexed by a loop counter costs it more than the light's shading); further lights go through a
+// loop.  (Written out for every slot, the inlined copies made pipeline creation 4x slower.)
+#define PRW_UNROLLED 4
+#define PRW_UNROLLED_SLOTS(X) X(0) X(1) X(2) X(3)
+#define PRW_N_LIGHTS (prw_n_rect_shadowed + prw_n_rect + prw_n_punctual_shadowed + prw_n_punctual)
+#define PRW_SLOT_RECT(K) ((K) < prw_n_rect_shadowed + prw_n_rect)
+#define PRW_SLOT_SHADOWED(K)                                                                                      \
+    ((K) < prw_n_rect_shadowed ||                                                                                 \
+     ((K) >= prw_n_rect_shadowed + prw_n_rect && (K) < prw_n_rect_shadowed + prw_n_rect + prw_n_punctual_shadowed))
+
+// The corners of a rect light (camera-relative).
+void rect_corners(prw_gpu_light L, out vec3 q0, out vec3 q1, out vec3 q2, out vec3 q3)
+{
+    vec3 c = L.pos_type.xyz;
+    q0 = c - L.axis_u.xyz - L.axis_v.xyz;
+    q1 = c + L.axis_u.xyz - L.axis_v.xyz;
+    q2 = c + L.axis_u.xyz + L.axis_v.xyz;
+    q3 = c - L.axis_u.xyz + L.axis_v.xyz;
+}
+
+// The direct light of the rect light L at p (camera-relative; normal n, towards the eye v).
 // shadow_offset: the receiver's normal offset for the shadow lookups, texels (shadows.glsl).
+vec3 rect_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 v, vec3 base, float metallic,
+                float roughness, float specular, float shadow_offset)
+{
+    vec3 c = L.pos_type.xyz;
+    if (dot(p - c, L.dir_range.xyz) <= 0.0) return vec3(0.0); // one-sided emitter
+    vec3 q0, q1, q2, q3, fdir;
+    rect_corners(L, q0, q1, q2, q3);
+    float E = quad_irradiance(p, n, q0, q1, q2, q3, fdir);
+    if (E <= 0.0) return vec3(0.0);
+    // Diffuse and the multiple-scattering specular (both smooth in the light direction): Lambert's
+    // polygon formula E, exact for a constant lobe, with the cosine-dependent factors taken at the vector
+    // form factor's direction.  Single-scattering specular: quadrature over the quad (rect_specular_single).
+    float NoLd = max(dot(n, fdir), 1e-4);
+    ggx_terms t = ggx_terms_at(w, min(NoLd, 1.0), roughness);
+    vec3 fd = diffuse_rgb(t, base, metallic, specular) + specular_ms(t, base, metallic, specular);
+    vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base, metallic,
+                                           roughness, specular);
+    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+}
+
+// The direct light of the point, spot or directional light L at p.
+vec3 punctual_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 v, vec3 base, float metallic,
+                    float roughness, float specular, float shadow_offset)
+{
+    vec3 l;
+    float E;
+    punctual_incidence(L, int(L.pos_type.w), p, l, E);
+    float NoL = dot(n, l);
+    if (NoL <= 0.0 || E <= 0.0) return vec3(0.0);
+    return brdf(w, n, v, l, base, metallic, roughness, specular) * L.radiance.rgb * (E * NoL) *
+           (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+}
+
+// Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance.
 void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, float metallic, float roughness,
                       float specular, float shadow_offset)
 {
+    ggx_view w = ggx_view_at(dot(n, v), roughness);
+    if (prw_lights_sorted) {
+#define PRW_L(K)                                                                                                  \
+    if (K < PRW_N_LIGHTS)                                                                                         \
+        radiance += PRW_SLOT_RECT(K) ? rect_light(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, v, base, metallic,   \
+                                                  roughness, specular, shadow_offset)                             \
+                                     : punctual_light(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, v, base, metallic, \
+                                                      roughness, specular, shadow_offset);
+        PRW_UNROLLED_SLOTS(PRW_L)
+#undef PRW_L
+        if (PRW_N_LIGHTS > PRW_UNROLLED)
+            for (int i = PRW_UNROLLED; i < PRW_N_LIGHTS; i++)
+                radiance += PRW_SLOT_RECT(i) ? rect_light(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, v, base, metallic,
+                                                          roughness, specular, shadow_offset)
+                                             : punctual_light(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, v, base,
+                                                              metallic, roughness, specular, shadow_offset);
+        return;
+    }
     int count = int(g.params.x);
     for (int i = 0; i < count; i++) {
         prw_gpu_light L = g.lights[i];
-        int type = int(L.pos_type.w);
-        vec3 rgb = L.radiance.rgb;
-        if (type == PRW_GPU_LIGHT_RECT) {
-            vec3 c = L.pos_type.xyz;
-            if (dot(p - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
-            vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
-                                c + L.axis_u.xyz + L.axis_v.xyz, c - L.axis_u.xyz + L.axis_v.xyz);
-            vec3 fdir;
-            float E = quad_irradiance(p, n, q, fdir);
-            if (E <= 0.0) continue;
-            // Diffuse and the multiple-scattering specular (both smooth in the light direction):
-            // Lambert's polygon formula E, exact for a constant lobe, with the cosine-dependent
-            // factors taken at the vector form factor's direction.  Single-scattering specular:
-            // quadrature over the quad (rect_specular_single).
-            float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
-            ggx_terms t = ggx_terms_at(min(NoV, 1.0), min(NoLd, 1.0), roughness);
-            vec3 fd = diffuse_rgb(t, base, metallic, specular) + specular_ms(t, base, metallic, specular);
-            vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
-                                                   metallic, roughness, specular);
-            radiance += f * rgb * shadow_factor(L, p, n, shadow_offset);
-            continue;
-        }
-        vec3 l;
-        float E;
-        punctual_incidence(L, type, p, l, E);
-        float NoL = dot(n, l);
-        if (NoL <= 0.0 || E <= 0.0) continue;
-        radiance += brdf(n, v, l, base, metallic, roughness, specular) * rgb * (E * NoL) * shadow_factor(L, p, n, shadow_offset);
+        bool shadowed = L.cone_shadow.z >= 0.0;
+        if (int(L.pos_type.w) == PRW_GPU_LIGHT_RECT)
+            radiance += rect_light(L, shadowed, w, p, n, v, base, metallic, roughness, specular, shadow_offset);
+        else
+            radiance += punctual_light(L, shadowed, w, p, n, v, base, metallic, roughness, specular, shadow_offset);
     }
 }
 
 #ifdef PRW_GLTF_COAT
 // The coated model (prw_brdf.h, KHR_materials_clearcoat) per RGB channel: n the base's shading normal,
 // nc the coat's normal; clearcoat 0 is brdf() (prw_brdf_coated_channel returns prw_brdf_channel).
-vec3 brdf_coated(vec3 n, vec3 nc, vec3 v, vec3 l, vec3 base, float metallic, float roughness, float specular,
-                 float cc, float rc)
+vec3 brdf_coated(ggx_view w, vec3 n, vec3 nc, vec3 v, vec3 l, vec3 base, float metallic, float roughness,
+                 float specular, float cc, float rc)
 {
     vec3 h = normalize(v + l);
     float NoV = dot(n, v), NoL = dot(n, l), NoH = dot(n, h), VoH = dot(v, h);
     float NcV = dot(nc, v), NcL = dot(nc, l), NcH = dot(nc, h);
     // prw_brdf_coated_channel per channel: the coat's transmission and lobe are the same for all three
-    vec3 f = brdf_cos(NoV, NoL, NoH, VoH, base, metallic, roughness, specular);
+    vec3 f = brdf_cos(w, NoV, NoL, NoH, VoH, base, metallic, roughness, specular);
     float c = prw_clamp01(cc);
     if (c <= 0.0) return f;
     float t = prw_coat_transmission(NcV, c, rc) * prw_coat_transmission(NcL, c, rc);
     return c * prw_brdf_coat_lobe(NcV, NcL, NcH, VoH, rc) + t * f;
 }
 
-// prw_direct_light for a clear-coated surface (coat normal nc, weight cc, roughness rc).  Rect lights:
-// the base's terms as in prw_direct_light, times the coat's transmission towards the viewer and towards
-// the base's vector-form-factor direction (smooth over the light); the coat's single scattering by the
-// same quadrature (rect_specular_single with the coat's normal and roughness, F = the dielectric's),
-// its multiple scattering by Lambert's formula over the coat's hemisphere.
+// The rect light L on a clear-coated surface (coat normal nc, weight cc, roughness rc): the base's terms
+// as in rect_light, times the coat's transmission towards the viewer and towards the base's
+// vector-form-factor direction (smooth over the light); the coat's single scattering by the same
+// quadrature (rect_specular_single with the coat's normal and roughness, F = the dielectric's), its
+// multiple scattering by Lambert's formula over the coat's hemisphere.
+vec3 rect_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,
+                       float metallic, float roughness, float specular, float cc, float rc, float shadow_offset)
+{
+    vec3 c = L.pos_type.xyz;
+    if (dot(p - c, L.dir_range.xyz) <= 0.0) return vec3(0.0); // one-sided emitter
+    vec3 q0, q1, q2, q3;
+    rect_corners(L, q0, q1, q2, q3);
+    vec3 f = vec3(0.0);
+    vec3 fdir;
+    float E = quad_irradiance(p, n, q0, q1, q2, q3, fdir);
+    float NcV = max(dot(nc, v), 1e-4);
+    if (E > 0.0) {
+        float NoLd = max(dot(n, fdir), 1e-4);
+        ggx_terms tb = ggx_terms_at(w, min(NoLd, 1.0), roughness);
+        vec3 fd = diffuse_rgb(tb, base, metallic, specular) + specular_ms(tb, base, metallic, specular);
+        float t = prw_coat_transmission(NcV, cc, rc) * prw_coat_transmission(dot(nc, fdir), cc, rc);
+        f += t * (fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
+                                                metallic, roughness, specular));
+    }
+    vec3 fdir_c;
+    float Ec = quad_irradiance(p, nc, q0, q1, q2, q3, fdir_c);
+    if (Ec > 0.0) {
+        float NcLd = max(dot(nc, fdir_c), 1e-4);
+        float ms = prw_ggx_ms_shape(min(NcV, 1.0), min(NcLd, 1.0), rc) * prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
+        f += cc * (vec3(ms * Ec) + rect_specular_single(p, nc, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz,
+                                                        vec3(0.0), 0.0, rc, 1.0));
+    }
+    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+}
+
+vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,
+                           float metallic, float roughness, float specular, float cc, float rc, float shadow_offset)
+{
+    vec3 l;
+    float E;
+    punctual_incidence(L, int(L.pos_type.w), p, l, E);
+    float NoL = dot(n, l);
+    if (NoL <= 0.0 || E <= 0.0) return vec3(0.0);
+    return brdf_coated(w, n, nc, v, l, base, metallic, roughness, specular, cc, rc) * L.radiance.rgb * (E * NoL) *
+           (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+}
+
+// prw_direct_light for a clear-coated surface (coat normal nc, weight cc, roughness rc).
 void prw_direct_light_coated(inout vec3 radiance, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base, float metallic,
                              float roughness, float specular, float cc, float rc, float shadow_offset)
 {
@@ -228,47 +381,35 @@ void prw_direct_light_coated(inout vec3 radiance, vec3 p, vec3 n, vec3 nc, vec3 
         prw_direct_light(radiance, p, n, v, base, metallic, roughness, specular, shadow_offset);
         return;
     }
+    ggx_view w = ggx_view_at(dot(n, v), roughness);
+    if (prw_lights_sorted) {
+#define PRW_L(K)                                                                                                  \
+    if (K < PRW_N_LIGHTS)                                                                                         \
+        radiance += PRW_SLOT_RECT(K) ? rect_light_coated(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, nc, v, base,  \
+                                                         metallic, roughness, specular, cc, rc, shadow_offset)    \
+                                     : punctual_light_coated(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, nc, v, base, \
+                                                             metallic, roughness, specular, cc, rc, shadow_offset);
+        PRW_UNROLLED_SLOTS(PRW_L)
+#undef PRW_L
+        if (PRW_N_LIGHTS > PRW_UNROLLED)
+            for (int i = PRW_UNROLLED; i < PRW_N_LIGHTS; i++)
+                radiance += PRW_SLOT_RECT(i) ? rect_light_coated(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, nc, v,
+                                                                 base, metallic, roughness, specular, cc, rc, shadow_offset)
+                                             : punctual_light_coated(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, nc, v,
+                                                                     base, metallic, roughness, specular, cc, rc,
+                                                                     shadow_offset);
+        return;
+    }
     int count = int(g.params.x);
     for (int i = 0; i < count; i++) {
         prw_gpu_light L = g.lights[i];
-        int type = int(L.pos_type.w);
-        vec3 rgb = L.radiance.rgb;
-        if (type == PRW_GPU_LIGHT_RECT) {
-            vec3 c = L.pos_type.xyz;
-            if (dot(p - c, L.dir_range.xyz) <= 0.0) continue; // one-sided emitter
-            vec3 q[4] = vec3[4](c - L.axis_u.xyz - L.axis_v.xyz, c + L.axis_u.xyz - L.axis_v.xyz,
-                                c + L.axis_u.xyz + L.axis_v.xyz, c - L.axis_u.xyz + L.axis_v.xyz);
-            vec3 f = vec3(0.0);
-            vec3 fdir;
-            float E = quad_irradiance(p, n, q, fdir);
-            float NcV = max(dot(nc, v), 1e-4);
-            if (E > 0.0) {
-                float NoV = max(dot(n, v), 1e-4), NoLd = max(dot(n, fdir), 1e-4);
-                ggx_terms tb = ggx_terms_at(min(NoV, 1.0), min(NoLd, 1.0), roughness);
-                vec3 fd = diffuse_rgb(tb, base, metallic, specular) + specular_ms(tb, base, metallic, specular);
-                float t = prw_coat_transmission(NcV, cc, rc) * prw_coat_transmission(dot(nc, fdir), cc, rc);
-                f += t * (fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
-                                                        metallic, roughness, specular));
-            }
-            vec3 fdir_c;
-            float Ec = quad_irradiance(p, nc, q, fdir_c);
-            if (Ec > 0.0) {
-                float NcLd = max(dot(nc, fdir_c), 1e-4);
-                float ms = prw_ggx_ms_shape(min(NcV, 1.0), min(NcLd, 1.0), rc) *
-                           prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
-                f += cc * (vec3(ms * Ec) + rect_specular_single(p, nc, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz,
-                                                                vec3(0.0), 0.0, rc, 1.0));
-            }
-            radiance += f * rgb * shadow_factor(L, p, n, shadow_offset);
-            continue;
-        }
-        vec3 l;
-        float E;
-        punctual_incidence(L, type, p, l, E);
-        float NoL = dot(n, l);
-        if (NoL <= 0.0 || E <= 0.0) continue;
-        radiance += brdf_coated(n, nc, v, l, base, metallic, roughness, specular, cc, rc) * rgb * (E * NoL) *
-                    shadow_factor(L, p, n, shadow_offset);
+        bool shadowed = L.cone_shadow.z >= 0.0;
+        if (int(L.pos_type.w) == PRW_GPU_LIGHT_RECT)
+            radiance += rect_light_coated(L, shadowed, w, p, n, nc, v, base, metallic, roughness, specular, cc, rc,
+                                          shadow_offset);
+        else
+            radiance += punctual_light_coated(L, shadowed, w, p, n, nc, v, base, metallic, roughness, specular, cc,
+                                              rc, shadow_offset);
     }
 }
 #endif

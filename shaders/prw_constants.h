@@ -13,6 +13,21 @@
 #define PRW_GPU_LIGHT_DIRECTIONAL 2
 #define PRW_GPU_LIGHT_RECT 3
 
+/* Shading classes of the lights in the globals block, in slot order (engine/render/shadow_plan.h); the
+ * base fragment shaders' specialisation constants: PRW_SC_LIGHTS_SORTED (bool: the slots are grouped)
+ * and PRW_SC_LIGHT_CLASS0 + class (int: the group's size). */
+#define PRW_LIGHT_CLASS_RECT_SHADOWED 0
+#define PRW_LIGHT_CLASS_RECT 1
+#define PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED 2
+#define PRW_LIGHT_CLASS_PUNCTUAL 3
+#define PRW_LIGHT_CLASSES 4
+#define PRW_SC_LIGHTS_SORTED 0
+#define PRW_SC_LIGHT_CLASS0 1
+#define PRW_SC_N_RECT_SHADOWED 1 /* = PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_RECT_SHADOWED, and so on */
+#define PRW_SC_N_RECT 2
+#define PRW_SC_N_PUNCTUAL_SHADOWED 3
+#define PRW_SC_N_PUNCTUAL 4
+
 /* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
 #define PRW_VERTEX_FLOATS 12
 /* The glTF-extension pipelines (PRW_GLTF_EXT) read uv set 1 at location 4: from a second stream of 2

@@ -1,11 +1,48 @@
 // shadows.glsl — visibility of a light from the shadow atlas (pass_shadow.c, shadow_plan.h): the
 // layer of the light (a point light's cube face by the major axis), a receiver offset along the normal
 // (texels at the receiver's distance), fully dark when the occluder is more than a texel in front, else
-// 3x3 PCF with reversed Z (lit where the receiver's depth is >= the stored occluder depth).  Needs common.glsl (the globals) declared before it.
+// 3x3 PCF of bilinear compares with reversed Z (lit where the receiver's depth is >= the stored occluder
+// depth), computed from gathered depths (binding 2) as a compare sampler would filter them.  Needs common.glsl (the globals) declared before it.
 #ifndef PRW_SHADOWS_GLSL
 #define PRW_SHADOWS_GLSL
 
 layout(set = 0, binding = 1) uniform sampler2DArrayShadow shadow_map;
+layout(set = 0, binding = 2) uniform sampler2DArray shadow_depth; // the same atlas: nearest, border depth 0
+
+// The 4 x 4 texels around the bilinear footprint of uv in a size x size layer: rows r0..r3 are texel rows
+// i0.y - 1 .. i0.y + 2, each over the columns i0.x - 1 .. i0.x + 2 (i0 = floor(uv size - 0.5): the
+// footprint's lower-left texel, f its bilinear weights).  textureGather at the corner between texels
+// k - 1 and k returns (x: (k-1, k), y: (k, k), z: (k, k-1), w: (k-1, k-1)) as (column, row).
+void shadow_texels(vec2 uv, float layer, float size, out vec4 r0, out vec4 r1, out vec4 r2, out vec4 r3, out vec2 f)
+{
+    vec2 st = uv * size - 0.5;
+    vec2 i0 = floor(st);
+    f = st - i0;
+    float inv = 1.0 / size;
+    vec4 a = textureGather(shadow_depth, vec3(i0 * inv, layer));
+    vec4 b = textureGather(shadow_depth, vec3((i0 + vec2(2.0, 0.0)) * inv, layer));
+    vec4 c = textureGather(shadow_depth, vec3((i0 + vec2(0.0, 2.0)) * inv, layer));
+    vec4 d = textureGather(shadow_depth, vec3((i0 + vec2(2.0, 2.0)) * inv, layer));
+    r0 = vec4(a.w, a.z, b.w, b.z);
+    r1 = vec4(a.x, a.y, b.x, b.y);
+    r2 = vec4(c.w, c.z, d.w, d.z);
+    r3 = vec4(c.x, c.y, d.x, d.y);
+}
+
+// One texel row's compare results (reversed Z: 1 where ref >= the stored depth, the compare sampler's
+// GREATER_OR_EQUAL) lerped horizontally for the taps whose footprints start at columns 0, 1, 2.
+vec3 shadow_row(float ref, vec4 r, float fx)
+{
+    vec4 m = vec4(greaterThanEqual(vec4(ref), r));
+    return mix(m.xyz, m.yzw, fx);
+}
+
+// The bilinear compare of the centre tap (footprint rows 1, 2, columns 1, 2).
+float shadow_centre_tap(float ref, vec4 r1, vec4 r2, vec2 f)
+{
+    vec2 m1 = vec2(greaterThanEqual(vec2(ref), r1.yz)), m2 = vec2(greaterThanEqual(vec2(ref), r2.yz));
+    return mix(mix(m1.x, m1.y, f.x), mix(m2.x, m2.y, f.x), f.y);
+}
 
 // offset: the receiver's normal offset in texels (base.frag: 1.5).
 float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset)
@@ -28,28 +65,38 @@ float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset)
     c.xyz /= c.w;
     vec2 uv = c.xy * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    // The 4 x 4 texels under the ten bilinear taps below (the hardware PCF taps of a compare sampler, here
+    // from four gathers and compares in the shader: on lavapipe each filtered lookup costs about as much
+    // as a gather, and there were twenty).
+    vec4 r0, r1, r2, r3;
+    vec2 f;
+    shadow_texels(uv, float(layer), g.params.y, r0, r1, r2, r3, f);
     // Deep in the shadow: a point 1 texel nearer to the light on the ray to it is still occluded at this
     // texel, so the occluder is well in front: no filtering.  Otherwise the PCF taps of a receiver at the
     // silhouette of closed geometry (an inside corner of a room seen from the sun) reach past it and
     // let light in, which at 1e15 lux is visible however small the weight.
     vec3 to_light = type == PRW_GPU_LIGHT_DIRECTIONAL ? -L.dir_range.xyz : normalize(L.pos_type.xyz - po);
     vec4 cd = g.shadow_mats[layer] * vec4(po + to_light * (1.0 * texel), 1.0);
-    if (cd.w > 0.0 && texture(shadow_map, vec4(uv, float(layer), cd.z / cd.w)) == 0.0) return 0.0;
+    if (cd.w > 0.0 && shadow_centre_tap(cd.z / cd.w, r1, r2, f) == 0.0) return 0.0;
     // 3x3 PCF; reversed Z: lit where the receiver's depth >= the stored occluder depth.  When the
     // receiver's own texel is occluded, a tap past the outer silhouette of the scene (nothing stored:
     // the clear value 0) lights nothing: the receiver is at the rim of closed geometry, not in a
     // penumbra (ground and other receivers are in the map themselves, so this never applies to them).
-    float inv = 1.0 / g.params.y;
-    bool occluded = texture(shadow_map, vec4(uv, float(layer), c.z)) < 1.0;
-    float sum = 0.0;
-    for (int y = -1; y <= 1; y++)
-        for (int x = -1; x <= 1; x++) {
-            vec2 t = uv + vec2(x, y) * inv;
-            float lit = texture(shadow_map, vec4(t, float(layer), c.z));
-            if (occluded && lit > 0.0) lit *= 1.0 - texture(shadow_map, vec4(t, float(layer), 0.0));
-            sum += lit;
-        }
-    return sum / 9.0;
+    // h*: per texel row, the horizontal lerps of the compare results for the taps x = -1, 0, 1.
+    vec3 h0 = shadow_row(c.z, r0, f.x), h1 = shadow_row(c.z, r1, f.x), h2 = shadow_row(c.z, r2, f.x),
+         h3 = shadow_row(c.z, r3, f.x);
+    vec3 lit_m = mix(h0, h1, f.y), lit_0 = mix(h1, h2, f.y), lit_p = mix(h2, h3, f.y); // tap rows y = -1, 0, 1
+    bool occluded = lit_0.y < 1.0;
+    if (occluded) {
+        // the taps' share of stored texels (depth > 0, i.e. not "0 >= depth")
+        vec3 e0 = shadow_row(0.0, r0, f.x), e1 = shadow_row(0.0, r1, f.x), e2 = shadow_row(0.0, r2, f.x),
+             e3 = shadow_row(0.0, r3, f.x);
+        lit_m *= vec3(1.0) - mix(e0, e1, f.y);
+        lit_0 *= vec3(1.0) - mix(e1, e2, f.y);
+        lit_p *= vec3(1.0) - mix(e2, e3, f.y);
+    }
+    vec3 rows = lit_m + lit_0 + lit_p;
+    return (rows.x + rows.y + rows.z) / 9.0;
 }
 
 #endif

@@ -63,6 +63,12 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
         vkDestroyShaderModule(gpu->device, vs, NULL);
         return false;
     }
+    if (d->fs_spec_count > 8) return prw_fail(e, "gpu: %u specialisation constants (at most 8)", d->fs_spec_count);
+    VkSpecializationMapEntry spec_map[8];
+    for (uint32_t i = 0; i < d->fs_spec_count; i++)
+        spec_map[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
+    VkSpecializationInfo spec = {.mapEntryCount = d->fs_spec_count, .pMapEntries = spec_map,
+                                 .dataSize = 4 * (size_t)d->fs_spec_count, .pData = d->fs_spec};
     VkPipelineShaderStageCreateInfo stages[2] = {
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
          .stage = VK_SHADER_STAGE_VERTEX_BIT,
@@ -71,7 +77,8 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
          .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
          .module = fs,
-         .pName = "main"},
+         .pName = "main",
+         .pSpecializationInfo = d->fs_spec_count ? &spec : NULL},
     };
     VkPipelineVertexInputStateCreateInfo vi = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,

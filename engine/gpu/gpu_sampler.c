@@ -38,6 +38,12 @@ bool prw_samplers_init(prw_gpu *gpu, prw_error *e)
             ci.addressModeU = ci.addressModeV = ci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
             ci.maxLod = 0.0f;
             break;
+        case PRW_SAMPLER_SHADOW_DEPTH: /* gathered and compared in the shader (shaders/shadows.glsl) */
+            ci.magFilter = ci.minFilter = VK_FILTER_NEAREST;
+            ci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+            ci.addressModeU = ci.addressModeV = ci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
+            ci.maxLod = 0.0f;
+            break;
         case PRW_SAMPLER_COUNT: break;
         }
         if (!prw_vk_check(vkCreateSampler(gpu->device, &ci, NULL, &gpu->samplers[k]), "gpu: vkCreateSampler", e))

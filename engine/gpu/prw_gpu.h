@@ -165,6 +165,7 @@ typedef enum prw_sampler_kind {
     PRW_SAMPLER_LINEAR_CLAMP,
     PRW_SAMPLER_NEAREST_CLAMP,
     PRW_SAMPLER_SHADOW,            /* compare GREATER_OR_EQUAL (reversed Z), linear PCF, clamp to border 0 */
+    PRW_SAMPLER_SHADOW_DEPTH,      /* the shadow atlas's depths for gathers: nearest, no compare, border 0 */
     PRW_SAMPLER_COUNT
 } prw_sampler_kind;
 
@@ -207,6 +208,8 @@ bool prw_pipeline_layout_create_stages(prw_gpu *gpu, const VkDescriptorSetLayout
 
 typedef struct prw_graphics_desc {
     prw_spirv vs, fs;        /* fs.code may be NULL (depth-only) */
+    uint32_t fs_spec[8];     /* the fragment shader's specialisation constants: constant_id i = fs_spec[i] */
+    uint32_t fs_spec_count;  /* (32-bit int or bool each), 0 = none */
     VkPipelineLayout layout;
     const VkVertexInputBindingDescription *vertex_bindings;
     uint32_t vertex_binding_count;

@@ -6,6 +6,7 @@
 
 #include "prw_constants.h"
 #include "prw_shaders.h"
+#include "shadow_plan.h"
 
 /* The vertex layout of every drawable (PRW_VERTEX_FLOATS floats: position, normal, uv, tangent) and, for
  * the glTF-extension pipelines, uv set 1 at location 4: from binding 1 (PRW_UV1_FLOATS per vertex) or,
@@ -89,6 +90,11 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         .blend_over = blend,
         .view_mask = k->view_mask,
     };
+    if (!floor) { /* lights.glsl: one loop per light class, of the plan's sizes (PRW_SC_*) */
+        d->fs_spec[PRW_SC_LIGHTS_SORTED] = 1;
+        for (int c = 0; c < PRW_LIGHT_CLASSES; c++) d->fs_spec[PRW_SC_LIGHT_CLASS0 + c] = (k->light_classes >> (5 * c)) & 31u;
+        d->fs_spec_count = PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES;
+    }
     return true;
 }
 
@@ -131,9 +137,10 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     p->gpu = env->gpu;
     p->env = env;
     VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding globals[2] = {
+    VkDescriptorSetLayoutBinding globals[3] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutBinding material[8];
     for (uint32_t i = 0; i < 8; i++)
@@ -144,7 +151,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
     };
-    if (!prw_desc_layout_create(p->gpu, globals, 2, &p->globals_layout, e) ||
+    if (!prw_desc_layout_create(p->gpu, globals, 3, &p->globals_layout, e) ||
         !prw_desc_layout_create(p->gpu, material, 8, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
@@ -189,6 +196,8 @@ bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_err
     key.view_mask = k->view_mask;
     key.variant = k->variant;
     key.features = k->features;
+    const prw_shadow_plan *plan = p->env->shadows;
+    for (int c = 0; c < PRW_LIGHT_CLASSES; c++) key.light_classes |= plan->class_count[c] << (5 * c);
     *out = prw_pipeline_table_find(p->table, &key, sizeof key);
     if (*out) return true;
     prw_graphics_desc d;

@@ -2,13 +2,16 @@
  *
  * Promises:
  *  - One cache for every graphics pipeline a pass or drawable binds, keyed by (recipe, material kind,
- *    two-sided, mirrored, clip plane, view mask, variant); a pipeline is built on first use from its
+ *    two-sided, mirrored, clip plane, view mask, variant, features, the scene's light classes); the base
+ *    fragment shaders are specialised on the light classes (shadow_plan.h: light slots; lights.glsl), so a
+ *    change of the lights' kinds or shadows builds new pipelines.  A pipeline is built on first use from its
  *    recipe and kept until the renderer is destroyed or its recipe is forgotten (a pass's destroy).
  *  - A recipe is a named description function plus its pipeline layout; the base recipe's description
  *    (vertex layout, HDR colour target, reversed-Z D32 depth, the renderer's samples, back-face
  *    culling) is the starting point of every recipe that draws the scene's drawables
  *    (prw_pipes_describe_base).
- *  - Layouts: set 0 = per-view globals (uniform block + shadow atlas), set 1 = material (uniform block
+ *  - Layouts: set 0 = per-view globals (uniform block + the shadow atlas with its compare sampler
+ *    (binding 1) and for gathers (binding 2, PRW_SAMPLER_SHADOW_DEPTH)), set 1 = material (uniform block
  *    + seven textures: base colour, metal-rough, normal, emissive, clear coat, its roughness, its
  *    normal); the base layout has 128 bytes of push constants (112 per draw: prw_draw_push_model; then
  *    the clip plane of PRW_CLIP_PLANE pipelines, pushed by the pass), the shadow layout 64 (the light
@@ -27,6 +30,7 @@ typedef struct prw_pipe_key {
     uint32_t view_mask;
     uint32_t variant;
     uint32_t features; /* PRW_PIPE_* of the draw's material and drawable */
+    uint32_t light_classes; /* set by prw_pipes_get: the shadow plan's class sizes, 5 bits each */
 } prw_pipe_key;
 
 /* Pipeline features of a draw (prw_pipe_key.features, prw_draw_bind_features); 0 is the core glTF

@@ -59,12 +59,15 @@ static bool create_scene_parts(prw_renderer *r, prw_error *e)
     const prw_pass *const *table = r->desc.debug && r->desc.debug->passes ? r->desc.debug->passes : prw_passes_default;
     const char *const *exports = r->desc.debug ? r->desc.debug->exports : NULL;
     if (!prw_graph_create(&r->env, table, exports, &r->graph, e)) return false;
-    /* the shadow atlas is set 0, binding 1 of every view's globals */
+    /* the shadow atlas is set 0, bindings 1 (compare sampler) and 2 (gathers) of every view's globals */
     prw_gpu_image *shadow = prw_graph_image(r->graph, "shadow_map", 0);
     if (!shadow) return prw_fail(e, "render: the pass table has no pass creating 'shadow_map'");
-    for (uint32_t v = 0; v < r->desc.max_views; v++)
+    for (uint32_t v = 0; v < r->desc.max_views; v++) {
         prw_desc_write_image(r->gpu, r->globals_set[v], 1, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
                              prw_gpu_sampler(r->gpu, PRW_SAMPLER_SHADOW), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        prw_desc_write_image(r->gpu, r->globals_set[v], 2, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
+                             prw_gpu_sampler(r->gpu, PRW_SAMPLER_SHADOW_DEPTH), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    }
     return true;
 }
 

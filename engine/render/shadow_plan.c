@@ -60,5 +60,18 @@ void prw_shadow_plan_make(const prw_scene *s, prw_shadow_plan *plan)
         }
     }
     plan->count = n;
+    uint32_t nl = s->light_count < PRW_MAX_LIGHTS ? s->light_count : PRW_MAX_LIGHTS, k = 0;
+    for (int c = 0; c < PRW_LIGHT_CLASSES; c++) {
+        plan->class_count[c] = 0;
+        for (uint32_t i = 0; i < nl; i++) {
+            bool rect = s->lights[i].type == PRW_LIGHT_RECT, shadowed = light_first[i] >= 0;
+            int cls = rect ? (shadowed ? PRW_LIGHT_CLASS_RECT_SHADOWED : PRW_LIGHT_CLASS_RECT)
+                           : (shadowed ? PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED : PRW_LIGHT_CLASS_PUNCTUAL);
+            if (cls != c) continue;
+            plan->slot_light[k++] = i;
+            plan->class_count[c]++;
+        }
+    }
+    plan->slot_count = k;
 }
 

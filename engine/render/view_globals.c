@@ -27,13 +27,14 @@ void prw_view_globals_fill(const prw_scene *s, const prw_shadow_plan *plan, uint
     g->eye_rel[0] = (float)(v->eye.x - o.x);
     g->eye_rel[1] = (float)(v->eye.y - o.y);
     g->eye_rel[2] = (float)(v->eye.z - o.z);
-    uint32_t nl = s->light_count < PRW_MAX_LIGHTS ? s->light_count : PRW_MAX_LIGHTS;
+    uint32_t nl = plan->slot_count;
     g->params[0] = (float)nl;
     g->params[1] = (float)shadow_size;
-    for (uint32_t i = 0; i < nl; i++) {
+    for (uint32_t k = 0; k < nl; k++) {
+        uint32_t i = plan->slot_light[k]; /* slots grouped by shading class (shadow_plan.h) */
         const prw_light *l = &s->lights[i];
         const double *m = s->nodes[l->node].world.m;
-        prw_gpu_light *gl = &g->lights[i];
+        prw_gpu_light *gl = &g->lights[k];
         prw_dvec3 dir = prw_v3_norm(prw_v3(-m[8], -m[9], -m[10]));
         prw_dvec3 ax = prw_v3_norm(prw_v3(m[0], m[1], m[2])), ay = prw_v3_norm(prw_v3(m[4], m[5], m[6]));
         gl->pos_type[0] = (float)(m[12] - o.x);

@@ -1,6 +1,6 @@
 /* view_globals — the per-view uniform block (shaders/common.glsl prw_globals) for a view drawn
  * relative to `origin`: camera-relative view-projection and eye, the scene's first PRW_MAX_LIGHTS
- * lights (positions relative to origin; rect-light axes; shadow layers from the plan) and the
+ * lights in the plan's slot order (positions relative to origin; rect-light axes; shadow layers) and the
  * shadow matrices (camera-relative world -> light clip).  Pure CPU, deterministic. */
 #ifndef PRW_VIEW_GLOBALS_H
 #define PRW_VIEW_GLOBALS_H

@@ -212,20 +212,27 @@ static void emit_cheb(const char *var, const char *x)
     for (int k = 2; k < NF; k++) printf("    float %s%d = 2.0f * %s * %s%d - %s%d;\n", var, k, x, var, k - 1, var, k - 2);
 }
 
+/* The 2-D fit as row (roughness: the v basis contracted with the coefficients, d_i = sum_j c_ji b_j)
+ * and evaluation at mu (y = sum_i d_i a_i): a shader shading several lights at one roughness computes the
+ * row once.  name(mu, roughness) is the two composed (the same operations). */
 static void emit2(const char *name, const char *doc, const double c[NF][NF])
 {
-    printf("/* %s */\nPRW_FN float %s(float mu, float roughness)\n{\n", doc, name);
-    printf("    float u = prw_ggx_fit_u(mu), v = prw_ggx_fit_v(roughness);\n");
-
-    emit_cheb("a", "u");
+    printf("/* %s: %s_row(roughness), then %s_at(row, mu) */\n", doc, name, name);
+    printf("PRW_FN prw_ggx_row %s_row(float roughness)\n{\n    float v = prw_ggx_fit_v(roughness);\n", name);
     emit_cheb("b", "v");
-    printf("    float y = 0.0f;\n");
-    for (int j = 0; j < NF; j++) {
-        printf("    y += b%d * (", j);
-        for (int i = 0; i < NF; i++) printf("%s%s * a%d%s", i ? " + " : "", lit(c[j][i]), i, i % 4 == 3 && i + 1 < NF ? "\n                 " : "");
-        printf(");\n");
+    printf("    prw_ggx_row r;\n");
+    for (int i = 0; i < NF; i++) {
+        printf("    r.d%d = ", i);
+        for (int j = 0; j < NF; j++) printf("%s%s * b%d%s", j ? " + " : "", lit(c[j][i]), j, j % 4 == 3 && j + 1 < NF ? "\n           " : "");
+        printf(";\n");
     }
-    printf("    return PRW_B_MAX(prw_exp(y) - %s, 0.0f);\n}\n\n", lit(EPS));
+    printf("    return r;\n}\n\n");
+    printf("PRW_FN float %s_at(prw_ggx_row r, float mu)\n{\n    float u = prw_ggx_fit_u(mu);\n", name);
+    emit_cheb("a", "u");
+    printf("    float y = ");
+    for (int i = 0; i < NF; i++) printf("%sr.d%d * a%d%s", i ? " + " : "", i, i, i % 4 == 3 && i + 1 < NF ? "\n              " : "");
+    printf(";\n    return PRW_B_MAX(prw_exp(y) - %s, 0.0f);\n}\n\n", lit(EPS));
+    printf("PRW_FN float %s(float mu, float roughness) { return %s_at(%s_row(roughness), mu); }\n\n", name, name, name);
 }
 
 static void emit1(const char *name, const char *doc, const double c[NF])
@@ -289,12 +296,16 @@ int main(void)
            " * macros).  Tensor Chebyshev interpolants (%d x %d) of y = log(value + %g) in\n"
            " *   u = 2 (t - %g) / (1 - %g) - 1, t = max(sqrt(mu), %g);  v = 2 (s - sqrt(0.002)) / (1 - sqrt(0.002)) - 1,\n"
            " *   s = max(roughness, sqrt(0.002)) = sqrt(alpha);\n"
-           " * evaluated in float with the same operations in C and GLSL.  Fit vs direct integration for\n"
+           " * evaluated in float with the same operations in C and GLSL (per roughness a row of %d coefficients, then\n"
+           " * the mu basis).  Fit vs direct integration for\n"
            " * mu >= 0.01: E worst relative %.2g, Ed worst relative %.2g (see the generator for the method).\n"
            " * The averages are 1-D interpolants of the cosine-weighted average of the fitted 2-D function\n"
            " * (relative agreement %.2g where above 1e-4), so the compensation and coupling lobes integrate to what the model promises. */\n"
-           "#ifndef PRW_GGX_FIT_H\n#define PRW_GGX_FIT_H\n\n", NF, NF, EPS, T_MIN, T_MIN, T_MIN, we, wd, wa);
+           "#ifndef PRW_GGX_FIT_H\n#define PRW_GGX_FIT_H\n\n", NF, NF, EPS, T_MIN, T_MIN, T_MIN, NF, we, wd, wa);
     printf("/* 2 int_0^1 F_dielectric(mu) mu dmu for IOR 1.5 */\n#define PRW_DIELECTRIC_F_AVG %s\n\n", lit(favg));
+    printf("/* A 2-D fit with its roughness fixed: the coefficients of the mu basis (prw_ggx_*_row). */\n#ifdef GL_core_profile\nstruct prw_ggx_row {\n#else\ntypedef struct prw_ggx_row {\n#endif\n    float ");
+    for (int i = 0; i < NF; i++) printf("%sd%d", i ? ", " : "", i);
+    printf(";\n#ifdef GL_core_profile\n};\n#else\n} prw_ggx_row;\n#endif\n\n");
     printf("PRW_FN float prw_ggx_fit_u(float mu)\n{\n    float t = PRW_B_MAX(PRW_B_SQRT(prw_clamp01(mu)), %s);\n"
            "    return (t - %s) * %s - 1.0f;\n}\n\n", lit(T_MIN), lit(T_MIN), lit(2 / (1 - T_MIN)));
     printf("PRW_FN float prw_ggx_fit_v(float roughness)\n{\n    float s = PRW_B_MAX(prw_clamp01(roughness), %s);\n"
