@@ -30,6 +30,11 @@ static void tmbench_usage(void)
            "  --display PROFILE  display profile (default srgb; SSIM/FLIP read the signal as sRGB)\n"
            "  --tiled            also time local as the tiled shared-memory kernel (tonemap_local.comp) on every block\n"
            "  --profile          also print per-pass GPU times (timestamps) of one run per operator and image\n"
+           "  --vs-copy          instead: the tone-mapping stage against a vkCmdCopyImage of the same image\n"
+           "                     (the demo's first frame as RGBA16F, default 1280x720): the exposure tone map (apply\n"
+           "                     only, as in the demo), the same with the statistics pass (counting on), and the\n"
+           "                     copy, interleaved for --reps runs (default 30); prints medians and the ratios\n"
+           "                     stage/copy with bootstrap 95 %% intervals\n"
            "Times are host wall clock around submit + wait of the tone-mapping passes only (stats,\n"
            "classification, global, local); on lavapipe the GPU is the CPU.  Local: the separable full-image\n"
            "passes.  Selective is also timed with no tile marked (its global part c_global), which gives the\n"
@@ -42,7 +47,7 @@ typedef struct tmb_opts {
     long frames, reps, tile;
     double threshold;
     const char *display;
-    bool profile, tiled;
+    bool profile, tiled, vs_copy;
 } tmb_opts;
 
 /* One profiled run of the current settings: prints "label: scope ms, ..." and the total. */
@@ -146,6 +151,65 @@ static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o
     prw_image_free(&is);
     prw_tm_session_destroy(s);
     return ok;
+}
+
+/* --vs-copy (issue "Speed", must-show 3): the tone-mapping stage at memory speed? */
+static int run_vs_copy(const tmb_opts *o)
+{
+    prw_error e = {{0}};
+    prw_gpu *gpu = NULL;
+    prw_scene *scene = NULL;
+    prw_renderer *r = NULL;
+    prw_tm_session *s = NULL;
+    prw_image hdr = {0};
+    int rc = 1;
+    size_t n = (size_t)o->reps;
+    double *tc = prw_calloc(n, sizeof *tc), *ta = prw_calloc(n, sizeof *ta), *tsa = prw_calloc(n, sizeof *tsa);
+    prw_display disp;
+    if (!prw_display_resolve(o->display ? o->display : "srgb", &disp, &e)) goto done;
+    if (!prw_app_load_scene(NULL, &scene, &e) || !prw_app_create_gpu(false, &gpu, &e)) goto done;
+    prw_render_desc rd = {.width = o->w, .height = o->h, .max_views = 1, .quality = prw_quality_default()};
+    if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
+    prw_view v;
+    prw_tonemap_settings ex = {.op = PRW_TM_EXPOSURE}, exs = {.op = PRW_TM_EXPOSURE, .report = true};
+    int cam = prw_scene_find_camera(scene, "main");
+    if (cam < 0) cam = 0;
+    if (!prw_view_from_camera(scene, cam, o->w, o->h, &v, &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
+        !prw_renderer_render(r, &v, 1, NULL, &e) || !prw_renderer_read_hdr(r, 0, &hdr, &e) ||
+        !prw_tm_session_create_half(r, &hdr, &s, &e))
+        goto done;
+    printf("prw tmbench --vs-copy: %ux%u RGBA16F (the demo, camera main), display %s, %zu interleaved runs, device %s\n",
+           o->w, o->h, disp.name, n, prw_gpu_device_name(gpu));
+    double warm;
+    if (!prw_tm_session_time_copy(s, &warm, &e) || !prw_tm_session_run(s, v.ev100, &warm, NULL, NULL, NULL, &e) ||
+        !prw_renderer_set_tonemap(r, &disp, &exs, &e) || !prw_tm_session_run(s, v.ev100, &warm, NULL, NULL, NULL, &e))
+        goto done; /* warm-up: pipelines built, pages touched */
+    for (size_t k = 0; k < n; k++)
+        if (!prw_tm_session_time_copy(s, &tc[k], &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
+            !prw_tm_session_run(s, v.ev100, &ta[k], NULL, NULL, NULL, &e) ||
+            !prw_renderer_set_tonemap(r, &disp, &exs, &e) ||
+            !prw_tm_session_run(s, v.ev100, &tsa[k], NULL, NULL, NULL, &e))
+            goto done;
+    prw_stats_ratio ra, rs;
+    printf("copy %.2f ms, tone map (apply) %.2f ms, tone map (statistics + apply) %.2f ms (medians)\n",
+           median_of(tc, n), median_of(ta, n), median_of(tsa, n));
+    if (prw_stats_bootstrap_median_ratio(tc, n, ta, n, true, 2000, 12347, &ra) &&
+        prw_stats_bootstrap_median_ratio(tc, n, tsa, n, true, 2000, 12348, &rs))
+        printf("tone map / copy: apply x%.2f (95 %% bootstrap interval %.2f .. %.2f), statistics + apply x%.2f "
+               "(%.2f .. %.2f)\n",
+               ra.ratio, ra.lo, ra.hi, rs.ratio, rs.lo, rs.hi);
+    rc = 0;
+done:
+    if (rc) fprintf(stderr, "prw tmbench: error: %s\n", e.msg);
+    prw_image_free(&hdr);
+    prw_tm_session_destroy(s);
+    prw_renderer_destroy(r);
+    prw_scene_destroy(scene);
+    prw_gpu_destroy(gpu);
+    free(tc);
+    free(ta);
+    free(tsa);
+    return rc;
 }
 
 static int run(const tmb_opts *o)
@@ -278,12 +342,20 @@ int prw_cmd_tmbench(int argc, char **argv)
     o.display = prw_args_value(&a, "display", &e, &bad);
     o.profile = prw_args_flag(&a, "profile");
     o.tiled = prw_args_flag(&a, "tiled");
+    o.vs_copy = prw_args_flag(&a, "vs-copy");
     if (!bad && a.positional_count > 0) bad = !prw_fail(&e, "unexpected argument '%s'", a.positional[0]);
     if (!bad && !prw_args_finish(&a, &e)) bad = true;
     prw_args_free(&a);
     if (bad) {
         fprintf(stderr, "prw tmbench: error: %s\n", e.msg);
         return 2;
+    }
+    if (o.vs_copy) {
+        bool sized = false, reps = false;
+        for (int i = 0; i < argc; i++) sized |= strcmp(argv[i], "--size") == 0, reps |= strcmp(argv[i], "--reps") == 0;
+        if (!sized) o.w = 1280, o.h = 720;
+        if (!reps) o.reps = 30;
+        return run_vs_copy(&o);
     }
     return run(&o);
 }

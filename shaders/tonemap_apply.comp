@@ -6,8 +6,8 @@
 // ITU-R BT.1886).  Writes the signal V as float (before quantisation) and as RGBA8.
 #extension GL_GOOGLE_include_directive : require
 // One 16 x 16 block per workgroup (selective skips whole blocks; on lavapipe larger workgroups also
-// cost less per pixel); the counters' shared memory and barriers only when counting (P.mode.w,
-// uniform).
+// cost less per pixel); the counters' shared memory and barriers only when counting.  The operator,
+// encoding, overlay and counting are specialisation constants (tonemap_common.glsl).
 layout(local_size_x = 16, local_size_y = 16) in;
 #include "tonemap_common.glsl"
 
@@ -17,7 +17,7 @@ void main()
 {
     uvec2 p = gl_GlobalInvocationID.xy;
     uint t = gl_LocalInvocationIndex;
-    bool count = P.mode.w != 0;
+    bool count = tm_mode_count();
     if (count) {
         if (t < 3u) s_cnt[t] = 0u;
         barrier();
@@ -25,14 +25,14 @@ void main()
     bool inside = p.x < pc.width && p.y < pc.height;
     // selective: the blocks the local pass covers are skipped (uniform per 8 x 8 workgroup)
     bool skip = false;
-    if (P.mode.x == OP_SELECTIVE) {
+    if (tm_mode_op() == OP_SELECTIVE) {
         uvec2 b = gl_WorkGroupID.xy;
         skip = tl.data[tm_tiles_x() * tm_tiles_y() + b.y * tm_blocks_x() + b.x] != 0u;
     }
     inside = inside && !skip;
     uint flags = 0u;
     if (inside) {
-        int op = P.mode.x;
+        int op = tm_mode_op();
         float exposure = P.range.x, lmin = P.range.y, lmax = P.range.z, dl = P.range.w;
         float white_cd = P.enc.w;
         vec3 raw = texelFetch(src, ivec2(p), 0).rgb;

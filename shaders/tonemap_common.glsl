@@ -28,6 +28,18 @@ layout(push_constant) uniform prw_tm_pc {
     uint width, height, base, total;
 } pc;
 
+// P.mode as specialisation constants (tonemap_gpu.c builds the apply pipeline per combination): on
+// lavapipe every branch of a shader runs for every pixel (as masks), so a runtime choice between
+// operators and encodings costs all of them.  -1: read P.mode (the other shaders).
+layout(constant_id = 0) const int TM_SC_OP = -1;
+layout(constant_id = 1) const int TM_SC_EOTF = -1;
+layout(constant_id = 2) const int TM_SC_OVERLAY = -1;
+layout(constant_id = 3) const int TM_SC_COUNT = -1;
+int tm_mode_op() { return TM_SC_OP >= 0 ? TM_SC_OP : P.mode.x; }
+int tm_mode_eotf() { return TM_SC_EOTF >= 0 ? TM_SC_EOTF : P.mode.y; }
+bool tm_mode_overlay() { return TM_SC_OVERLAY >= 0 ? TM_SC_OVERLAY != 0 : P.mode.z != 0; }
+bool tm_mode_count() { return TM_SC_COUNT >= 0 ? TM_SC_COUNT != 0 : P.mode.w != 0; }
+
 const float WHITE_HEADROOM = 1.05; // PRW_TM_WHITE_HEADROOM (engine/render/prw_tonemap.h)
 const int OP_EXPOSURE = 0, OP_REINHARD = 1, OP_NEUTRAL = 2, OP_ADAPTIVE = 3, OP_ABSOLUTE = 4;
 const int OP_LOCAL = 5, OP_SELECTIVE = 6;
@@ -59,7 +71,7 @@ float pq_inverse(float cd)
 float encode(float r)
 {
     r = clamp(r, 0.0, 1.0);
-    int eotf = P.mode.y;
+    int eotf = tm_mode_eotf();
     if (eotf == EOTF_SRGB) return srgb_oetf(r * P.enc.x);
     if (eotf == EOTF_GAMMA) {
         float x = r * P.enc.x;
@@ -115,7 +127,7 @@ vec3 tm_finish(vec3 r, float ry, inout uint flags)
     }
     vec3 v;
     for (int i = 0; i < 3; i++) v[i] = encode(i == lim ? lim_val : ry + tt * (d[i] - ry));
-    if (P.mode.z != 0 && flags != 0u) {
+    if (tm_mode_overlay() && flags != 0u) {
         v.r = ((flags & (F_ABOVE | F_GAMUT)) != 0u && (flags & F_BELOW) == 0u) ? 1.0 : 0.0;
         v.g = 0.0;
         v.b = ((flags & (F_BELOW | F_GAMUT)) != 0u && (flags & F_ABOVE) == 0u) ? 1.0 : 0.0;

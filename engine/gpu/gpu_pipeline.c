@@ -185,7 +185,18 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
 
 bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, VkPipeline *out, prw_error *e)
 {
+    return prw_pipeline_compute_spec(gpu, cs, layout, NULL, 0, out, e);
+}
+
+bool prw_pipeline_compute_spec(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, const uint32_t *spec,
+                               uint32_t spec_count, VkPipeline *out, prw_error *e)
+{
     *out = VK_NULL_HANDLE;
+    if (spec_count > 8) return prw_fail(e, "gpu: %u specialisation constants (at most 8)", spec_count);
+    VkSpecializationMapEntry map[8];
+    for (uint32_t i = 0; i < spec_count; i++) map[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
+    VkSpecializationInfo si = {.mapEntryCount = spec_count, .pMapEntries = map, .dataSize = 4 * (size_t)spec_count,
+                               .pData = spec};
     VkShaderModule m;
     if (!make_module(gpu, cs, "compute", &m, e)) return false;
     VkComputePipelineCreateInfo ci = {
@@ -193,7 +204,8 @@ bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, V
         .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
                   .stage = VK_SHADER_STAGE_COMPUTE_BIT,
                   .module = m,
-                  .pName = "main"},
+                  .pName = "main",
+                  .pSpecializationInfo = spec_count ? &si : NULL},
         .layout = layout,
     };
     VkResult r = vkCreateComputePipelines(gpu->device, gpu->pipeline_cache, 1, &ci, NULL, out);

@@ -237,6 +237,9 @@ typedef struct prw_graphics_desc {
 /* Viewport and scissor are dynamic state. */
 bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *desc, VkPipeline *out, prw_error *e);
 bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, VkPipeline *out, prw_error *e);
+/* The same with specialisation constants: constant_id i = spec[i] (32-bit int or bool each, at most 8). */
+bool prw_pipeline_compute_spec(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, const uint32_t *spec,
+                               uint32_t spec_count, VkPipeline *out, prw_error *e);
 
 /* Pipelines by key (a byte string of at most PRW_PIPELINE_KEY_MAX bytes; zero padding is part of the
  * key, so keys should be memset before they are filled).  The table owns its pipelines. */

@@ -46,7 +46,8 @@ uint32_t prw_draw_features(const prw_draw_ctx *c, uint32_t slot, bool uv1)
     uint32_t f = c->sg->slot_flags[slot], out = 0;
     if (c->kind == PRW_DRAW_SHADOW) out = f & (PRW_SG_MASK | PRW_SG_BLEND) ? PRW_PIPE_MASK : 0;
     else if (f & PRW_SG_EXT)
-        out = PRW_PIPE_EXT | (f & PRW_SG_COAT ? PRW_PIPE_COAT : 0) | (c->kind == PRW_DRAW_BLEND ? PRW_PIPE_BLEND : 0);
+        out = PRW_PIPE_EXT | (f & PRW_SG_COAT ? PRW_PIPE_COAT : 0) | (c->kind == PRW_DRAW_BLEND ? PRW_PIPE_BLEND : 0) |
+              (f & PRW_SG_MASK ? PRW_PIPE_MASK : 0);
     if (out && !uv1) out |= PRW_PIPE_NO_UV1;
     return out;
 }

@@ -9,6 +9,8 @@
  * transient "msaa_color".  G-buffer, only when a later pass reads it: "gbuf_normal" (RGBA16F:
  * camera-relative shading normal, roughness) and "gbuf_id" (R32U: material slot + 1, 0 where nothing
  * was drawn), resolved from multisampled attachments (normal averaged, id sample 0).
+ * The opaque draws run twice in the pass's scope: a depth pre-pass (no fragment shader), then shading
+ * with depth EQUAL (on lavapipe a fragment costs all of its shader, so hidden ones are worth skipping).
  * Not needed for a view that another pass renders: both views of a multiview frame
  * (pass_base_multiview), the right eye of a reprojected frame (pass_reproject). */
 #include "pipes.h"
@@ -112,14 +114,25 @@ static bool record(prw_pass_ctx *c, prw_error *e)
         .pColorAttachments = ca,
         .pDepthAttachment = &da,
     };
+    /* a depth pre-pass, then shading with depth EQUAL: each visible sample shaded once (pipes.h
+     * PRW_BASE_VARIANT_PREPASS / _EQUAL); alpha-tested draws keep the single-pass state */
+    bool prepass = true;
     prw_draw_ctx dc = {.cmd = c->cmd, .kind = PRW_DRAW_COLOR, .view = &c->frame->draw[c->view], .pipes = env->pipes,
                        .recipe = &env->pipes->base, .variant = gbuf ? PRW_BASE_VARIANT_GBUFFER : PRW_BASE_VARIANT_PLAIN,
                        .sg = env->sg, .layout = env->pipes->base_layout};
     prw_pass_begin_rendering(c, &ri);
     prw_cmd_viewport(c->cmd, w, h);
+    if (prepass) {
+        /* depth of the opaque surfaces first, then shade only the fragments that stay visible */
+        dc.variant = gbuf ? PRW_BASE_VARIANT_PREPASS_GBUFFER : PRW_BASE_VARIANT_PREPASS;
+        prw_drawables_record(env->drawables, env, &dc);
+        dc.variant = gbuf ? PRW_BASE_VARIANT_EQUAL_GBUFFER : PRW_BASE_VARIANT_EQUAL;
+        dc.triangles = 0, dc.draws = 0;
+    }
     prw_drawables_record(env->drawables, env, &dc);
     if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces over the opaque image */
         dc.kind = PRW_DRAW_BLEND;
+        dc.variant = gbuf ? PRW_BASE_VARIANT_GBUFFER : PRW_BASE_VARIANT_PLAIN; /* tested against the opaque depth */
         prw_drawables_record(env->drawables, env, &dc);
     }
     prw_pass_end_rendering(c);

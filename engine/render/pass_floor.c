@@ -1,10 +1,11 @@
 /* pass_floor — the base pass's floor, for speed figures (issue "Speed", DESIGN.md §5): what the base
  * pass would cost if shading were free.  Per view, in the same frame as the base pass and only when
- * the renderer times its passes (desc.timestamps), it records the base pass again — the same dynamic
+ * the renderer times its passes (desc.timestamps), it records the base pass's draws once more — the same dynamic
  * rendering set-up (attachment formats, sample count, load/store and resolve ops, render area), the
  * same pipeline state and vertex shader (the base recipe, variant PRW_BASE_VARIANT_FLOOR: only the
  * fragment shader is floor.frag, a constant with no inputs and no descriptors) and the same draws
- * (every drawable's COLOR, then BLEND draws) — into scratch targets of its own, so the image is
+ * (every drawable's COLOR, then BLEND draws, once: not the base pass's depth pre-pass, whose time counts
+ * in base) — into scratch targets of its own, so the image is
  * unchanged.  The base pass's G-buffer outputs are not mirrored (they exist only for a later pass
  * that reads them; none does in the benchmarks).  Its triangles and draws are not counted.
  * base/floor is the base passes' time (prw_pass_stat.flags & PRW_PASS_RADIANCE) over this pass's. */

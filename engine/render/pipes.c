@@ -54,7 +54,12 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
     if (k->clip && layout != env->pipes->base_layout)
         return prw_fail(e, "render: the clip-plane variant needs the base layout (its push constants)");
     bool floor = k->variant == PRW_BASE_VARIANT_FLOOR || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER;
-    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER;
+    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER ||
+                k->variant == PRW_BASE_VARIANT_EQUAL_GBUFFER || k->variant == PRW_BASE_VARIANT_PREPASS_GBUFFER;
+    bool prepass = k->variant == PRW_BASE_VARIANT_PREPASS || k->variant == PRW_BASE_VARIANT_PREPASS_GBUFFER;
+    bool masked = (k->features & PRW_PIPE_MASK) != 0;
+    bool equal = (k->variant == PRW_BASE_VARIANT_EQUAL || k->variant == PRW_BASE_VARIANT_EQUAL_GBUFFER) && !masked;
+    if ((prepass || equal) && mv) return prw_fail(e, "render: multiview has no depth pre-pass variant");
     if (floor && mv) return prw_fail(e, "render: multiview has no floor variant");
     if (mv && gbuf) return prw_fail(e, "render: multiview with G-buffer outputs has no shader variant");
     bool ext = (k->features & PRW_PIPE_EXT) != 0, uv1 = ext && !(k->features & PRW_PIPE_NO_UV1);
@@ -86,11 +91,14 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         .cull = cull,
         .front_face = k->mirrored ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE,
         .depth_test = true,
-        .depth_write = !blend,
+        .depth_write = !blend && !equal && !(prepass && masked),
+        .depth_compare = equal ? VK_COMPARE_OP_EQUAL : 0,
         .blend_over = blend,
+        .no_color_write = prepass,
         .view_mask = k->view_mask,
     };
-    if (!floor) { /* lights.glsl: one loop per light class, of the plan's sizes (PRW_SC_*) */
+    if (prepass) d->fs = (prw_spirv){0}; /* depth only (the colour attachments stay bound, unwritten) */
+    if (!floor && !prepass) { /* lights.glsl: one loop per light class, of the plan's sizes (PRW_SC_*) */
         d->fs_spec[PRW_SC_LIGHTS_SORTED] = 1;
         for (int c = 0; c < PRW_LIGHT_CLASSES; c++) d->fs_spec[PRW_SC_LIGHT_CLASS0 + c] = (k->light_classes >> (5 * c)) & 31u;
         d->fs_spec_count = PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES;

@@ -44,6 +44,7 @@ enum {
     PRW_PIPE_BACK = 8u,   /* with BLEND: front faces culled (a two-sided blended mesh: its far side first) */
     PRW_PIPE_MASK = 16u,  /* shadow recipe: the alpha-tested caster (shadow_mask.vert + mask.frag, material set 1) */
     PRW_PIPE_COAT = 32u,  /* with EXT: the clear-coated shaders (PRW_GLTF_COAT) */
+    /* PRW_PIPE_MASK in the base recipe: the material is alpha-tested (its fragments may be discarded) */
 };
 
 typedef struct prw_pipe_recipe {
@@ -90,6 +91,13 @@ enum {
     PRW_BASE_VARIANT_GBUFFER = 1, /* + normal/roughness and material-id colour outputs */
     PRW_BASE_VARIANT_FLOOR = 2,   /* the base pipeline with floor.frag: a constant colour (pass_floor.c) */
     PRW_BASE_VARIANT_FLOOR_GBUFFER = 3, /* the same with the G-buffer outputs */
+    PRW_BASE_VARIANT_PREPASS = 4, /* depth pre-pass: no fragment shader, no colour writes; alpha-tested
+                                     (PRW_PIPE_MASK) draws write no depth either (they are left to the shading
+                                     draws) */
+    PRW_BASE_VARIANT_EQUAL = 5,   /* shading after the pre-pass: depth EQUAL, not written (PRW_PIPE_MASK draws:
+                                     the plain state) */
+    PRW_BASE_VARIANT_EQUAL_GBUFFER = 6, /* the same with the G-buffer outputs */
+    PRW_BASE_VARIANT_PREPASS_GBUFFER = 7, /* the pre-pass in a rendering with the G-buffer attachments */
 };
 
 #endif

@@ -172,6 +172,12 @@ bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session
 bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *signal, prw_tm_stats *stats,
                         prw_tm_report *rep, prw_error *e);
 void prw_tm_session_destroy(prw_tm_session *s);
+/* The same with the image uploaded as RGBA16F (the half radiance targets' format: values rounded to
+ * nearest, clipped at 65504). */
+bool prw_tm_session_create_half(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e);
+/* The yardstick of "memory speed": the wall time of a vkCmdCopyImage of the session's input image to
+ * another of the same format and size, timed as prw_tm_session_run times its passes. */
+bool prw_tm_session_time_copy(prw_tm_session *s, double *ms, prw_error *e);
 /* Profiling (prw tmbench --profile): wall time per pass ("stats", "classify", "blur3h", ...) of the
  * current settings, as differences of runs recording only the first k passes (best of `reps` runs
  * each; GPU timestamps do not time lavapipe's compute dispatches).  base_ms: the run with no pass. */

@@ -60,7 +60,10 @@ struct prw_tm_gpu {
     prw_tonemap_settings settings;
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
-    VkPipeline stats_pipe, reduce_pipe, apply_pipe, classify_pipe, compact_pipe, local_pipe;
+    VkPipeline stats_pipe, reduce_pipe, classify_pipe, compact_pipe, local_pipe;
+    /* the apply pass specialised on the UBO's mode (op, eotf, overlay, count): built on first use */
+    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2];
+    VkPipeline apply_pipe; /* this frame's, one of apply_spec (ensure_apply) */
     /* separable local: set 1 = the scratch image (layers: L, horizontal, 9 levels), made on first use */
     VkDescriptorSetLayout sep_set_layout;
     VkPipelineLayout sep_layout;
@@ -188,7 +191,6 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
         !prw_pipeline_layout_create(gpu, &tm->set_layout, 1, sizeof(tm_pc), &tm->layout, e) ||
         !prw_pipeline_compute(gpu, prw_shader_tonemap_stats_comp(), tm->layout, &tm->stats_pipe, e) ||
         !prw_pipeline_compute(gpu, prw_shader_tonemap_reduce_comp(), tm->layout, &tm->reduce_pipe, e) ||
-        !prw_pipeline_compute(gpu, prw_shader_tonemap_apply_comp(), tm->layout, &tm->apply_pipe, e) ||
         !prw_pipeline_compute(gpu, prw_shader_tonemap_classify_comp(), tm->layout, &tm->classify_pipe, e) ||
         !prw_pipeline_compute(gpu, prw_shader_tonemap_compact_comp(), tm->layout, &tm->compact_pipe, e) ||
         !prw_pipeline_compute(gpu, prw_shader_tonemap_local_comp(), tm->layout, &tm->local_pipe, e))
@@ -238,10 +240,13 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
     prw_buffer_destroy(tm->gpu, &tm->stats);
     prw_buffer_destroy(tm->gpu, &tm->tiles);
     prw_image_destroy(tm->gpu, &tm->sep_img);
-    VkPipeline pipes[9] = {tm->stats_pipe,    tm->reduce_pipe,  tm->apply_pipe,   tm->classify_pipe, tm->compact_pipe,
-                           tm->local_pipe,    tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
-    for (int i = 0; i < 9; i++)
+    VkPipeline pipes[8] = {tm->stats_pipe, tm->reduce_pipe,  tm->classify_pipe, tm->compact_pipe,
+                           tm->local_pipe, tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
+    for (int i = 0; i < 8; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
+    VkPipeline *spec = &tm->apply_spec[0][0][0][0];
+    for (size_t i = 0; i < sizeof tm->apply_spec / sizeof *spec; i++)
+        if (spec[i]) vkDestroyPipeline(dev, spec[i], NULL);
     if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
     if (tm->sep_set_layout) vkDestroyDescriptorSetLayout(dev, tm->sep_set_layout, NULL);
     if (tm->layout) vkDestroyPipelineLayout(dev, tm->layout, NULL);
@@ -369,6 +374,21 @@ static void record_local_sep(prw_tm_gpu *tm, const tm_rec *t, VkDescriptorSet se
     compute_barrier(t, CS, RW, CS, RW);
 }
 
+/* The apply pipeline for the mode the UBO now holds (tonemap_common.glsl's specialisation constants). */
+static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
+{
+    const tm_ubo *u = tm->params.mapped;
+    uint32_t op = (uint32_t)u->mode[0], eotf = (uint32_t)u->mode[1], ov = u->mode[2] != 0, cnt = u->mode[3] != 0;
+    if (op >= PRW_TM_OP_COUNT || eotf > PRW_EOTF_PQ)
+        return prw_fail(e, "render: tone map: operator %u / encoding %u unknown", op, eotf);
+    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt];
+    uint32_t spec[4] = {op, eotf, ov, cnt};
+    if (!*p && !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_apply_comp(), tm->layout, spec, 4, p, e))
+        return prw_fail_wrap(e, "render: tone map");
+    tm->apply_pipe = *p;
+    return true;
+}
+
 static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet *sets, const uint32_t *w,
                          const uint32_t *h, const VkDeviceSize *tile_off, uint32_t count)
 {
@@ -476,6 +496,7 @@ bool prw_tm_gpu_record_apply(prw_tm_gpu *tm, const prw_pass_ctx *c, bool stats_r
         tm_ubo *u = tm->params.mapped;
         u->mode[3] = 0;
     }
+    if (!ensure_apply(tm, e)) return false;
     uint32_t w[PRW_MAX_VIEWS], h[PRW_MAX_VIEWS];
     VkDeviceSize off[PRW_MAX_VIEWS];
     for (uint32_t vi = 0; vi < c->frame->view_count; vi++) {
@@ -572,6 +593,7 @@ struct prw_tm_session {
     prw_renderer *r;
     uint32_t w, h;
     prw_gpu_image in, ldr, sig;
+    prw_gpu_image copy; /* prw_tm_session_time_copy's destination (made on first use) */
     prw_desc_pool *pool; /* the session's own: its set goes with it (the renderer's pool only grows) */
     VkDescriptorSet set;
 };
@@ -581,13 +603,34 @@ void prw_tm_session_destroy(prw_tm_session *s)
 {
     if (!s) return;
     prw_image_destroy(s->r->gpu, &s->in);
+    prw_image_destroy(s->r->gpu, &s->copy);
     prw_image_destroy(s->r->gpu, &s->ldr);
     prw_image_destroy(s->r->gpu, &s->sig);
     if (s->pool) prw_desc_pool_destroy(s->r->gpu, s->pool);
     free(s);
 }
 
-bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e)
+/* IEEE binary16 bits of x, rounded to nearest even; beyond the largest half: the largest half (finite,
+ * as the renderer's half radiance targets clip), NaN: 0. */
+static uint16_t half_bits(float x)
+{
+    if (!(x == x)) return 0;
+    uint32_t u;
+    memcpy(&u, &x, 4);
+    uint16_t sign = (uint16_t)((u >> 16) & 0x8000u);
+    float a = fabsf(x);
+    if (a >= 65504.0f) return (uint16_t)(sign | 0x7bffu);
+    if (a < 6.103515625e-05f) { /* subnormal: a / 2^-24 rounded to nearest even (default rounding) */
+        return (uint16_t)(sign | (uint16_t)lrintf(a * 16777216.0f));
+    }
+    uint32_t m = u & 0x7fffffffu;
+    uint32_t h = ((m >> 13) - ((127u - 15u) << 10)); /* exponent rebias, mantissa truncated */
+    uint32_t rest = m & 0x1fffu;
+    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) h++;
+    return (uint16_t)(sign | h);
+}
+
+static bool session_create(prw_renderer *r, const prw_image *hdr, bool half, prw_tm_session **out, prw_error *e)
 {
     prw_tm_gpu *tm = r->tm;
     uint32_t w = (uint32_t)hdr->width, h = (uint32_t)hdr->height;
@@ -599,22 +642,65 @@ bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session
     s->r = r;
     s->w = w;
     s->h = h;
-    prw_image_desc din = {.width = w, .height = h, .format = SIG_FORMAT,
-                          .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
+    prw_image_desc din = {.width = w, .height = h, .format = half ? VK_FORMAT_R16G16B16A16_SFLOAT : SIG_FORMAT,
+                          .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+    uint16_t *h16 = NULL;
+    if (half) {
+        h16 = prw_malloc((size_t)w * h * 4 * sizeof *h16);
+        for (size_t i = 0; i < (size_t)w * h * 4; i++) h16[i] = half_bits(hdr->rgba[i]);
+    }
     prw_image_desc dldr = {.width = w, .height = h, .format = VK_FORMAT_R8G8B8A8_UNORM,
                            .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
     prw_image_desc dsig = {.width = w, .height = h, .format = SIG_FORMAT,
                            .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
     bool ok = prw_image_create(r->gpu, &din, &s->in, e) && prw_image_create(r->gpu, &dldr, &s->ldr, e) &&
               prw_image_create(r->gpu, &dsig, &s->sig, e) &&
-              prw_image_upload(r->gpu, &s->in, 0, hdr->rgba, (size_t)w * h * 16, e) &&
+              prw_image_upload(r->gpu, &s->in, 0, half ? (const void *)h16 : (const void *)hdr->rgba,
+                               (size_t)w * h * (half ? 8 : 16), e) &&
               prw_desc_pool_create(r->gpu, &s->pool, e) && prw_desc_alloc(r->gpu, s->pool, tm->set_layout, &s->set, e);
+    free(h16);
     if (!ok) {
         prw_tm_session_destroy(s);
         return false;
     }
     write_set(tm, s->set, s->in.view, s->ldr.view, s->sig.view, 0, tm->tile_stride * r->desc.max_views);
     *out = s;
+    return true;
+}
+
+bool prw_tm_session_create(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e)
+{
+    return session_create(r, hdr, false, out, e);
+}
+
+bool prw_tm_session_create_half(prw_renderer *r, const prw_image *hdr, prw_tm_session **out, prw_error *e)
+{
+    return session_create(r, hdr, true, out, e);
+}
+
+bool prw_tm_session_time_copy(prw_tm_session *s, double *ms, prw_error *e)
+{
+    prw_gpu *gpu = s->r->gpu;
+    if (!s->copy.image) {
+        prw_image_desc d = {.width = s->w, .height = s->h, .format = s->in.format,
+                            .usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+        if (!prw_image_create(gpu, &d, &s->copy, e)) return false;
+    }
+    VkCommandBuffer cmd;
+    if (!prw_cmd_begin(gpu, &cmd, e)) return false;
+    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    prw_cmd_transition(cmd, &s->copy, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    VkImageCopy region = {
+        .srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+        .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+        .extent = {s->w, s->h, 1},
+    };
+    vkCmdCopyImage(cmd, s->in.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s->copy.image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    double t0 = prw_now();
+    if (!prw_cmd_submit_wait(gpu, cmd, e)) return false;
+    *ms = 1e3 * (prw_now() - t0);
     return true;
 }
 
@@ -627,16 +713,16 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     if (!ensure_sep(tm, s->w, s->h, e)) return false;
     upload_params(tm, ev100, false);
     tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
-    if (!prw_cmd_begin(r->gpu, &cmd, e)) return false;
-    tm->prof_count = 0;
-    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
-    prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
     bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
     if (!need) {
         tm->counted = false;
         ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
     }
+    if (!ensure_apply(tm, e) || !prw_cmd_begin(r->gpu, &cmd, e)) return false;
+    tm->prof_count = 0;
+    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
+    prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
     VkDeviceSize off = 0;
     tm_rec t = {cmd, NULL};
     if (need) record_stats(tm, &t, &s->set, &s->w, &s->h, 1);
