@@ -348,6 +348,7 @@ static int walk_run(const walk_opts *o)
     uint32_t st_w = o->w, st_h = o->h;
     prw_frame_stats st = {0};
     static double render_ms[4096]; /* the first frames' render times, for the exit summary */
+    static double present_s[4096]; /* and the wall clock after each present (frame rate) */
     for (;;) {
         glfwPollEvents();
         if (glfwWindowShouldClose(win)) break;
@@ -459,6 +460,7 @@ static int walk_run(const walk_opts *o)
             if (hud_on) walk_hud_record(cmd, hud, target);
             if (!prw_swapchain_end_frame(c.gpu, sc, &e)) goto done;
         }
+        if (frame < (long)(sizeof present_s / sizeof present_s[0])) present_s[frame] = prw_now();
         frame++;
         if (o->frames && frame >= o->frames) break;
         if (o->replay && clock >= duration) break;
@@ -480,6 +482,15 @@ static int walk_run(const walk_opts *o)
         qsort(render_ms + 1, (size_t)(m - 1), sizeof(double), cmp_double);
         printf("walk: render time median %.2f ms over %ld frames (CPU: record + submit + wait; %s)\n",
                render_ms[1 + (m - 1) / 2], m - 1, o->pass_times ? "with GPU timestamps" : "no timestamps");
+    }
+    if (frame > 2) { /* intervals between presents from frame 1 on (frame 0 compiles pipelines) */
+        long m = frame < 4096 ? frame : 4096, k = 0;
+        for (long i = 2; i < m; i++) present_s[k++] = present_s[i] - present_s[i - 1];
+        qsort(present_s, (size_t)k, sizeof(double), cmp_double);
+        double dt = present_s[(k - 1) / 2];
+        printf("walk: frame rate median %.2f frames per second over %ld frames (wall clock between presents: "
+               "render, tone map, blit, HUD, present)\n",
+               dt > 0 ? 1.0 / dt : 0.0, k);
     }
     if (o->target_ms > 0)
         printf("walk: dynamic resolution to %.1f ms: scale %.3f, last frame %ux%u (render %.2f ms)\n", o->target_ms,
