@@ -9,6 +9,7 @@ PKGS=(
   libkissfft-dev
   libembree-dev libtbb-dev
   xvfb xauth
+  slurm-wlm munge
   clang libclang-rt-14-dev
   libglu1-mesa-dev
   python3-skimage
