@@ -6,8 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #include "app.h"
+#include "prw_image.h"
 #include "prw_reference.h"
 #include "prw_view.h"
 
@@ -28,7 +30,53 @@ static void reference_usage(void)
            "  --samples s0,s1      render samples [s0, s1) instead of [0, spp)\n"
            "  --acc FILE.acc       also write the exact fixed-point accumulation; join them with\n"
            "                       prw reference-merge A.acc B.acc ... --out ref.exr\n"
-           "Threads: the global --threads budget (Embree/TBB and the tracer's workers).\n");
+           "  --against REF.exr    a higher-spp reference of the same scene, camera, size and filter (with its\n"
+           "                       REF.var.exr): also prints CPU-s x (MSE - REF's own variance), the error\n"
+           "                       this run reaches per CPU-second (lower is better)\n"
+           "Threads: the global --threads budget (Embree/TBB and the tracer's workers).  Prints the samples\n"
+           "per pixel per CPU-second (process CPU time of the render, all threads).\n");
+}
+
+static double cpu_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* REF.exr and REF.var.exr (--against), read before the render so that a bad one costs no work. */
+static bool load_against(const char *ref_path, uint32_t width, uint32_t height, prw_image *ref, prw_image *rv,
+                         prw_error *e)
+{
+    char vp[2048];
+    prw_ref_var_path(ref_path, vp, sizeof vp);
+    if (!prw_exr_read(ref_path, NULL, ref, e) || !prw_exr_read(vp, NULL, rv, e))
+        return prw_fail_wrap(e, "--against %s", ref_path);
+    if (ref->width != (int)width || ref->height != (int)height || rv->width != ref->width || rv->height != ref->height)
+        return prw_fail(e, "--against %s: %dx%d (variance %dx%d), this run is %ux%u", ref_path, ref->width,
+                        ref->height, rv->width, rv->height, width, height);
+    return true;
+}
+
+/* MSE of this run's mean against ref over pixels and RGB, and ref's mean variance of the mean. */
+static bool error_against(const prw_ref_acc *acc, const prw_image *ref, const prw_image *rv, double *mse,
+                          double *ref_var, prw_error *e)
+{
+    float *mean = NULL, *var = NULL;
+    if (!prw_ref_acc_images(acc, &mean, &var, e)) return false;
+    double se = 0, sv = 0;
+    size_t n = (size_t)ref->width * ref->height;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            double d = (double)mean[4 * i + c] - ref->rgba[4 * i + c];
+            se += d * d;
+            sv += rv->rgba[4 * i + c];
+        }
+    *mse = se / (3.0 * (double)n);
+    *ref_var = sv / (3.0 * (double)n);
+    free(mean);
+    free(var);
+    return true;
 }
 
 static void merge_usage(void)
@@ -120,6 +168,7 @@ int prw_cmd_reference(int argc, char **argv)
     out = prw_args_value(&a, "out", &e, &bad);
     acc_path = prw_args_value(&a, "acc", &e, &bad);
     camera = prw_args_value(&a, "camera", &e, &bad);
+    const char *against = prw_args_value(&a, "against", &e, &bad);
     if ((v = prw_args_value(&a, "size", &e, &bad)) && !prw_parse_size(v, &width, &height, &e)) bad = true;
     if (!bad && (v = prw_args_value(&a, "spp", &e, &bad))) {
         if (!prw_parse_int(v, "--spp", 1, (long)PRW_REF_MAX_SPP, &n, &e)) bad = true;
@@ -155,6 +204,7 @@ int prw_cmd_reference(int argc, char **argv)
                              width, height);
     bool whole = !has_tile || (tile[0] == 0 && tile[1] == 0 && tile[2] == width && tile[3] == height);
     if (!bad && !whole && out) bad = true, prw_fail(&e, "--out needs the whole image; write tiles with --acc and merge them");
+    if (!bad && !whole && against) bad = true, prw_fail(&e, "--against needs the whole image");
     if (!bad && !whole && !acc_path) bad = true, prw_fail(&e, "--tile needs --acc FILE (tiles are merged with reference-merge)");
     if (bad) {
         fprintf(stderr, "prw reference: error: %s\n", e.msg);
@@ -178,6 +228,8 @@ int prw_cmd_reference(int argc, char **argv)
     prw_ref_renderer *r = NULL;
     prw_ref_acc acc = {0};
     prw_view view;
+    prw_image ref_img = {0}, ref_var_img = {0};
+    if (against && !load_against(against, width, height, &ref_img, &ref_var_img, &e)) goto done;
     if (!prw_app_load_renderable(scene_path, &scene, &e)) goto done;
     if (!prw_ref_view_for_camera(scene, camera, width, height, &view, &e)) goto done;
     if (!prw_app_bake_scene(scene, &e)) goto done;
@@ -188,7 +240,9 @@ int prw_cmd_reference(int argc, char **argv)
                       .filter = filter, .time_limit_s = time_limit, .progress = progress_cb};
     if (has_tile) d.x0 = tile[0], d.y0 = tile[1], d.x1 = tile[2], d.y1 = tile[3];
     prw_ref_stats st;
+    double c0 = cpu_seconds();
     bool ok = prw_ref_render(r, &view, &d, &acc, &st, &e);
+    double cpu = cpu_seconds() - c0;
     fprintf(stderr, "\n");
     if (!ok) goto done;
     if (acc_path) {
@@ -211,6 +265,15 @@ int prw_cmd_reference(int argc, char **argv)
            (unsigned long long)st.spp, st.time_limited ? " (time limit)" : "", width, height, fname,
            (unsigned long long)seed, st.seconds, t_build, (double)st.rays / fmax(st.seconds, 1e-9) * 1e-6,
            prw_threads_get());
+    printf("reference: %.3f samples per pixel per CPU-second (%.2f CPU-s for %llu spp)\n",
+           cpu > 0 ? (double)st.spp / cpu : 0.0, cpu, (unsigned long long)st.spp);
+    if (against) {
+        double mse, rvar;
+        if (!error_against(&acc, &ref_img, &ref_var_img, &mse, &rvar, &e)) goto done;
+        printf("reference: against %s: MSE %.6g, its own variance %.6g, CPU-s x (MSE - variance) %.6g "
+               "((cd/m^2)^2 s)\n",
+               against, mse, rvar, cpu * (mse - rvar));
+    }
     if (acc.nonfinite) printf("reference: warning: %llu non-finite samples dropped\n", (unsigned long long)acc.nonfinite);
     if (scene->nurbs_count)
         printf("reference: NURBS tessellation error %.3g px at this view (finest level, exact normals)%s\n", st.tess_px,
@@ -219,6 +282,8 @@ int prw_cmd_reference(int argc, char **argv)
 done:
     if (rc != 0) fprintf(stderr, "prw reference: error: %s\n", e.msg[0] ? e.msg : "failed");
     prw_ref_acc_free(&acc);
+    prw_image_free(&ref_img);
+    prw_image_free(&ref_var_img);
     prw_ref_destroy(r);
     prw_scene_destroy(scene);
     prw_args_free(&a);
