@@ -90,10 +90,13 @@ bool prw_bake_scene(prw_scene *s, prw_bake_progress_fn progress, void *user, prw
         const prw_scene_nurbs *n = &s->nurbs[i];
         prw_nurbs_model m;
         prw_baked_lod *b = NULL;
+        /* the reader's messages name the file; after it, the path is added (the entry's name is often
+         * only its basename) */
+        const char *lp = n->file[0] ? " (" : "", *rp = n->file[0] ? ")" : "";
         if (!prw_scene_nurbs_load(n, &m, e)) return prw_fail_wrap(e, "NURBS model '%s'", n->name);
         if (!prw_bake_scene_entry(n, &m, progress, user, &b, e)) {
             prw_nurbs_model_free(&m);
-            return prw_fail_wrap(e, "NURBS model '%s'", n->name);
+            return prw_fail_wrap(e, "NURBS model '%s'%s%s%s", n->name, lp, n->file, rp);
         }
         if (!prw_scene_nurbs_attach(s, i, &m, b, e)) return false; /* both freed */
     }

@@ -43,7 +43,9 @@ bool prw_lod_scene_create(prw_gpu *gpu, const prw_scene *s, double tol_px, prw_l
                                   .single_sided = en->desc.single_sided};
         if (en->baked->have_proxy) go.proxy = &en->baked->proxy; /* baked: not rebuilt here */
         ok = prw_lod_gpu_create(gpu, &en->baked->lod, en->model, en->instances, &go, &en->gpu, e);
-        if (!ok) prw_fail_wrap(e, "NURBS model '%s'", en->desc.name);
+        if (!ok)
+            prw_fail_wrap(e, "NURBS model '%s'%s%s%s", en->desc.name, en->desc.file[0] ? " (" : "", en->desc.file,
+                          en->desc.file[0] ? ")" : "");
     }
     if (!ok) {
         prw_lod_scene_destroy(ls);
