@@ -64,23 +64,6 @@ static bool needed(const prw_pass_ctx *c, const char **why)
     return true;
 }
 
-static VkRenderingAttachmentInfo attachment(prw_gpu_image *img, prw_gpu_image *resolve, VkResolveModeFlagBits mode,
-                                            float clear_alpha)
-{
-    bool ms = resolve != NULL;
-    return (VkRenderingAttachmentInfo){
-        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
-        .imageView = img->view,
-        .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-        .resolveMode = ms ? mode : VK_RESOLVE_MODE_NONE,
-        .resolveImageView = ms ? resolve->view : VK_NULL_HANDLE,
-        .resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-        .storeOp = ms ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-        .clearValue.color = {{0, 0, 0, clear_alpha}},
-    };
-}
-
 static bool record(prw_pass_ctx *c, prw_error *e)
 {
     const prw_render_env *env = c->env;
@@ -90,21 +73,15 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     prw_gpu_image *normal = prw_pass_image(c, "gbuf_normal"), *id = prw_pass_image(c, "gbuf_id");
     bool gbuf = normal && id;
     VkRenderingAttachmentInfo ca[3];
-    ca[0] = attachment(msaa ? prw_pass_image(c, "msaa_color") : out, msaa ? out : NULL, VK_RESOLVE_MODE_AVERAGE_BIT, 1);
+    ca[0] = prw_pipes_color_attachment(msaa ? prw_pass_image(c, "msaa_color") : out, msaa ? out : NULL,
+                                       VK_RESOLVE_MODE_AVERAGE_BIT, 1);
     if (gbuf) {
-        ca[1] = attachment(msaa ? prw_pass_image(c, "gbuf_normal_ms") : normal, msaa ? normal : NULL,
+        ca[1] = prw_pipes_color_attachment(msaa ? prw_pass_image(c, "gbuf_normal_ms") : normal, msaa ? normal : NULL,
                            VK_RESOLVE_MODE_AVERAGE_BIT, 0);
-        ca[2] = attachment(msaa ? prw_pass_image(c, "gbuf_id_ms") : id, msaa ? id : NULL,
+        ca[2] = prw_pipes_color_attachment(msaa ? prw_pass_image(c, "gbuf_id_ms") : id, msaa ? id : NULL,
                            VK_RESOLVE_MODE_SAMPLE_ZERO_BIT, 0);
     }
-    VkRenderingAttachmentInfo da = {
-        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
-        .imageView = depth->view,
-        .imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-        .storeOp = VK_ATTACHMENT_STORE_OP_STORE, /* kept: later passes may read it */
-        .clearValue.depthStencil = {0.0f, 0},
-    };
+    VkRenderingAttachmentInfo da = prw_pipes_depth_attachment(depth); /* kept: later passes may read it */
     uint32_t w = out->width, h = out->height;
     VkRenderingInfo ri = {
         .sType = VK_STRUCTURE_TYPE_RENDERING_INFO,

@@ -46,25 +46,9 @@ static bool record(prw_pass_ctx *c, prw_error *e)
     prw_gpu_image *out = prw_pass_image(c, "floor_out"), *depth = prw_pass_image(c, "floor_depth");
     prw_gpu_image *col = msaa ? prw_pass_image(c, "floor_msaa") : out;
     /* the base pass's attachment set-up (pass_base.c), colour 0 and depth */
-    VkRenderingAttachmentInfo ca = {
-        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
-        .imageView = col->view,
-        .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-        .resolveMode = msaa ? VK_RESOLVE_MODE_AVERAGE_BIT : VK_RESOLVE_MODE_NONE,
-        .resolveImageView = msaa ? out->view : VK_NULL_HANDLE,
-        .resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-        .storeOp = msaa ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-        .clearValue.color = {{0, 0, 0, 1}},
-    };
-    VkRenderingAttachmentInfo da = {
-        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
-        .imageView = depth->view,
-        .imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-        .storeOp = VK_ATTACHMENT_STORE_OP_STORE, /* as the base pass stores its depth */
-        .clearValue.depthStencil = {0.0f, 0},
-    };
+    VkRenderingAttachmentInfo ca =
+        prw_pipes_color_attachment(col, msaa ? out : NULL, VK_RESOLVE_MODE_AVERAGE_BIT, 1);
+    VkRenderingAttachmentInfo da = prw_pipes_depth_attachment(depth);
     uint32_t w = out->width, h = out->height;
     VkRenderingInfo ri = {
         .sType = VK_STRUCTURE_TYPE_RENDERING_INFO,

@@ -231,3 +231,32 @@ void prw_pipes_forget(prw_pipes *p, const prw_pipe_recipe *r)
 {
     if (p && p->table) prw_pipeline_table_remove(p->table, same_recipe, (void *)r);
 }
+
+VkRenderingAttachmentInfo prw_pipes_color_attachment(prw_gpu_image *img, prw_gpu_image *resolve,
+                                                     VkResolveModeFlagBits mode, float clear_alpha)
+{
+    bool ms = resolve != NULL;
+    return (VkRenderingAttachmentInfo){
+        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+        .imageView = img->view,
+        .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+        .resolveMode = ms ? mode : VK_RESOLVE_MODE_NONE,
+        .resolveImageView = ms ? resolve->view : VK_NULL_HANDLE,
+        .resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+        .storeOp = ms ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+        .clearValue.color = {{0, 0, 0, clear_alpha}},
+    };
+}
+
+VkRenderingAttachmentInfo prw_pipes_depth_attachment(prw_gpu_image *depth)
+{
+    return (VkRenderingAttachmentInfo){
+        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+        .imageView = depth->view,
+        .imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        .clearValue.depthStencil = {0.0f, 0},
+    };
+}

@@ -76,6 +76,13 @@ void prw_pipes_forget(prw_pipes *p, const prw_pipe_recipe *r);
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e);
 
+/* The base pass's attachments (pass_base.c, and pass_floor.c, which must set up the same):
+ * colour: cleared to (0, 0, 0, clear_alpha); with a resolve image (MSAA) resolved by `mode`, itself not
+ * stored; without, stored.  Depth: cleared to 0 (reversed Z), stored. */
+VkRenderingAttachmentInfo prw_pipes_color_attachment(prw_gpu_image *img, prw_gpu_image *resolve,
+                                                     VkResolveModeFlagBits mode, float clear_alpha);
+VkRenderingAttachmentInfo prw_pipes_depth_attachment(prw_gpu_image *depth);
+
 /* Formats of the graph images every pass agrees on.  Radiance: float32 or half by the knob radiance_bits. */
 static inline VkFormat prw_pipes_radiance_format(const prw_render_env *env)
 {

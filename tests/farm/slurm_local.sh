@@ -11,13 +11,13 @@ size=${3:-64x64}
 spp=${4:-8}
 tasks=${5:-4}
 here="$(cd "$(dirname "$0")/../.." && pwd)"
-for b in munged slurmctld slurmd sbatch squeue; do
-  if ! command -v "$b" >/dev/null 2>&1 && [ ! -x "/usr/sbin/$b" ]; then
+PATH="$PATH:/usr/sbin:/sbin" # the daemons live in sbin, which a user's PATH may lack
+for b in munged slurmctld slurmd sbatch sinfo; do
+  if ! command -v "$b" >/dev/null 2>&1; then
     echo "SKIP: $b not installed (Debian packages slurm-wlm and munge; scripts/setup.sh installs them)"
     exit 77
   fi
 done
-PATH="$PATH:/usr/sbin"
 rm -rf "$work"
 mkdir -p "$work"/{munge,spool,state,log,out}
 work="$(cd "$work" && pwd)"
