@@ -75,7 +75,18 @@
 #define PRW_B_POW5(x) ((x) * (x) * (x) * (x) * (x))
 #define PRW_B_CONST static const
 #define PRW_B_FLOOR(x) floorf(x)
-#define PRW_B_LDEXP(x, k) ldexpf((x), (k))
+#include <stdint.h>
+#include <string.h>
+/* x 2^k by a multiplication with the exact power of two: ldexpf to the bit for k in [-126, 127] and
+ * normal results (prw_exp's range), without the library call. */
+static inline float prw_b_ldexp(float x, int k)
+{
+    uint32_t u = (uint32_t)(k + 127) << 23;
+    float p;
+    memcpy(&p, &u, sizeof p);
+    return x * p;
+}
+#define PRW_B_LDEXP(x, k) prw_b_ldexp((x), (k))
 #define PRW_B_INT(x) ((int)(x))
 #endif
 

@@ -2,6 +2,7 @@
 #include "prw_bsdf.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "prw_brdf.h"
 
@@ -29,10 +30,58 @@ static void coat_normal(const prw_bsdf *b, double nc[3])
     for (int k = 0; k < 3; k++) nc[k] = b->coat_n[k];
 }
 
-static void eval(const prw_bsdf *b, const double wo[3], const double wi[3], bool diffuse_only, double f[3])
+/* The rows travel in prw_bsdf_lobes as float[16] (prw_bsdf.h does not include the generated header). */
+_Static_assert(sizeof(prw_ggx_row) == 16 * sizeof(float), "prw_ggx_row is 16 floats");
+static prw_ggx_row row_of(const float r[16])
+{
+    prw_ggx_row w;
+    memcpy(&w, r, sizeof w);
+    return w;
+}
+
+/* prw_coat_albedo / prw_coat_transmission of prw_brdf.h with the coat's rows: the same float operations. */
+static float coat_albedo_rows(const prw_bsdf_lobes *l, float mu)
+{
+    float m = prw_clamp01(mu);
+    float fms = prw_F_ms(PRW_DIELECTRIC_F_AVG, l->cc_avg);
+    return prw_ggx_Ed_at(row_of(l->cd_row), m) + fms * prw_ggx_Ec_at(row_of(l->cc_row), m);
+}
+
+static float coat_transmission_rows(const prw_bsdf_lobes *l, float mu, float clearcoat)
+{
+    return 1.0 - prw_clamp01(clearcoat) * coat_albedo_rows(l, mu);
+}
+
+/* The fits of prw_bsdf_lobes: everything eval needs that does not depend on wi, with the arguments
+ * eval used to pass (so the same bits). */
+static void fill_fits(const prw_bsdf *b, const double wo[3], prw_bsdf_lobes *l)
+{
+    l->fits = 1;
+    float NoV = (float)wo[2], r = (float)b->roughness;
+    float mo = fminf(NoV, 1.0f);
+    prw_ggx_row ec = prw_ggx_Ec_row(r), ed = prw_ggx_Ed_row(r);
+    memcpy(l->ec_row, &ec, sizeof ec);
+    memcpy(l->ed_row, &ed, sizeof ed);
+    l->ec_avg = prw_ggx_Ec_avg(r), l->ed_avg = prw_ggx_Ed_avg(r);
+    l->ec_o = prw_ggx_Ec_at(ec, mo), l->ed_o = prw_ggx_Ed_at(ed, mo);
+    if (!has_coat(b)) return;
+    double nc[3];
+    coat_normal(b, nc);
+    float NcV = (float)dot3(nc, wo), rc = (float)b->clearcoat_roughness;
+    prw_ggx_row cc = prw_ggx_Ec_row(rc), cd = prw_ggx_Ed_row(rc);
+    memcpy(l->cc_row, &cc, sizeof cc);
+    memcpy(l->cd_row, &cd, sizeof cd);
+    l->cc_avg = prw_ggx_Ec_avg(rc);
+    l->coat_t_o = coat_transmission_rows(l, NcV, (float)b->clearcoat);
+    l->coat_mo = PRW_B_MIN(NcV, 1.0);
+    l->cc_o = prw_ggx_Ec_at(cc, l->coat_mo);
+}
+
+static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3],
+                 bool diffuse_only, double f[3])
 {
     f[0] = f[1] = f[2] = 0;
-    if (wo[2] <= 0 || wi[2] <= 0) return;
+    if (wo[2] <= 0 || wi[2] <= 0 || !l->fits) return;
     double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
     double hl = sqrt(dot3(h, h));
     if (!(hl > 0)) return;
@@ -44,12 +93,13 @@ static void eval(const prw_bsdf *b, const double wo[3], const double wi[3], bool
     float base[3] = {(float)b->base[0], (float)b->base[1], (float)b->base[2]};
     float m = (float)b->metallic, r = (float)b->roughness, sp = (float)b->specular;
     /* prw_brdf_channel / prw_brdf_diffuse_channel per channel, with the fitted albedos (which do not
-     * depend on the channel) evaluated once: the same float operations, so the same bits. */
+     * depend on the channel) evaluated once, those at wo once per shading point: the same float
+     * operations, so the same bits. */
     float fb[3] = {0, 0, 0};
     if (NoL > 0.0 && NoV > 0.0) {
         float mo = fminf(NoV, 1.0f), mi = fminf(NoL, 1.0f);
-        float ec_avg = prw_ggx_Ec_avg(r), ed_avg = prw_ggx_Ed_avg(r);
-        float ec_o = prw_ggx_Ec(mo, r), ec_i = prw_ggx_Ec(mi, r), ed_o = prw_ggx_Ed(mo, r), ed_i = prw_ggx_Ed(mi, r);
+        float ec_avg = l->ec_avg, ed_avg = l->ed_avg, ec_o = l->ec_o, ed_o = l->ed_o;
+        float ec_i = prw_ggx_Ec_at(row_of(l->ec_row), mi), ed_i = prw_ggx_Ed_at(row_of(l->ed_row), mi);
         for (int c = 0; c < 3; c++) {
             fb[c] = prw_brdf_diffuse_terms(base[c], m, sp, ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i);
             if (!diffuse_only) fb[c] += prw_brdf_specular_terms(mo, mi, NoH, VoH, base[c], m, r, sp, ec_avg, ec_o, ec_i);
@@ -66,16 +116,36 @@ static void eval(const prw_bsdf *b, const double wo[3], const double wi[3], bool
     coat_normal(b, nc);
     float NcV = (float)dot3(nc, wo), NcL = (float)dot3(nc, wi), NcH = (float)dot3(nc, h);
     float rc = (float)b->clearcoat_roughness;
-    float t = prw_coat_transmission(NcV, c, rc) * prw_coat_transmission(NcL, c, rc);
-    float lobe = diffuse_only ? 0.0f : prw_brdf_coat_lobe(NcV, NcL, NcH, VoH, rc);
+    float t = l->coat_t_o * coat_transmission_rows(l, NcL, cc);
+    float lobe = 0.0f;
+    if (!diffuse_only && NcL > 0.0 && NcV > 0.0) { /* prw_brdf_coat_lobe */
+        float mi = PRW_B_MIN(NcL, 1.0);
+        lobe = prw_brdf_coat_terms(l->coat_mo, mi, NcH, VoH, rc, l->cc_avg, l->cc_o, prw_ggx_Ec_at(row_of(l->cc_row), mi));
+    }
     for (int k = 0; k < 3; k++) f[k] = diffuse_only ? t * fb[k] : c * lobe + t * fb[k];
 }
 
-void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3]) { eval(b, wo, wi, false, f); }
+void prw_bsdf_eval_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3], double f[3])
+{
+    eval(b, l, wo, wi, false, f);
+}
+
+void prw_bsdf_eval_diffuse_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3],
+                              double f[3])
+{
+    eval(b, l, wo, wi, true, f);
+}
+
+void prw_bsdf_eval(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3])
+{
+    prw_bsdf_lobes l = prw_bsdf_lobes_at(b, wo);
+    eval(b, &l, wo, wi, false, f);
+}
 
 void prw_bsdf_eval_diffuse(const prw_bsdf *b, const double wo[3], const double wi[3], double f[3])
 {
-    eval(b, wo, wi, true, f);
+    prw_bsdf_lobes l = prw_bsdf_lobes_at(b, wo);
+    eval(b, &l, wo, wi, true, f);
 }
 
 /* ---- lobes ---- */
@@ -154,13 +224,14 @@ double prw_pdf_ggx_reflect(const double wo[3], const double wi[3], double alpha)
 /* Probability of choosing the GGX lobe: specular albedo / (specular + diffuse-like albedo), both
  * estimated per channel from the fitted albedos at mu_o and averaged over RGB.  The multiple-scattering lobe
  * is cosine-like and counted with the diffuse lobe (it is sampled through the cosine lobe). */
-static double spec_probability(const prw_bsdf *b, double mu_o, double *albedo)
+static double spec_probability(const prw_bsdf *b, const prw_bsdf_lobes *l, double mu_o, double *albedo)
 {
-    float mo = (float)clampd(mu_o, 0, 1), r = (float)clampd(b->roughness, 0, 1);
+    /* the fits at mo = mu_o (in (0, 1]: fill_fits' argument) and the clamped roughness (every fit clamps it) */
+    float mo = (float)clampd(mu_o, 0, 1);
     double m = clampd(b->metallic, 0, 1), s = clampd(b->specular, 0, 1);
-    float ecf = prw_ggx_Ec(mo, r);
-    double ec = ecf, e = 1 - ecf, ec_avg = prw_ggx_Ec_avg(r); /* 1 - ecf in float */
-    double ed = prw_ggx_Ed(mo, r);
+    float ecf = l->ec_o;
+    double ec = ecf, e = 1 - ecf, ec_avg = l->ec_avg; /* 1 - ecf in float */
+    double ed = l->ed_o;
     double fms_d = prw_F_ms((float)(s * PRW_DIELECTRIC_F_AVG), (float)ec_avg);
     double e_ds = s * ed + fms_d * ec;
     double spec = 0, diff = 0;
@@ -220,10 +291,11 @@ static double base_pdf(const prw_bsdf *b, double ps, const double wo[3], const d
 
 prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3])
 {
-    prw_bsdf_lobes l = {.ps = 0, .pc = 0};
+    prw_bsdf_lobes l = {.ps = 0, .pc = 0, .fits = 0};
     if (wo[2] <= 0) return l;
+    fill_fits(b, wo, &l);
     double albedo;
-    l.ps = spec_probability(b, wo[2], &albedo);
+    l.ps = spec_probability(b, &l, wo[2], &albedo);
     if (has_coat(b)) {
         coat_frame f = make_coat_frame(b);
         l.pc = coat_probability(b, &f, wo, albedo);

@@ -45,13 +45,23 @@ void prw_bsdf_eval_diffuse(const prw_bsdf *b, const double wo[3], const double w
 double prw_bsdf_pdf(const prw_bsdf *b, const double wo[3], const double wi[3]);
 bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], double wi[3], double *pdf);
 
-/* The mixture's lobe probabilities at one wo (they depend on wo only), computed once per shading
- * point and passed to the *_at forms, which return exactly what prw_bsdf_pdf / prw_bsdf_sample do. */
+/* What the model needs at one (material, wo), computed once per shading point by prw_bsdf_lobes_at
+ * and passed to the *_at forms, which return exactly (to the bit) what prw_bsdf_eval / _pdf /
+ * _sample do with that b and wo: the mixture's lobe probabilities (they depend on wo only) and the
+ * fitted albedos of prw_brdf.h that do not depend on wi (the roughness rows of the 2-D fits, the
+ * averages and the values at wo), so an evaluation fits only at wi. */
 typedef struct prw_bsdf_lobes {
     double ps; /* GGX lobe of the base (else the cosine lobe) */
     double pc; /* the coat lobe first (0 without a coat) */
+    /* private to prw_bsdf.c */
+    int fits;  /* 1: the fields below hold the fits (wo above the horizon) */
+    float ec_row[16], ed_row[16], ec_avg, ed_avg, ec_o, ed_o;         /* base, roughness */
+    float cc_row[16], cd_row[16], cc_avg, coat_t_o, cc_o, coat_mo; /* coat, clearcoat roughness */
 } prw_bsdf_lobes;
 prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3]);
+void prw_bsdf_eval_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3], double f[3]);
+void prw_bsdf_eval_diffuse_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3],
+                              double f[3]);
 double prw_bsdf_pdf_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3]);
 bool prw_bsdf_sample_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double u[3],
                         double wi[3], double *pdf);

@@ -451,7 +451,7 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
 static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
 {
     double kd[3];
-    prw_bsdf_eval_diffuse(&sh->b, sh->wo, wl, kd);
+    prw_bsdf_eval_diffuse_at(&sh->b, &sh->lobes, sh->wo, wl, kd);
     for (int c = 0; c < 3; c++) {
         double x = fv[c] > 0 ? kd[c] / fv[c] : 0;
         x = fmin(fmax(x, 0.0), 1.0);
@@ -486,7 +486,7 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     to_local(sh, wi, wl);
     if (!(wl[2] > 0)) return;
     double fv[3];
-    prw_bsdf_eval(&sh->b, sh->wo, wl, fv);
+    prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fv);
     if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) return;
     double o[3], sd[3], tmax = INFINITY;
     for (int c = 0; c < 3; c++) o[c] = s->p[c] + s->ng[c] * s->eps;
@@ -714,7 +714,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
         norm3(wi);
         if (!(dot3(s.ng, wi) > 0)) break;
         double fv[3];
-        prw_bsdf_eval(&sh.b, sh.wo, wl, fv);
+        prw_bsdf_eval_at(&sh.b, &sh.lobes, sh.wo, wl, fv);
         if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) break;
         if (pa.k == 1) class_weight(f, &sh, wl, fv, pa.cls);
         for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] * wl[2] / pdf;
