@@ -57,6 +57,15 @@ static float coat_transmission_rows(const prw_bsdf_lobes *l, float mu, float cle
 static void fill_fits(const prw_bsdf *b, const double wo[3], prw_bsdf_lobes *l)
 {
     l->fits = 1;
+    /* Without a specular lobe every fitted albedo is multiplied by an exact zero (metallic, specular
+     * and F_ms(0, .)), so eval's result is prw_lambert(base) to the bit and the fits are not needed:
+     * zeros stand in for them (spec_probability gives the same numbers with them). */
+    l->lambert = b->metallic <= 0 && b->specular <= 0 && !has_coat(b);
+    if (l->lambert) {
+        memset(l->ec_row, 0, sizeof l->ec_row), memset(l->ed_row, 0, sizeof l->ed_row);
+        l->ec_avg = l->ed_avg = l->ec_o = l->ed_o = 0;
+        return;
+    }
     float NoV = (float)wo[2], r = (float)b->roughness;
     float mo = fminf(NoV, 1.0f);
     prw_ggx_row ec = prw_ggx_Ec_row(r), ed = prw_ggx_Ed_row(r);
@@ -89,6 +98,11 @@ static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3],
     /* VoH = (wo.h) = (wi.h) mathematically; the symmetric form keeps f(wo, wi) = f(wi, wo) bit-exact
      * in double before the float boundary. */
     float NoV = (float)wo[2], NoL = (float)wi[2], NoH = (float)h[2];
+    if (l->lambert) {
+        if (NoL > 0.0 && NoV > 0.0)
+            for (int c = 0; c < 3; c++) f[c] = prw_lambert((float)b->base[c]);
+        return;
+    }
     float VoH = (float)(0.5 * (dot3(wo, h) + dot3(wi, h)));
     float base[3] = {(float)b->base[0], (float)b->base[1], (float)b->base[2]};
     float m = (float)b->metallic, r = (float)b->roughness, sp = (float)b->specular;
@@ -243,6 +257,7 @@ static double spec_probability(const prw_bsdf *b, const prw_bsdf_lobes *l, doubl
         diff += (1 - m) * (base * (1 - e_ds) + fms_d * ec) + m * fms_m * ec;
     }
     if (albedo) *albedo = (spec + diff) / 3;
+    if (l->lambert) return 0; /* no specular lobe to sample */
     if (!(spec + diff > 0)) return 0.5;
     return clampd(spec / (spec + diff), 0.05, 0.95);
 }
@@ -286,6 +301,7 @@ static double coat_probability(const prw_bsdf *b, const coat_frame *f, const dou
 
 static double base_pdf(const prw_bsdf *b, double ps, const double wo[3], const double wi[3])
 {
+    if (ps == 0) return prw_pdf_cosine(wi);
     return ps * prw_pdf_ggx_reflect(wo, wi, alpha_of(b)) + (1 - ps) * prw_pdf_cosine(wi);
 }
 

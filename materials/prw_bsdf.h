@@ -51,10 +51,11 @@ bool prw_bsdf_sample(const prw_bsdf *b, const double wo[3], const double u[3], d
  * fitted albedos of prw_brdf.h that do not depend on wi (the roughness rows of the 2-D fits, the
  * averages and the values at wo), so an evaluation fits only at wi. */
 typedef struct prw_bsdf_lobes {
-    double ps; /* GGX lobe of the base (else the cosine lobe) */
+    double ps; /* GGX lobe of the base (else the cosine lobe); 0 without a specular lobe */
     double pc; /* the coat lobe first (0 without a coat) */
     /* private to prw_bsdf.c */
     int fits;  /* 1: the fields below hold the fits (wo above the horizon) */
+    int lambert; /* no specular lobe (metallic 0, specular 0, no coat): f = base / pi, fits all zero */
     float ec_row[16], ed_row[16], ec_avg, ed_avg, ec_o, ed_o;         /* base, roughness */
     float cc_row[16], cd_row[16], cc_avg, coat_t_o, cc_o, coat_mo; /* coat, clearcoat roughness */
 } prw_bsdf_lobes;
