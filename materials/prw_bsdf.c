@@ -310,6 +310,7 @@ prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3])
     prw_bsdf_lobes l = {.ps = 0, .pc = 0, .fits = 0};
     if (wo[2] <= 0) return l;
     fill_fits(b, wo, &l);
+    if (l.lambert) return l; /* the cosine lobe alone (ps = pc = 0) */
     double albedo;
     l.ps = spec_probability(b, &l, wo[2], &albedo);
     if (has_coat(b)) {

@@ -63,7 +63,9 @@ static void *worker(void *arg)
                 size_t idx = (size_t)(y - a->y0) * tw + (x - a->x0);
                 for (uint64_t s = j->b0; s < j->b1; s++) {
                     ref_rng rng = ref_rng_make(a->seed, pix, s);
-                    double jx = ref_rand(&rng), jy = ref_rand(&rng);
+                    double jx, jy;
+                    ref_pixel_jitter(a->seed, pix, s, &jx, &jy);
+                    rng.dim = 2; /* dimensions 0, 1 were the jitter's; the path's stay where they were */
                     double L[3];
                     ref_trace_sample(r, j->v, a->filter, x + jx, y + jy, &rng, L, &rays);
                     acc_add(a, idx, L, &nonfinite);

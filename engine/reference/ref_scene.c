@@ -183,7 +183,7 @@ void prw_ref_destroy(prw_ref_renderer *r)
     if (!r) return;
     if (r->rtc) rtcReleaseScene(r->rtc);
     if (r->dev) rtcReleaseDevice(r->dev);
-    for (uint32_t i = 0; i < r->inst_count; i++) free(r->inst[i].pos);
+    for (uint32_t i = 0; i < r->inst_count; i++) free(r->inst[i].pos), free(r->inst[i].tri);
     free(r->inst);
     free(r->etri_inst);
     free(r->etri_prim);
@@ -268,6 +268,9 @@ bool ref_add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m,
         in->pos[3 * v + 1] = (float)p.y;
         in->pos[3 * v + 2] = (float)p.z;
     }
+    uint32_t nt = m->index_count / 3;
+    in->tri = prw_malloc(((size_t)nt ? (size_t)nt : 1) * 4 * sizeof(double));
+    for (uint32_t t = 0; t < nt; t++) ref_tri_geometry(in, t, in->tri + 4 * (size_t)t);
     RTCGeometry g = rtcNewGeometry(r->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, in->pos, 0, 3 * sizeof(float),
                                m->vertex_count);

@@ -271,6 +271,21 @@ static double tri_normal(const ref_inst *in, const double v[3][3], double ng[3])
     return fmax(maxabs3(v[0]), fmax(maxabs3(v[1]), maxabs3(v[2])));
 }
 
+void ref_tri_geometry(const ref_inst *in, uint32_t prim, double out[4])
+{
+    double v[3][3];
+    tri_verts(in, prim, v);
+    out[3] = tri_normal(in, v, out);
+}
+
+/* The cached ref_tri_geometry: ng, returns the vertices' max |coordinate|. */
+static double tri_ng(const ref_inst *in, uint32_t prim, double ng[3])
+{
+    const double *t = in->tri + 4 * (size_t)prim;
+    ng[0] = t[0], ng[1] = t[1], ng[2] = t[2];
+    return t[3];
+}
+
 static void fill_surf(const prw_ref_renderer *r, const struct RTCRayHit *rh, const double d[3], surf *s)
 {
     const ref_inst *in = &r->inst[rh->hit.geomID];
@@ -280,7 +295,7 @@ static void fill_surf(const prw_ref_renderer *r, const struct RTCRayHit *rh, con
     tri_verts(in, s->prim, v);
     double bu = rh->hit.u, bv = rh->hit.v, bw = 1 - bu - bv;
     for (int c = 0; c < 3; c++) s->p[c] = bw * v[0][c] + bu * v[1][c] + bv * v[2][c];
-    double tm = tri_normal(in, v, s->ng);
+    double tm = tri_ng(in, s->prim, s->ng);
     s->eps = offset_eps(s->p, tm);
     s->front = dot3(s->ng, d) < 0;
     const prw_mesh *m = in->mesh;
@@ -565,7 +580,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         uint32_t prim = r->etri_prim[lo];
         double v[3][3], ng[3];
         tri_verts(in, prim, v);
-        double tm = tri_normal(in, v, ng);
+        double tm = tri_ng(in, prim, ng);
         double su = sqrt(u1), b0 = 1 - su, b1 = u2 * su, b2 = 1 - b0 - b1;
         double lp[3], dv[3];
         for (int c = 0; c < 3; c++) {
