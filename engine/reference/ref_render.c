@@ -31,6 +31,13 @@ typedef struct job {
     pthread_cond_t cv;
 } job;
 
+/* An integral double to the accumulator type: through int64 where it fits (the library's
+ * double -> int128 conversion is a call), the same value either way. */
+static inline prw_ref_fixed to_fixed(double x)
+{
+    return fabs(x) < 0x1p62 ? (prw_ref_fixed)(int64_t)x : (prw_ref_fixed)x;
+}
+
 static inline void acc_add(prw_ref_acc *a, size_t idx, const double v[3], uint64_t *nonfinite)
 {
     bool ok = true;
@@ -40,8 +47,8 @@ static inline void acc_add(prw_ref_acc *a, size_t idx, const double v[3], uint64
         return;
     }
     for (int c = 0; c < 3; c++) {
-        a->sum[3 * idx + c] += (prw_ref_fixed)nearbyint(v[c] * PRW_REF_SUM_SCALE);
-        a->sq[3 * idx + c] += (prw_ref_fixed)nearbyint(v[c] * v[c] * PRW_REF_SQ_SCALE);
+        a->sum[3 * idx + c] += to_fixed(nearbyint(v[c] * PRW_REF_SUM_SCALE));
+        a->sq[3 * idx + c] += to_fixed(nearbyint(v[c] * v[c] * PRW_REF_SQ_SCALE));
     }
 }
 
