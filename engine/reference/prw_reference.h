@@ -2,7 +2,8 @@
  *
  * Promises:
  *  - Unbiased estimate of the radiance (cd/m^2, linear Rec.709) through each pixel of a prw_view,
- *    box-filtered over the pixel square [i, i+1) x [j, j+1) (uniform jitter, y down), same scene as
+ *    box-filtered over the pixel square [i, i+1) x [j, j+1) (y down; the positions of a pixel's
+ *    samples are an Owen-scrambled Sobol (0,2)-sequence, scrambled per pixel), same scene as
  *    the rasterizer: world transforms in double (geometry camera-relative in float), meshes at their
  *    finest, smooth shading normals + normal maps, the shared material model through prw_bsdf.h,
  *    base-colour / emissive textures sRGB-decoded then bilinear (repeat wrap), metal-rough and
@@ -24,8 +25,9 @@
  *    than wo contributes nothing.
  *  - Russian roulette after 3 scattering events with survival min(0.95, max throughput channel):
  *    no depth cap (a safety stop at 65536 events is unreachable in practice: 0.95^65533).
- *  - Determinism: every random number is a pure function (SplitMix64 hash) of (seed, pixel index
- *    y*width+x of the full image, sample index, dimension), and samples accumulate in fixed point
+ *  - Determinism: every random number is a pure function (SplitMix64 hash; the pixel positions a
+ *    hash-scrambled Sobol point) of (seed, pixel index y*width+x of the full image, sample index,
+ *    dimension), and samples accumulate in fixed point
  *    (round(v * 2^32) for the sum, round(v^2 * 2^24) for the sum of squares, __int128 per channel):
  *    any split into threads, tiles or sample ranges merges bit-exactly by integer addition.
  *    Non-finite samples are dropped (counted in nonfinite) — they contribute 0.
@@ -169,7 +171,10 @@ bool prw_ref_acc_merge(const prw_ref_acc *const *in, const char *const *names, i
                        prw_error *e);
 
 /* Mean (RGB, A = 1) and variance of the mean per channel (RGB, A = sample count) of a full-image
- * accumulation (tile = whole image). */
+ * accumulation (tile = whole image).  The variance is the pixel's sample variance / count: unbiased
+ * for the error of the mean where the value does not depend on the position inside the pixel (the
+ * path after the camera ray is random per sample); an over-estimate (conservative) where it does
+ * (edges, a light's rim), whose stratified positions converge faster than independent ones. */
 bool prw_ref_acc_images(const prw_ref_acc *a, float **mean_rgba, float **var_rgba, prw_error *e);
 
 /* Writes `path` (mean radiance) and the variance EXR (prw_ref_var_path) with the header attributes
