@@ -25,7 +25,7 @@ static bool add_headlight(prw_scene *s, const char *path, const char *why)
     const prw_dmat4 *w = &s->nodes[s->cameras[0].node].world;
     prw_dvec3 eye = prw_v3(w->m[12], w->m[13], w->m[14]);
     prw_dvec3 c = prw_v3_scale(prw_v3_add(s->bounds_min, s->bounds_max), 0.5);
-    double d = fmax(prw_v3_len(prw_v3_sub(c, eye)), 1e-3);
+    double d = fmax(prw_v3_len(prw_v3_sub(c, eye)), 1e-6); /* the framing floor */
     prw_light l = {.type = PRW_LIGHT_POINT, .color = {1, 1, 1}, .intensity = HEADLIGHT_LUX * d * d};
     snprintf(l.name, sizeof l.name, "headlight");
     prw_node n = prw_node_default();
@@ -61,7 +61,7 @@ static void scene_defaults(prw_scene *s, const char *path)
      * once the GI issue's emissive-mesh lights exist.  Strong emitters (a lamp, a Cornell-box ceiling)
      * still keep the scene as its author made it: the path tracer renders their light. */
     prw_emitters em = prw_scene_emitters(s);
-    double r = fmax(0.5 * prw_v3_len(prw_v3_sub(s->bounds_max, s->bounds_min)), 1e-3);
+    double r = fmax(0.5 * prw_v3_len(prw_v3_sub(s->bounds_max, s->bounds_min)), 1e-6);
     double lux = em.mesh_flux_lm / (4.0 * PRW_PI * r * r);
     char why[160];
     if (em.nurbs_count || lux >= EMISSIVE_LIT_LUX) {

@@ -10,7 +10,7 @@ bool prw_scene_frame_camera(const prw_scene *s, double aspect, prw_framing *out)
     prw_dvec3 c = prw_v3_scale(prw_v3_add(lo, hi), 0.5);
     double r = 0.5 * prw_v3_len(prw_v3_sub(hi, lo));
     if (!isfinite(r) || !isfinite(c.x) || !isfinite(c.y) || !isfinite(c.z)) return false;
-    if (r < 1e-3) r = 1e-3;
+    if (r < 1e-6) r = 1e-6;
     if (!(aspect > 0) || !isfinite(aspect)) aspect = 1.0;
     const double yfov = 50.0 * PRW_PI / 180.0;
     double half_y = 0.5 * yfov, half_x = atan(aspect * tan(half_y));

@@ -287,7 +287,8 @@ int prw_scene_add_warning(prw_scene *s, prw_warning_kind kind, const char *fmt, 
 int prw_scene_find_warning(const prw_scene *s, prw_warning_kind kind);
 
 /* A camera placement that frames the scene's world bounds, for scenes without a camera.  The view
- * looks at the centre c of the bounds' bounding sphere (radius r = half the diagonal, at least 1 mm)
+ * looks at the centre c of the bounds' bounding sphere (radius r = half the diagonal, at least
+ * 1 micrometre, so a part in micrometre units still fills the view)
  * from the front-right, above: position = c + d (sin 30deg cos 25deg, sin 25deg, cos 30deg cos 25deg)
  * (glTF: +Y up, +Z front), up = +Y, yfov = 50 deg.  d = r / sin(min(yfov, xfov) / 2) with
  * tan(xfov / 2) = aspect tan(yfov / 2), so the whole sphere — hence every point of the bounds — is
