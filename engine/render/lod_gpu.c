@@ -144,13 +144,14 @@ bool prw_lod_gpu_emit(prw_lod_gpu *g, int p, int level, const int *seg_level, co
         }
         prw_dvec3 n, t;
         surface_frame(surf, u, v, &n, &t);
+        /* a reversed patch: its winding below and its normal here, so the two agree */
+        if (g->flip && g->flip[p]) n = prw_v3_scale(n, -1);
         float *d = vd + i * VF;
         d[0] = (float)(o->pos[3 * i] - g->centre.x);
         d[1] = (float)(o->pos[3 * i + 1] - g->centre.y);
         d[2] = (float)(o->pos[3 * i + 2] - g->centre.z);
         d[3] = (float)n.x, d[4] = (float)n.y, d[5] = (float)n.z;
         d[6] = (float)u, d[7] = (float)v;
-        if (g->flip && g->flip[p]) n = prw_v3_scale(n, -1);
         d[8] = (float)t.x, d[9] = (float)t.y, d[10] = (float)t.z, d[11] = g->flip && g->flip[p] ? -1.0f : 1.0f;
         uvw[3 * i + 2] = n.x == 0 && n.y == 0 && n.z == 0; /* 1: undefined exact normal */
     }
@@ -219,6 +220,7 @@ static bool upload_proxy(prw_lod_gpu *g, prw_error *e)
                 const double *x = pl->pos + 3 * (size_t)pl->tris[3 * t + k];
                 prw_dvec3 n, tg;
                 surface_frame(&g->m->surfaces[patch].surface, u, v, &n, &tg);
+                if (g->flip && g->flip[patch]) n = prw_v3_scale(n, -1); /* as the triangle's winding */
                 if (n.x == 0 && n.y == 0 && n.z == 0) { /* undefined exact normal: the face's */
                     const double *a = pl->pos + 3 * (size_t)pl->tris[3 * t], *b = pl->pos + 3 * (size_t)pl->tris[3 * t + 1],
                                  *cc = pl->pos + 3 * (size_t)pl->tris[3 * t + 2];

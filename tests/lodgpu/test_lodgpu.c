@@ -386,6 +386,38 @@ static void test_crack_free_box(void)
     printf("crack_free_box: %d patches flipped to the outward orientation, %d seam conflicts\n", flipped, conflicts);
     CHECK(flipped == 10 || flipped == 16); /* the 6 fillets + 4 corners disagree with the rest */
     CHECK(conflicts == 0);
+    {
+        /* a reversed patch's normals are reversed with its winding: every triangle's vertex normals
+         * lie on its front side (they did not: flipped patches were shaded from behind) */
+        const prw_lod_model *lm0 = &prw_lod_scene_hierarchy(prw_renderer_lod(r), 0)->lod;
+        int *lv = prw_calloc((size_t)lm0->npatches + 1, sizeof(int));
+        emission *em = prw_calloc((size_t)lm0->npatches + 1, sizeof(emission));
+        emit_all(g, lm0, lv, em, &e);
+        long tris = 0, against = 0;
+        for (int p = 0; p < lm0->npatches; p++)
+            for (uint32_t t = 0; t + 2 < em[p].ni; t += 3) {
+                const float *a = em[p].v + 12 * em[p].i[t], *b = em[p].v + 12 * em[p].i[t + 1],
+                            *c = em[p].v + 12 * em[p].i[t + 2];
+                double u[3], w[3], f[3];
+                for (int k = 0; k < 3; k++) u[k] = b[k] - a[k], w[k] = c[k] - a[k];
+                f[0] = u[1] * w[2] - u[2] * w[1], f[1] = u[2] * w[0] - u[0] * w[2], f[2] = u[0] * w[1] - u[1] * w[0];
+                double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+                if (!(fl > 1e-12)) continue;
+                tris++;
+                for (int k = 0; k < 3; k++) {
+                    const float *x = k == 0 ? a : k == 1 ? b : c;
+                    if ((f[0] * x[3] + f[1] * x[4] + f[2] * x[5]) / fl < 0) {
+                        against++;
+                        break;
+                    }
+                }
+            }
+        printf("crack_free_box: %ld of %ld level-0 triangles have a vertex normal behind them\n", against, tris);
+        CHECK(tris > 100 && against == 0);
+        for (int p = 0; p < lm0->npatches; p++) free(em[p].v), free(em[p].i);
+        free(em);
+        free(lv);
+    }
     /* two views: the box's corner, and closer to it (more levels in use) */
     prw_view views[2] = {v, prw_view_look_at(prw_v3(1.9, 1.75, 1.6), prw_v3(0.6, 0.6, 0.6), prw_v3(0, 1, 0),
                                              55 * PRW_PI / 180, 0.05, 128, 128, 6)};
