@@ -12,7 +12,7 @@ static bool supported(int type)
 {
     switch (type) {
     case 0: case 100: case 102: case 110: case 112: case 124: case 126: case 142: case 144: case 314:
-    case 108: case 118: case 120: case 122: case 128: case 141: case 143:
+    case 108: case 118: case 120: case 122: case 128: case 141: case 143: case 190: case 116: case 123:
     case 186: case 502: case 504: case 508: case 510: case 514:
         return true;
     default:
@@ -153,19 +153,32 @@ bool prw_iges_parse_limited(const char *data, size_t size, const char *name, lon
             if (iges_int(&f, d, 1, 0, &n, &ignore))
                 for (int i = 0; i < n && 2 + 2 * i <= d->ntok; i++) mark(&f, d, 2 + 2 * i);
         }
+        if (d->type == 308 && d->ntok >= 3) { /* depth, name, N, N members */
+            int n, s;
+            prw_error ignore;
+            if (iges_int(&f, d, 3, 0, &n, &ignore))
+                for (int i = 0; i < n && 4 + i <= d->ntok; i++)
+                    if (iges_ptr(&f, d, 4 + i, false, &s, &ignore)) f.de[s].in_subfigure = true;
+        }
     }
     int *skipped = prw_calloc(10000, sizeof(int)), *needs = prw_calloc(10000, sizeof(int));
     face_list faces = {0};
     bool ok = true;
     for (int k = 0; k < f.nde && ok; k++) {
         iges_de *d = &f.de[k];
-        if (!supported(d->type)) {
+        bool independent = d->subord == 0 || d->subord == 2;
+        /* points and directions are read through the 190 planes that use them; free ones are not drawn */
+        bool parameter_only = d->type == 116 || d->type == 123;
+        if (!supported(d->type) || (parameter_only && independent)) {
             skipped[d->type]++;
             info->skipped++;
             continue;
         }
-        bool independent = d->subord == 0 || d->subord == 2;
-        if (!independent || d->used_by_144) continue;
+        if (parameter_only) continue;
+        /* a B-rep face flagged physically dependent that no shell (and no subfigure) uses is drawn
+         * as the free face it is (OpenCASCADE 6.x writes single faces so) */
+        bool orphan_face = d->type == 510 && !d->used_by_144 && !d->in_subfigure;
+        if ((!independent && !orphan_face) || d->used_by_144) continue;
         /* what to draw: trimmed (144) and bounded (143) surfaces, B-rep faces, plain surfaces */
         faces.n = 0;
         int kind; /* 0: 144, 1: 143, 2: B-rep faces, 3: plain surface */

@@ -11,14 +11,16 @@
  *    the model space scale (parameter 13: model/real-world ratio).  Transformation matrices (124,
  *    chained) are applied.  The output is in metres.
  *  - Converted: 100, 102, 110, 112 (Bezier pieces, its own parameter kept), 124, 126, 128, 142,
- *    144, 314; 108 (a bilinear patch covering the bounding / trim curves, or the display size), 118
+ *    144, 314; 108 and 190 (point 116 + normal 123; form 1's reference direction orients u) as a
+ *    bilinear patch covering the bounding / trim curves (or the display size), 118
  *    (degree (p, 1) ruled NURBS on equal relative parameters), 120 (A8.1 revolution, rational
  *    quadratic circle of ≤ 4 arcs), 122 (C(u) + v·d) — exactly, see lod/nurbs_json.md §IGES for the
  *    constructions; bounded surfaces (143 with 141 boundaries) and B-rep solids and shells (186,
  *    514, 510, 508, 504, 502; a face's orientation flag reverses it in u) become trimmed surfaces.
  *  - Drawn: every 144, 143, 128, 108, 118, 120 and 122 whose Directory Entry subordinate switch is
  *    "independent" or "logically dependent" (physically dependent entities are parts of others),
- *    every face of a 186, of a 514 no solid uses, and every 510 no shell uses; a surface
+ *    every face of a 186, of a 514 no solid uses, and every 510 no shell uses (also when flagged
+ *    physically dependent, unless a 308 subfigure holds it: a free face); a surface
  *    referenced by a 144 / 143 / 510 is never drawn untrimmed.  A 142 without a parameter-space
  *    curve (or on a 108, which has no IGES parameterisation) is projected into (u, v) by point
  *    inversion.

@@ -415,22 +415,17 @@ fail:
     return false;
 }
 
-/* A bilinear patch of the plane covering `pts` (plane frame), with a margin. */
-static bool surface_108(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, int nhint, prw_nurbs_surface *s)
+/* A bilinear patch of the plane through o with unit normal n covering the hint points, the bounding
+ * curve entity bptr (>= 0) and the display square (size > 0 at c), with a margin; its u axis along
+ * ref when ref is not parallel to n (else a fixed axis). */
+static bool plane_cover(iges_ctx *x, const iges_de *d, prw_dvec3 o, prw_dvec3 n, prw_dvec3 ref, const prw_dvec3 *hint,
+                        int nhint, int bptr, prw_dvec3 c, double size, prw_nurbs_surface *s)
 {
-    double v[9];
-    if (!iges_need(x->f, d, 4, x->e) || !read_reals(x, d, 1, 4, v)) return false;
-    for (int i = 5; i <= 9; i++) v[i - 1] = 0;
-    int bptr = -1;
-    if (d->ntok >= 5 && !iges_ptr(x->f, d, 5, true, &bptr, x->e)) return false;
-    if (d->ntok >= 9 && !read_reals(x, d, 6, 4, v + 5)) return false;
-    prw_dvec3 n = prw_v3(v[0], v[1], v[2]);
-    double nl = prw_v3_len(n);
-    if (!(nl > 0) || !isfinite(nl)) return iges_fail(x->f, d, 1, x->e, "plane normal (A, B, C) is zero");
-    n = prw_v3_scale(n, 1 / nl);
-    prw_dvec3 o = prw_v3_scale(n, v[3] / nl);
     prw_dvec3 ax = fabs(n.x) < 0.6 ? prw_v3(1, 0, 0) : fabs(n.y) < 0.6 ? prw_v3(0, 1, 0) : prw_v3(0, 0, 1);
-    prw_dvec3 e1 = prw_v3_norm(prw_v3_cross(n, ax)), e2 = prw_v3_cross(n, e1);
+    prw_dvec3 rp = prw_v3_sub(ref, prw_v3_scale(n, prw_v3_dot(ref, n)));
+    prw_dvec3 e1 = prw_v3_len(rp) > 1e-9 * prw_v3_len(ref) && prw_v3_len(rp) > 0 ? prw_v3_norm(rp)
+                                                                                  : prw_v3_norm(prw_v3_cross(n, ax));
+    prw_dvec3 e2 = prw_v3_cross(n, e1);
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
 #define ADD_PT(P)                                                                        \
     do {                                                                                 \
@@ -448,14 +443,13 @@ static bool surface_108(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, in
             for (int j = 0; j < l.c[i].n; j++) ADD_PT(prw_nurbs_curve_point_at(&l.c[i], j));
         iges_clist_free(&l);
     }
-    if (v[8] > 0) {
-        prw_dvec3 c = prw_v3(v[5], v[6], v[7]);
-        ADD_PT(prw_v3_add(c, prw_v3_scale(prw_v3_add(e1, e2), v[8])));
-        ADD_PT(prw_v3_sub(c, prw_v3_scale(prw_v3_add(e1, e2), v[8])));
+    if (size > 0) {
+        ADD_PT(prw_v3_add(c, prw_v3_scale(prw_v3_add(e1, e2), size)));
+        ADD_PT(prw_v3_sub(c, prw_v3_scale(prw_v3_add(e1, e2), size)));
     }
 #undef ADD_PT
-    if (!(lo[0] < hi[0])) lo[0] -= 1, hi[0] += 1;
-    if (!(lo[1] < hi[1])) lo[1] -= 1, hi[1] += 1;
+    if (!(lo[0] < hi[0])) lo[0] = isfinite(lo[0]) ? lo[0] - 1 : -1, hi[0] = isfinite(hi[0]) ? hi[0] + 1 : 1;
+    if (!(lo[1] < hi[1])) lo[1] = isfinite(lo[1]) ? lo[1] - 1 : -1, hi[1] = isfinite(hi[1]) ? hi[1] + 1 : 1;
     double m = 0.01 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
     lo[0] -= m, lo[1] -= m, hi[0] += m, hi[1] += m;
 #define CORNER(a, b) prw_v3_add(o, prw_v3_add(prw_v3_scale(e1, (a)), prw_v3_scale(e2, (b))))
@@ -464,6 +458,60 @@ static bool surface_108(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, in
         return iges_fail(x->f, d, 1, x->e, "%s", sub.msg);
 #undef CORNER
     return true;
+}
+
+/* Plane 108: A x + B y + C z = D, optionally bounded (a curve) and with a display square. */
+static bool surface_108(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, int nhint, prw_nurbs_surface *s)
+{
+    double v[9];
+    if (!iges_need(x->f, d, 4, x->e) || !read_reals(x, d, 1, 4, v)) return false;
+    for (int i = 5; i <= 9; i++) v[i - 1] = 0;
+    int bptr = -1;
+    if (d->ntok >= 5 && !iges_ptr(x->f, d, 5, true, &bptr, x->e)) return false;
+    if (d->ntok >= 9 && !read_reals(x, d, 6, 4, v + 5)) return false;
+    prw_dvec3 n = prw_v3(v[0], v[1], v[2]);
+    double nl = prw_v3_len(n);
+    if (!(nl > 0) || !isfinite(nl)) return iges_fail(x->f, d, 1, x->e, "plane normal (A, B, C) is zero");
+    n = prw_v3_scale(n, 1 / nl);
+    prw_dvec3 o = prw_v3_scale(n, v[3] / nl);
+    return plane_cover(x, d, o, n, prw_v3(0, 0, 0), hint, nhint, bptr, prw_v3(v[5], v[6], v[7]), v[8], s);
+}
+
+/* A point (116) or a direction (123) entity's three coordinates, through its own transformation
+ * (a direction by the 3 x 3 part only). */
+static bool point_or_dir(iges_ctx *x, const iges_de *d, int param, int k, int type, prw_dvec3 *out)
+{
+    const iges_de *p = &x->f->de[k];
+    if (p->type != type)
+        return iges_fail(x->f, d, param, x->e, "must point to a %s (%d), not entity %d",
+                         type == 116 ? "point" : "direction", type, p->type);
+    double c[3];
+    prw_dmat4 m;
+    if (!iges_need(x->f, p, 3, x->e) || !read_reals(x, p, 1, 3, c) || !iges_own_xform(x, p, &m)) return false;
+    prw_dvec3 v = prw_v3(c[0], c[1], c[2]);
+    *out = type == 116 ? prw_dm4_point(m, v) : prw_dm4_dir(m, v);
+    return true;
+}
+
+/* Plane surface 190: a point on it (116), its normal (123) and, form 1, the reference direction
+ * (123) of its parametrisation.  Unbounded: its extent comes from the face's boundary (hint), as a
+ * 108's does. */
+static bool surface_190(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, int nhint, prw_nurbs_surface *s)
+{
+    int pl, pn, pr = -1;
+    prw_dvec3 o, n, ref = prw_v3(0, 0, 0);
+    if (!iges_need(x->f, d, 2, x->e) || !iges_ptr(x->f, d, 1, false, &pl, x->e) || !iges_ptr(x->f, d, 2, false, &pn, x->e) ||
+        !point_or_dir(x, d, 1, pl, 116, &o) || !point_or_dir(x, d, 2, pn, 123, &n))
+        return false;
+    if (d->form == 1 && d->ntok >= 3) {
+        if (!iges_ptr(x->f, d, 3, true, &pr, x->e)) return false;
+        if (pr >= 0 && !point_or_dir(x, d, 3, pr, 123, &ref)) return false;
+    }
+    double nl = prw_v3_len(n);
+    if (!(nl > 0) || !isfinite(nl)) return iges_fail(x->f, d, 2, x->e, "plane normal is zero");
+    n = prw_v3_scale(n, 1 / nl);
+    if (!isfinite(o.x) || !isfinite(o.y) || !isfinite(o.z)) return iges_fail(x->f, d, 1, x->e, "location is not finite");
+    return plane_cover(x, d, o, n, ref, hint, nhint, -1, o, 0, s);
 }
 
 bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_surf *out)
@@ -482,6 +530,10 @@ bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_sur
     case 108:
         out->map = IGES_MAP_NONE;
         ok = surface_108(x, d, hint, nhint, &out->s);
+        break;
+    case 190:
+        out->map = IGES_MAP_NONE;
+        ok = surface_190(x, d, hint, nhint, &out->s);
         break;
     case 118: {
         int a, b, dir;
@@ -729,7 +781,7 @@ static bool loop_142(iges_ctx *x, int k, const iges_surf *S, prw_trimmed_surface
 
 bool iges_is_surface_type(int type)
 {
-    return type == 128 || type == 108 || type == 118 || type == 120 || type == 122;
+    return type == 128 || type == 108 || type == 118 || type == 120 || type == 122 || type == 190;
 }
 
 bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)

@@ -26,6 +26,7 @@ typedef struct iges_de {
     int tok0, ntok; /* parameters (after the type) in iges_file.tok */
     int last_line;  /* last P record of this entity */
     bool used_by_144;
+    bool in_subfigure; /* a member of a 308 subfigure definition (drawn only through instances) */
 } iges_de;
 
 typedef struct iges_file {

@@ -136,6 +136,7 @@ typedef struct brep {
         int o[8]; /* orientation per step: 1 along the curve, 0 against, -1 from the vertices */
     } f[16];
     int nf;
+    bool orphan; /* faces only: no 514 / 186 (physically dependent 510s nobody uses) */
 } brep;
 
 static int bv(brep *b, double x, double y, double z)
@@ -186,8 +187,10 @@ static char *brep_finish(brep *b, size_t *len)
     }
     n = snprintf(buf, sizeof buf, "%d", b->nf);
     for (int fi = 0; fi < b->nf; fi++) n += snprintf(buf + n, sizeof buf - (size_t)n, ",%d,%d", face[fi], b->f[fi].of);
-    int shell = igw_add(w, 514, 1, DEP, 0, 0, "%s", buf);
-    igw_add(w, 186, 0, 0, 0, 0, "%d,1,0", shell);
+    if (!b->orphan) {
+        int shell = igw_add(w, 514, 1, DEP, 0, 0, "%s", buf);
+        igw_add(w, 186, 0, 0, 0, 0, "%d,1,0", shell);
+    }
     char *s = igw_finish(w, len);
     igw_free(w);
     return s;
@@ -207,13 +210,28 @@ static int plane128(igw *w, const double *p00, const double *p10, const double *
                    p00[0], p00[1], p00[2], p10[0], p10[1], p10[2], p01[0], p01[1], p01[2], p11[0], p11[1], p11[2]);
 }
 
-char *iges_model_brep_box(size_t *len)
+/* The box's face planes as 128 or (plane190) as 190 through p00 with normal (p10 - p00) x (p01 - p00). */
+static bool plane190;
+static int box_plane(igw *w, const double *p00, const double *p10, const double *p01, const double *p11)
+{
+    if (!plane190) return plane128(w, p00, p10, p01, p11);
+    double a[3], c[3];
+    for (int k = 0; k < 3; k++) a[k] = p10[k] - p00[k], c[k] = p01[k] - p00[k];
+    int pt = igw_add(w, 116, 0, DEP, 0, 0, "%.17g,%.17g,%.17g", p00[0], p00[1], p00[2]);
+    int nr = igw_add(w, 123, 0, DEP, 0, 0, "%.17g,%.17g,%.17g", a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2],
+                     a[0] * c[1] - a[1] * c[0]);
+    return igw_add(w, 190, 0, DEP, 0, 0, "%d,%d", pt, nr);
+}
+
+char *iges_model_brep_box_variant(bool faces_only, bool planes_190, size_t *len)
 {
     static igw w;
     igw_init(&w);
     static brep b;
     memset(&b, 0, sizeof b);
     b.w = &w;
+    b.orphan = faces_only;
+    plane190 = planes_190;
     const double X = 100, Y = 60, Z = 40, m = 10; /* mm; faces' planes extend m beyond the face */
     int v[8];
     for (int i = 0; i < 8; i++) v[i] = bv(&b, (i & 1) * X, ((i >> 1) & 1) * Y, ((i >> 2) & 1) * Z);
@@ -226,41 +244,43 @@ char *iges_model_brep_box(size_t *len)
         double a[3] = {-m, -m, 0}, c[3] = {X + m, -m, 0}, d[3] = {-m, Y + m, 0}, e[3] = {X + m, Y + m, 0};
         P4(a, c, d, e); /* normal +z: inward for the bottom */
         int c4[4] = {v[0], v[1], v[3], v[2]};
-        bf(&b, plane128(&w, p[0], p[1], p[2], p[3]), 0, 4, c4, NULL, NULL);
+        bf(&b, box_plane(&w, p[0], p[1], p[2], p[3]), 0, 4, c4, NULL, NULL);
     }
     {
         double a[3] = {-m, -m, Z}, c[3] = {X + m, -m, Z}, d[3] = {-m, Y + m, Z}, e[3] = {X + m, Y + m, Z};
         P4(a, c, d, e);
         int c4[4] = {v[4], v[5], v[7], v[6]};
-        bf(&b, plane128(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
+        bf(&b, box_plane(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
     }
     {
         double a[3] = {-m, 0, -m}, c[3] = {-m, 0, Z + m}, d[3] = {X + m, 0, -m}, e[3] = {X + m, 0, Z + m}; /* -y */
         P4(a, d, c, e);
         int c4[4] = {v[0], v[1], v[5], v[4]};
-        bf(&b, plane128(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
+        bf(&b, box_plane(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
     }
     {
         double a[3] = {-m, Y, -m}, c[3] = {X + m, Y, -m}, d[3] = {-m, Y, Z + m}, e[3] = {X + m, Y, Z + m}; /* +y */
         P4(a, d, c, e);
         int c4[4] = {v[2], v[3], v[7], v[6]};
-        bf(&b, plane128(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
+        bf(&b, box_plane(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
     }
     {
         double a[3] = {0, -m, -m}, c[3] = {0, Y + m, -m}, d[3] = {0, -m, Z + m}, e[3] = {0, Y + m, Z + m}; /* -x */
         P4(a, d, c, e);
         int c4[4] = {v[0], v[2], v[6], v[4]};
-        bf(&b, plane128(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
+        bf(&b, box_plane(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
     }
     {
         double a[3] = {X, -m, -m}, c[3] = {X, Y + m, -m}, d[3] = {X, -m, Z + m}, e[3] = {X, Y + m, Z + m}; /* +x */
         P4(a, c, d, e);
         int c4[4] = {v[1], v[3], v[7], v[5]};
-        bf(&b, plane128(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
+        bf(&b, box_plane(&w, p[0], p[1], p[2], p[3]), 1, 4, c4, NULL, NULL);
     }
 #undef P4
     return brep_finish(&b, len);
 }
+
+char *iges_model_brep_box(size_t *len) { return iges_model_brep_box_variant(false, false, len); }
 
 char *iges_model_brep_cylinder(size_t *len)
 {

@@ -3,6 +3,7 @@
 #ifndef IGES_MODELS_H
 #define IGES_MODELS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 /* 120: a 100 semicircle (radius 1000 mm) revolved about a 110 axis -> sphere of radius 1 m;
@@ -35,6 +36,9 @@ char *iges_model_units(int unit_flag, const char *unit, double scale, int subord
  *  - free-form: a bicubic Bézier bump (128) over 120 x 90 mm trimmed to its part over 80 x 60 mm
  *    (isoparametric 126 edges), four 118 ruled sides down to z = 0 (two inward), a 128 bottom. */
 char *iges_model_brep_box(size_t *len);
+/* The same box with its faces only (physically dependent 510s no shell uses, as OpenCASCADE 6.x
+ * writes free faces) and/or its planes as 190 (point 116 + normal 123). */
+char *iges_model_brep_box_variant(bool faces_only, bool planes_190, size_t *len);
 char *iges_model_brep_cylinder(size_t *len);
 char *iges_model_brep_freeform(size_t *len);
 

@@ -148,6 +148,40 @@ static void test_box(void)
                  box);
 }
 
+static char *box_190(size_t *n) { return iges_model_brep_box_variant(false, true, n); }
+
+/* The box with its planes as 190 (point + normal, unbounded): each face's plane is sized from its
+ * loop; everything closed_model checks holds. */
+static void test_box_190(void)
+{
+    const prw_dvec3 box[2] = {prw_v3(0, 0, 0), prw_v3(0.1, 0.06, 0.04)};
+    closed_model("box190.igs", box_190, 6, 2e-6 * (100 * 60 + 100 * 40 + 60 * 40), 1e-9, prw_v3(0.05, 0.03, 0.02), box);
+}
+
+/* The box's faces alone, physically dependent with no shell using them: drawn (they were left out,
+ * "the model has no surfaces"); they still sew into a closed surface.  Their orientation flags sit
+ * in the shell, so without it no orientation is promised. */
+static void test_box_free_faces(void)
+{
+    for (int v190 = 0; v190 < 2; v190++) {
+        size_t n;
+        char *s = iges_model_brep_box_variant(true, v190 != 0, &n);
+        prw_nurbs_model m;
+        prw_iges_info info;
+        prw_error e;
+        CHECK_OK(prw_iges_parse(s, n, "faces.igs", &m, &info, &e), &e);
+        free(s);
+        printf("  free faces%s: %zu faces, %d trimmed, warning '%s'\n", v190 ? " (190 planes)" : "", m.count, info.trimmed,
+               info.warning);
+        CHECK(m.count == 6 && info.trimmed == 6 && info.warning[0] == 0);
+        prw_seam_graph g;
+        CHECK_OK(prw_seam_build(&m, NULL, &g, &e), &e);
+        CHECK(g.open == 0 && g.unmatched == 0 && g.shared > 0);
+        prw_seam_free(&g);
+        prw_nurbs_model_free(&m);
+    }
+}
+
 static void test_cylinder(void)
 {
     double r = 0.03, h = 0.08;
@@ -255,7 +289,7 @@ static void test_unsupported_face(void)
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
-        {"box", test_box},
+        {"box", test_box}, {"box_190", test_box_190}, {"box_free_faces", test_box_free_faces},
         {"cylinder", test_cylinder},
         {"freeform", test_freeform},
         {"bare_records", test_bare_records},
