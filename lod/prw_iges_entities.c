@@ -709,6 +709,11 @@ bool iges_project_loop(iges_ctx *x, const iges_de *d, int param, iges_clist *mod
                 prw_trim_shift_loop(&t->surface, dir, range[dir][0], uv.c, uv.n);
         }
     }
+    if (ok && uv.n > 0) { /* inversion noise at a domain edge: v = 1, 1 - 1e-16, 1 (prw_trim_wrap.h) */
+        double u0, u1, v0, v1;
+        prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
+        for (int i = 0; i < uv.n; i++) prw_trim_drop_close_points(&uv.c[i], 1e-12 * fmax(u1 - u0, v1 - v0));
+    }
     if (ok) {
         prw_trim_loop *l = prw_trimmed_surface_add_loop(t);
         bool pair = model->n == uv.n;

@@ -257,3 +257,26 @@ bool prw_nurbs_surface_reseat(prw_nurbs_surface *s, int dir, double a, prw_error
     *s = out;
     return true;
 }
+
+void prw_trim_drop_close_points(prw_nurbs_curve *c, double tol)
+{
+    if (c->degree != 1 || c->n < 3) return;
+    int k = 1; /* points kept so far: 0 .. k-1; degree 1: point i has knot i + 1 */
+    for (int i = 1; i < c->n; i++) {
+        prw_dvec3 q = prw_nurbs_curve_point_at(c, i), r = prw_nurbs_curve_point_at(c, k - 1);
+        bool close = (q.x - r.x) * (q.x - r.x) + (q.y - r.y) * (q.y - r.y) <= tol * tol;
+        if (close && i < c->n - 1) continue;
+        if (close && k > 1) k--;  /* the end replaces the kept point next to it */
+        else if (close) continue; /* the whole piece within tol: its two ends below */
+        memmove(c->pw + 4 * k, c->pw + 4 * i, 4 * sizeof(double));
+        c->knots[k + 1] = c->knots[i + 1];
+        k++;
+    }
+    if (k < 2) {
+        memmove(c->pw + 4, c->pw + 4 * (c->n - 1), 4 * sizeof(double));
+        c->knots[2] = c->knots[c->n];
+        k = 2;
+    }
+    c->knots[k + 1] = c->knots[c->n + 1];
+    c->n = k;
+}

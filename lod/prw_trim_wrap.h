@@ -17,6 +17,12 @@
  *    direction, exactly (two copies joined C0 at the seam, then cut by knot insertion): for a loop
  *    that straddles the seam.  Fails (surface unchanged) when the seam rows' weights are not
  *    proportional (the copies cannot be joined without changing the surface).
+ *  - prw_trim_drop_close_points: a degree-1 piece loses every control point within tol (in (u, v))
+ *    of the point kept before it, its two ends always kept (an end within tol of its neighbour
+ *    replaces it); knots go with their points, so the polyline is the same up to tol.  Point
+ *    inversion at a domain edge returns v = 1, 1 - 1e-16, 1 for successive points, a zero-length
+ *    back-and-forth the fixed tessellation cannot use (the public occt_OCC8842_cylinder_Ideas.igs
+ *    lost its side face to it).  Other degrees are left alone.
  *  - Nothing prints; only prw_nurbs_surface_reseat allocates.
  */
 #ifndef PRW_TRIM_WRAP_H
@@ -35,6 +41,7 @@ void prw_trim_unwrap_loop(const prw_nurbs_surface *s, const bool closed[2], prw_
 /* Moves every piece of a loop by whole periods in dir so its range overlaps [a, a + P] most. */
 void prw_trim_shift_loop(const prw_nurbs_surface *s, int dir, double a, prw_nurbs_curve *pieces, int n);
 bool prw_nurbs_surface_reseat(prw_nurbs_surface *s, int dir, double a, prw_error *e);
+void prw_trim_drop_close_points(prw_nurbs_curve *c, double tol);
 
 #ifdef __cplusplus
 }

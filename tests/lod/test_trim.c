@@ -8,6 +8,7 @@
 #include "prw_tess.h"
 #include "prw_test.h"
 #include "prw_trim.h"
+#include "prw_trim_wrap.h"
 
 static void add_poly_loop(prw_trimmed_surface *t, const double (*uv)[2], int n)
 {
@@ -190,6 +191,42 @@ static void test_sphere_tessellation(void)
     prw_trimmed_surface_free(&t);
 }
 
+/* prw_trim_drop_close_points: the v = 1, 1 - 1e-16, 1 back-and-forth of a projected circle goes,
+ * the ends stay, knots follow their points; a piece entirely within tol keeps its two ends. */
+static void test_drop_close_points(void)
+{
+    const double lo = 1 - 1e-16;
+    prw_dvec3 p[7] = {prw_v3(1.25, 1, 0), prw_v3(1.25, lo, 0), prw_v3(1.25, 1, 0), prw_v3(0.8, 1, 0),
+                      prw_v3(0.4, 1, 0),  prw_v3(0, 1, 0),     prw_v3(0, lo, 0)};
+    prw_nurbs_curve c;
+    prw_error e;
+    CHECK_OK(prw_nurbs_make_polyline(&c, 2, p, 7, &e), &e);
+    double t0, t1, k3 = c.knots[4], k4 = c.knots[5];
+    prw_nurbs_curve_domain(&c, &t0, &t1);
+    prw_trim_drop_close_points(&c, 1e-12);
+    CHECK(c.n == 4);
+    prw_dvec3 a = prw_nurbs_curve_point_at(&c, 0), b = prw_nurbs_curve_point_at(&c, 1), d = prw_nurbs_curve_point_at(&c, 3);
+    CHECK(a.x == 1.25 && a.y == 1 && b.x == 0.8 && d.x == 0 && d.y == lo); /* the end itself, not its neighbour */
+    double s0, s1;
+    prw_nurbs_curve_domain(&c, &s0, &s1);
+    CHECK(s0 == t0 && s1 == t1 && c.knots[0] == c.knots[1] && c.knots[2] == k3 && c.knots[3] == k4 &&
+          c.knots[4] == t1 && c.knots[5] == t1);
+    for (int i = 0; i + 1 < c.n + 2; i++) CHECK(c.knots[i] <= c.knots[i + 1]);
+    prw_nurbs_curve_free(&c);
+    /* nothing close: unchanged */
+    prw_dvec3 q[3] = {prw_v3(0, 0, 0), prw_v3(0.5, 0, 0), prw_v3(1, 0, 0)};
+    CHECK_OK(prw_nurbs_make_polyline(&c, 2, q, 3, &e), &e);
+    prw_trim_drop_close_points(&c, 1e-12);
+    CHECK(c.n == 3);
+    prw_nurbs_curve_free(&c);
+    /* all within tol: the two ends */
+    prw_dvec3 r[4] = {prw_v3(0, 0, 0), prw_v3(1e-14, 0, 0), prw_v3(2e-14, 0, 0), prw_v3(3e-14, 0, 0)};
+    CHECK_OK(prw_nurbs_make_polyline(&c, 2, r, 4, &e), &e);
+    prw_trim_drop_close_points(&c, 1e-12);
+    CHECK(c.n == 2 && prw_nurbs_curve_point_at(&c, 1).x == 3e-14);
+    prw_nurbs_curve_free(&c);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -197,6 +234,7 @@ int main(int argc, char **argv)
         {"plate_with_holes", test_plate_with_holes},
         {"tiny_loops", test_tiny_loops},
         {"sphere_tessellation", test_sphere_tessellation},
+        {"drop_close_points", test_drop_close_points},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
