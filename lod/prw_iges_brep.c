@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "prw_iges_internal.h"
+#include "prw_trim_wrap.h"
 
 #define MAX_ITEMS 10000000
 
@@ -116,6 +117,15 @@ static bool finish(iges_ctx *x, const iges_de *d, iges_clist *loops, int nloops,
     for (int l = 0; ok && l < nloops; l++) ok = iges_project_loop(x, d, 0, &loops[l], t);
     for (int l = 0; l < nloops; l++) iges_clist_free(&loops[l]);
     free(loops);
+    if (ok && t->nloops >= 2) { /* a band between two circles, each its own boundary (prw_trim_wrap.h) */
+        prw_dvec3 lo, hi;
+        prw_nurbs_surface_bounds(&t->surface, &lo, &hi);
+        double size = prw_v3_len(prw_v3_sub(hi, lo)), u0, u1, v0, v1;
+        prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
+        bool closed[2] = {prw_nurbs_surface_closed(&t->surface, 0, 1e-9 * size),
+                          prw_nurbs_surface_closed(&t->surface, 1, 1e-9 * size)};
+        prw_trim_join_bands(t, closed, 1e-7 * fmax(u1 - u0, v1 - v0));
+    }
     prw_dmat4 own;
     if (ok) ok = iges_own_xform(x, d, &own);
     if (ok) {

@@ -5,6 +5,8 @@
 
 #include "prw_trim_wrap.h"
 
+#include "prw_nurbs_make.h"
+
 bool prw_nurbs_surface_closed(const prw_nurbs_surface *s, int dir, double tol)
 {
     double u0, u1, v0, v1;
@@ -279,4 +281,99 @@ void prw_trim_drop_close_points(prw_nurbs_curve *c, double tol)
     }
     c->knots[k + 1] = c->knots[c->n + 1];
     c->n = k;
+}
+
+static prw_dvec3 loop_end(const prw_trim_loop *l, bool last)
+{
+    const prw_nurbs_curve *c = &l->segs[last ? l->count - 1 : 0].uv;
+    return prw_nurbs_curve_point_at(c, last ? c->n - 1 : 0);
+}
+
+/* +1 / -1: l winds once around dir (period P) that way; 0: it does not. */
+static int winds(const prw_trim_loop *l, int dir, double P, double tol)
+{
+    if (l->count < 1) return 0;
+    prw_dvec3 a = loop_end(l, false), b = loop_end(l, true);
+    double d = dir == 0 ? b.x - a.x : b.y - a.y, o = dir == 0 ? b.y - a.y : b.x - a.x;
+    if (!(fabs(o) <= tol) || !(fabs(fabs(d) - P) <= tol)) return 0;
+    return d > 0 ? 1 : -1;
+}
+
+static bool seam_line(prw_dvec3 a, prw_dvec3 b, prw_nurbs_curve *out)
+{
+    prw_dvec3 p[2] = {a, b};
+    prw_error ignore;
+    return prw_nurbs_make_polyline(out, 2, p, 2, &ignore);
+}
+
+bool prw_trim_join_bands(prw_trimmed_surface *t, const bool closed[2], double tol)
+{
+    double dom[2][2];
+    prw_nurbs_surface_domain(&t->surface, &dom[0][0], &dom[0][1], &dom[1][0], &dom[1][1]);
+    for (int dir = 0; dir < 2; dir++) {
+        if (!closed[dir]) continue;
+        double P = dom[dir][1] - dom[dir][0];
+        int a = -1, b = -1, count = 0, sa = 0, sb = 0;
+        for (int l = 0; l < t->nloops; l++) {
+            int w = winds(&t->loops[l], dir, P, tol);
+            if (!w) continue;
+            count++;
+            if (a < 0) a = l, sa = w;
+            else if (b < 0) b = l, sb = w;
+        }
+        if (count != 2) continue;
+        prw_trim_loop *A = &t->loops[a], *B = &t->loops[b];
+        if (sa == sb) { /* walk B the other way round */
+            for (int i = 0, j = B->count - 1; i < j; i++, j--) {
+                prw_trim_segment tmp = B->segs[i];
+                B->segs[i] = B->segs[j];
+                B->segs[j] = tmp;
+            }
+            for (int i = 0; i < B->count; i++) {
+                prw_nurbs_curve_reverse(&B->segs[i].uv);
+                if (B->segs[i].model) prw_nurbs_curve_reverse(B->segs[i].model);
+            }
+        }
+        prw_dvec3 ea = loop_end(A, true), sb0 = loop_end(B, false);
+        double diff = dir == 0 ? ea.x - sb0.x : ea.y - sb0.y, k = nearbyint(diff / P);
+        if (!(fabs(diff - k * P) <= tol)) { /* they do not start at the same place round: left alone */
+            if (sa == sb) { /* undo the reversal */
+                for (int i = 0, j = B->count - 1; i < j; i++, j--) {
+                    prw_trim_segment tmp = B->segs[i];
+                    B->segs[i] = B->segs[j];
+                    B->segs[j] = tmp;
+                }
+                for (int i = 0; i < B->count; i++) {
+                    prw_nurbs_curve_reverse(&B->segs[i].uv);
+                    if (B->segs[i].model) prw_nurbs_curve_reverse(B->segs[i].model);
+                }
+            }
+            continue;
+        }
+        for (int i = 0; i < B->count && k != 0; i++) { /* B by whole periods: the same curve in 3-D */
+            prw_nurbs_curve *c = &B->segs[i].uv;
+            for (int j = 0; j < c->n; j++) c->pw[4 * j + dir] += k * P * c->pw[4 * j + 3];
+        }
+        prw_dvec3 sa0 = loop_end(A, false), eb = loop_end(B, true);
+        sb0 = loop_end(B, false);
+        prw_nurbs_curve up, down;
+        if (!seam_line(ea, sb0, &up)) return false;
+        if (!seam_line(eb, sa0, &down)) {
+            prw_nurbs_curve_free(&up);
+            return false;
+        }
+        prw_trim_loop joined = {0};
+        joined.segs = prw_malloc(sizeof *joined.segs * (size_t)(A->count + B->count + 2));
+        for (int i = 0; i < A->count; i++) joined.segs[joined.count++] = A->segs[i];
+        joined.segs[joined.count++] = (prw_trim_segment){up, NULL};
+        for (int i = 0; i < B->count; i++) joined.segs[joined.count++] = B->segs[i];
+        joined.segs[joined.count++] = (prw_trim_segment){down, NULL};
+        free(A->segs);
+        free(B->segs);
+        *A = joined;
+        memmove(B, B + 1, sizeof *B * (size_t)(t->nloops - b - 1));
+        t->nloops--;
+        return true;
+    }
+    return false;
 }

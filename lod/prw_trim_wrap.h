@@ -23,7 +23,17 @@
  *    inversion at a domain edge returns v = 1, 1 - 1e-16, 1 for successive points, a zero-length
  *    back-and-forth the fixed tessellation cannot use (the public occt_OCC8842_cylinder_Ideas.igs
  *    lost its side face to it).  Other degrees are left alone.
- *  - Nothing prints; only prw_nurbs_surface_reseat allocates.
+ *  - prw_trim_join_bands: a loop that winds once around a closed direction (its end is its start
+ *    moved by ±P there, the other coordinate within tol of where it began: a circle round a
+ *    cylinder or cone) has no area under the even-odd rule; a band between two circles, each a
+ *    boundary of its own (SolidWorks' bounded surfaces, the public halbrooks_hollowvase.igs), is
+ *    the region between two such loops.  When a face has exactly two, starting at the same
+ *    coordinate in that direction (within tol; the second moved by whole periods), they become one
+ *    loop: the first, the seam line from its end to the second's start, the second (walked the
+ *    other way round when it winds the same way), the seam line back — the band as one ring of the
+ *    domain, the seam lines without model curves.  Anything else is left as it is.  Returns whether
+ *    it joined.
+ *  - Nothing prints; prw_nurbs_surface_reseat and prw_trim_join_bands allocate.
  */
 #ifndef PRW_TRIM_WRAP_H
 #define PRW_TRIM_WRAP_H
@@ -42,6 +52,7 @@ void prw_trim_unwrap_loop(const prw_nurbs_surface *s, const bool closed[2], prw_
 void prw_trim_shift_loop(const prw_nurbs_surface *s, int dir, double a, prw_nurbs_curve *pieces, int n);
 bool prw_nurbs_surface_reseat(prw_nurbs_surface *s, int dir, double a, prw_error *e);
 void prw_trim_drop_close_points(prw_nurbs_curve *c, double tol);
+bool prw_trim_join_bands(prw_trimmed_surface *t, const bool closed[2], double tol);
 
 #ifdef __cplusplus
 }

@@ -314,6 +314,25 @@ char *iges_model_brep_cylinder(size_t *len)
     return brep_finish(&b, len);
 }
 
+char *iges_model_bounded_band(bool same_way, size_t *len)
+{
+    static igw w;
+    igw_init(&w);
+    const double R = 30, H = 80;
+    int axis = igw_add(&w, 110, 0, DEP, 0, 0, "0.,0.,0.,0.,0.,1.");
+    int gen = igw_add(&w, 110, 0, DEP, 0, 0, "%g,0.,0.,%g,0.,%g", R, R, H);
+    int rev = igw_add(&w, 120, 0, DEP, 0, 0, "%d,%d,0.,6.283185307179586", axis, gen);
+    /* the two circles start at the same angle (+x); the top one runs the other way unless same_way */
+    int bot = igw_add(&w, 100, 0, DEP, 0, 0, "0.,0.,0.,%g,0.,%g,0.", R, R);
+    int top = igw_add(&w, 100, 0, DEP, 0, 0, "%g,0.,0.,%g,0.,%g,0.", H, R, R);
+    int b0 = igw_add(&w, 141, 0, DEP, 0, 0, "0,1,%d,1,%d,1,0", rev, bot);
+    int b1 = igw_add(&w, 141, 0, DEP, 0, 0, "0,1,%d,1,%d,%d,0", rev, top, same_way ? 1 : 2);
+    igw_add(&w, 143, 0, 0, 0, 0, "0,%d,2,%d,%d", rev, b0, b1);
+    char *s = igw_finish(&w, len);
+    igw_free(&w);
+    return s;
+}
+
 /* Cubic Bézier helpers for the free-form solid. */
 static void bern3(double t, double *B)
 {

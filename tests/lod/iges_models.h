@@ -39,6 +39,10 @@ char *iges_model_brep_box(size_t *len);
 /* The same box with its faces only (physically dependent 510s no shell uses, as OpenCASCADE 6.x
  * writes free faces) and/or its planes as 190 (point 116 + normal 123). */
 char *iges_model_brep_box_variant(bool faces_only, bool planes_190, size_t *len);
+/* The lateral surface of the cylinder r 30, h 80 mm as a bounded surface (143) whose two
+ * boundaries (141) are its end circles, each on its own (as SolidWorks writes revolved faces); the
+ * top circle runs against the bottom one unless same_way. */
+char *iges_model_bounded_band(bool same_way, size_t *len);
 char *iges_model_brep_cylinder(size_t *len);
 char *iges_model_brep_freeform(size_t *len);
 

@@ -190,6 +190,41 @@ static void test_cylinder(void)
                  prw_v3(0, 0, 0.04), box);
 }
 
+/* A band between two circles, each its own boundary: one loop around the domain (it had no
+ * area: each circle alone is a zero-area loop under the even-odd rule), the exact lateral area. */
+static void test_bounded_band(void)
+{
+    for (int same = 0; same < 2; same++) {
+        size_t n;
+        char *s = iges_model_bounded_band(same != 0, &n);
+        prw_nurbs_model m;
+        prw_iges_info info;
+        prw_error e;
+        CHECK_OK(prw_iges_parse(s, n, "band.igs", &m, &info, &e), &e);
+        free(s);
+        CHECK(m.count == 1 && info.warning[0] == 0);
+        if (m.count != 1) continue;
+        const prw_trimmed_surface *t = &m.surfaces[0];
+        prw_trim_region reg;
+        CHECK_OK(prw_trim_region_build(t, 1e-9, &reg, &e), &e);
+        double u0, u1, v0, v1;
+        prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
+        double a = prw_trim_region_area(&reg), want = (u1 - u0) * (v1 - v0);
+        printf("  band (%s): %d loop(s), region %.9g of the domain's %.9g\n", same ? "same way" : "opposite", t->nloops, a,
+               want);
+        CHECK(t->nloops == 1 && fabs(a - want) <= 1e-6 * want);
+        prw_trim_region_free(&reg);
+        prw_seam_graph g;
+        CHECK_OK(prw_seam_build(&m, NULL, &g, &e), &e);
+        prw_lod_model lm;
+        CHECK_OK(prw_lod_build(&m, &g, NULL, &lm, &e), &e);
+        CHECK(lm.failed_patches == 0);
+        prw_lod_free(&lm);
+        prw_seam_free(&g);
+        prw_nurbs_model_free(&m);
+    }
+}
+
 static void test_freeform(void)
 {
     size_t n;
@@ -290,6 +325,7 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"box", test_box}, {"box_190", test_box_190}, {"box_free_faces", test_box_free_faces},
+        {"bounded_band", test_bounded_band},
         {"cylinder", test_cylinder},
         {"freeform", test_freeform},
         {"bare_records", test_bare_records},
