@@ -227,8 +227,11 @@ bool prw_iges_parse_limited(const char *data, size_t size, const char *name, lon
     }
     free(faces.v);
     info->max_projection_distance = x.max_proj * info->metres_per_unit;
-    if (ok && (info->skipped || info->faces_skipped)) {
+    if (ok && (info->skipped || info->faces_skipped || f.note[0])) {
         size_t n = (size_t)snprintf(info->warning, sizeof info->warning, "%s:", name);
+        if (f.note[0])
+            n += (size_t)snprintf(info->warning + n, sizeof info->warning - n, " %s%s", f.note,
+                                  info->skipped || info->faces_skipped ? ";" : "");
         if (info->skipped) {
             n += (size_t)snprintf(info->warning + n, sizeof info->warning - n, " skipped %d unsupported entities:",
                                   info->skipped);

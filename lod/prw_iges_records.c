@@ -406,6 +406,13 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
                 num = isdigit((unsigned char)q[m]);
                 if (num) v = v * 10 + (q[m] - '0');
             }
+            if (num && v != counts[k] && k < 2 && !f->note[0]) {
+                /* a miscounted Start or Global section loses nothing (the sections are delimited by
+                 * their letters); OpenCASCADE reads such files too: noted, not refused */
+                snprintf(f->note, sizeof f->note, "line %d: Terminate record counts %d %c records, the file has %d",
+                         t->no, v, letters[k], counts[k]);
+                continue;
+            }
             if (!num || v != counts[k]) {
                 prw_fail(e, "%s:%d: Terminate record field %d ('%.8s') does not match the %d %c records", name, t->no,
                          k + 1, q, counts[k], letters[k]);

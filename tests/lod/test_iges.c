@@ -379,6 +379,38 @@ static void test_malformed(void)
     free(t);
     /* empty */
     expect_error("empty", "", "mem.igs:1: ", "empty file");
+    /* the Terminate record miscounts the Global section: read, with a note (OpenCASCADE reads such
+     * files); a miscounted Parameter section is still refused */
+    {
+        char tl[128];
+        snprintf(tl, sizeof tl, "%.80s\n", line_of(base, nlines));
+        char *g = strstr(tl, "G0000003");
+        CHECK(g != NULL);
+        if (g) {
+            g[7] = '4';
+            t = edit_line(base, nlines, tl);
+            prw_nurbs_model m;
+            prw_iges_info info;
+            prw_error e = {{0}};
+            bool ok = parse(t, strlen(t), &m, &info, &e);
+            CHECK_MSG(ok, "G miscounted: %s", e.msg);
+            if (ok) {
+                printf("  G miscounted -> read, warning '%s'\n", info.warning);
+                CHECK(m.count > 0 && strstr(info.warning, "Terminate record counts 4 G records, the file has 3") != NULL);
+                prw_nurbs_model_free(&m);
+            }
+            free(t);
+            g[7] = '3';
+            char *pp = strstr(tl, "P0000020");
+            CHECK(pp != NULL);
+            if (pp) {
+                pp[7] = '1';
+                t = edit_line(base, nlines, tl);
+                expect_error("P miscounted", t, "mem.igs:", "does not match the 20 P records");
+                free(t);
+            }
+        }
+    }
     free(base);
 }
 
