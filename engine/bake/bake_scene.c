@@ -23,6 +23,20 @@ static void warn(prw_bake_progress_fn progress, void *user, const char *name, co
     progress(user, line);
 }
 
+/* "lod: <name>: N of M patches could not be tessellated and are not drawn (first: ...)": a model
+ * drawn in part says so (a user would otherwise see a piece missing without a word). */
+static void say_failed(prw_bake_progress_fn progress, void *user, const char *name, const prw_lod_model *lm)
+{
+    int failed = 0;
+    for (int p = 0; p < lm->npatches; p++) failed += !lm->patches[p].ok;
+    if (!progress || failed == 0) return;
+    char line[1400];
+    snprintf(line, sizeof line, "lod: %s: %d of %d patches could not be tessellated and are not drawn%s%.300s%s", name,
+             failed, lm->npatches, lm->first_problem[0] ? " (first: " : "", lm->first_problem,
+             lm->first_problem[0] ? ")" : "");
+    progress(user, line);
+}
+
 /* A procedural model's hierarchy: cache key from its content hash (kind JSON: it is hand-made). */
 static bool procedural_hierarchy(const prw_scene_nurbs *n, const prw_nurbs_model *m, const prw_bake_options *o,
                                  prw_bake_progress_fn progress, void *user, prw_baked_lod **out, prw_error *e)
@@ -35,6 +49,7 @@ static bool procedural_hierarchy(const prw_scene_nurbs *n, const prw_nurbs_model
         if (b->lod.npatches == (int)m->count) {
             *out = b;
             say(progress, user, n->name, -1);
+            say_failed(progress, user, n->name, &b->lod);
             return true;
         }
         snprintf(warning, sizeof warning, "corrupt cache entry rebuilt: %.900s: %d patches, the model %zu surfaces",
@@ -47,6 +62,7 @@ static bool procedural_hierarchy(const prw_scene_nurbs *n, const prw_nurbs_model
         return prw_fail_wrap(e, "procedural NURBS model '%s'", n->procedural);
     snprintf((*out)->key, sizeof (*out)->key, "%s", key);
     say(progress, user, n->name, prw_now() - t0);
+    say_failed(progress, user, n->name, &(*out)->lod);
     prw_error ce;
     if (path[0] && !prw_bake_cache_store(key, *out, NULL, 0, &ce)) {
         snprintf(warning, sizeof warning, "cache not written: %.900s", ce.msg);
@@ -74,6 +90,7 @@ bool prw_bake_scene_entry(const prw_scene_nurbs *n, const prw_nurbs_model *m, pr
     if (!prw_bake_run(n->file, &o, false, out, &br, NULL, NULL, e)) return false;
     warn(progress, user, n->name, br.warning);
     say(progress, user, n->name, br.cache_hit ? -1 : br.seconds_total);
+    say_failed(progress, user, n->name, &(*out)->lod);
     int np = (*out)->lod.npatches;
     if (np != (int)m->count) {
         prw_lod_file_destroy(*out);

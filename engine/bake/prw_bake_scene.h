@@ -14,7 +14,9 @@
  *  - The cache is an optimisation: a read-only cache only costs a rebuild; a corrupt entry is
  *    reported (one progress line) and rebuilt.
  *  - progress (may be NULL) gets, per entry, "lod: <name>: hierarchy from the cache" or
- *    "lod: <name>: hierarchy built in <s> s" (and any cache warning); nothing is printed here.
+ *    "lod: <name>: hierarchy built in <s> s" (and any cache warning), and when patches failed
+ *    "lod: <name>: N of M patches could not be tessellated and are not drawn (first: ...)"; nothing
+ *    is printed here.
  *  - prw_bake_scene skips entries that already have an attachment (calling it twice builds nothing)
  *    and stops at the first entry that fails, with an error naming it ("NURBS model '<name>': ...");
  *    the entries before it stay attached.  A scene without NURBS entries is ready as it is.
