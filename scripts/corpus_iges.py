@@ -15,7 +15,9 @@ with no failed patch.  --render OUTDIR also opens each file directly, `prw rende
 black / empty / flat / clipped).  --tsv writes the rows; --compare BASE.tsv (a --tsv of another build) lists
 files that load in BASE but not here.  Exit status 1 when any run crashed or timed out, or (with
 --render) a render that exited 0 is not an image.
-Only the Python standard library; the corpus itself is never part of the repository.
+Only the Python standard library; the corpus itself is never part of the repository: the public
+corpus the issue's figures use is listed in scripts/iges_corpus_sources.tsv (file name, GitHub
+repository, path, commit, bytes, sha256 prefix) to fetch it again.
 """
 import argparse
 import json
