@@ -299,6 +299,20 @@ static int winds(const prw_trim_loop *l, int dir, double P, double tol)
     return d > 0 ? 1 : -1;
 }
 
+/* The loop walked the other way: pieces in reverse order, each reversed (model curves too). */
+static void reverse_loop(prw_trim_loop *l)
+{
+    for (int i = 0, j = l->count - 1; i < j; i++, j--) {
+        prw_trim_segment tmp = l->segs[i];
+        l->segs[i] = l->segs[j];
+        l->segs[j] = tmp;
+    }
+    for (int i = 0; i < l->count; i++) {
+        prw_nurbs_curve_reverse(&l->segs[i].uv);
+        if (l->segs[i].model) prw_nurbs_curve_reverse(l->segs[i].model);
+    }
+}
+
 static bool seam_line(prw_dvec3 a, prw_dvec3 b, prw_nurbs_curve *out)
 {
     prw_dvec3 p[2] = {a, b};
@@ -323,31 +337,11 @@ bool prw_trim_join_bands(prw_trimmed_surface *t, const bool closed[2], double to
         }
         if (count != 2) continue;
         prw_trim_loop *A = &t->loops[a], *B = &t->loops[b];
-        if (sa == sb) { /* walk B the other way round */
-            for (int i = 0, j = B->count - 1; i < j; i++, j--) {
-                prw_trim_segment tmp = B->segs[i];
-                B->segs[i] = B->segs[j];
-                B->segs[j] = tmp;
-            }
-            for (int i = 0; i < B->count; i++) {
-                prw_nurbs_curve_reverse(&B->segs[i].uv);
-                if (B->segs[i].model) prw_nurbs_curve_reverse(B->segs[i].model);
-            }
-        }
+        if (sa == sb) reverse_loop(B); /* walk B the other way round */
         prw_dvec3 ea = loop_end(A, true), sb0 = loop_end(B, false);
         double diff = dir == 0 ? ea.x - sb0.x : ea.y - sb0.y, k = nearbyint(diff / P);
         if (!(fabs(diff - k * P) <= tol)) { /* they do not start at the same place round: left alone */
-            if (sa == sb) { /* undo the reversal */
-                for (int i = 0, j = B->count - 1; i < j; i++, j--) {
-                    prw_trim_segment tmp = B->segs[i];
-                    B->segs[i] = B->segs[j];
-                    B->segs[j] = tmp;
-                }
-                for (int i = 0; i < B->count; i++) {
-                    prw_nurbs_curve_reverse(&B->segs[i].uv);
-                    if (B->segs[i].model) prw_nurbs_curve_reverse(B->segs[i].model);
-                }
-            }
+            if (sa == sb) reverse_loop(B); /* undo the reversal */
             continue;
         }
         for (int i = 0; i < B->count && k != 0; i++) { /* B by whole periods: the same curve in 3-D */
