@@ -12,7 +12,7 @@ static bool supported(int type)
 {
     switch (type) {
     case 0: case 100: case 102: case 110: case 112: case 124: case 126: case 142: case 144: case 314:
-    case 108: case 118: case 120: case 122: case 128: case 141: case 143: case 190: case 116: case 123:
+    case 108: case 118: case 120: case 122: case 128: case 141: case 143: case 190:
     case 186: case 502: case 504: case 508: case 510: case 514:
         return true;
     default:
@@ -167,14 +167,18 @@ bool prw_iges_parse_limited(const char *data, size_t size, const char *name, lon
     for (int k = 0; k < f.nde && ok; k++) {
         iges_de *d = &f.de[k];
         bool independent = d->subord == 0 || d->subord == 2;
-        /* points and directions are read through the 190 planes that use them; free ones are not drawn */
-        bool parameter_only = d->type == 116 || d->type == 123;
-        if (!supported(d->type) || (parameter_only && independent)) {
+        if (!supported(d->type)) {
+            /* points and directions a 190 plane reads are parts of it, not unsupported entities */
+            if ((d->type == 116 || d->type == 123) && !independent) continue;
             skipped[d->type]++;
             info->skipped++;
             continue;
         }
-        if (parameter_only) continue;
+        if (d->type == 190 && independent && !d->used_by_144) { /* a free plane has no extent to draw */
+            skipped[d->type]++;
+            info->skipped++;
+            continue;
+        }
         /* a B-rep face flagged physically dependent that no shell (and no subfigure) uses is drawn
          * as the free face it is (OpenCASCADE 6.x writes single faces so) */
         bool orphan_face = d->type == 510 && !d->used_by_144 && !d->in_subfigure;

@@ -448,8 +448,10 @@ static bool plane_cover(iges_ctx *x, const iges_de *d, prw_dvec3 o, prw_dvec3 n,
         ADD_PT(prw_v3_sub(c, prw_v3_scale(prw_v3_add(e1, e2), size)));
     }
 #undef ADD_PT
-    if (!(lo[0] < hi[0])) lo[0] = isfinite(lo[0]) ? lo[0] - 1 : -1, hi[0] = isfinite(hi[0]) ? hi[0] + 1 : 1;
-    if (!(lo[1] < hi[1])) lo[1] = isfinite(lo[1]) ? lo[1] - 1 : -1, hi[1] = isfinite(hi[1]) ? hi[1] + 1 : 1;
+    if (!isfinite(lo[0]))
+        return iges_fail(x->f, d, 1, x->e, "an unbounded plane needs a boundary, trim curves or a display size");
+    if (!(lo[0] < hi[0])) lo[0] -= 1, hi[0] += 1;
+    if (!(lo[1] < hi[1])) lo[1] -= 1, hi[1] += 1;
     double m = 0.01 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
     lo[0] -= m, lo[1] -= m, hi[0] += m, hi[1] += m;
 #define CORNER(a, b) prw_v3_add(o, prw_v3_add(prw_v3_scale(e1, (a)), prw_v3_scale(e2, (b))))
@@ -804,10 +806,10 @@ bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
     int *inner = prw_malloc(sizeof(int) * (size_t)(n2 + 1));
     bool ok = true;
     for (int i = 0; ok && i < n2; i++) ok = iges_ptr(x->f, d, 5 + i, false, &inner[i], x->e);
-    /* a plane gets its extent from the trim curves */
+    /* an unbounded plane gets its extent from the trim curves */
     prw_dvec3 *hint = NULL;
     int nhint = 0;
-    if (ok && x->f->de[pts].type == 108) {
+    if (ok && (x->f->de[pts].type == 108 || x->f->de[pts].type == 190)) {
         for (int i = -1; ok && i < n2; i++) {
             int kk = i < 0 ? pto : inner[i];
             if (kk < 0) continue;

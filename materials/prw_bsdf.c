@@ -58,8 +58,8 @@ static void fill_fits(const prw_bsdf *b, const double wo[3], prw_bsdf_lobes *l)
 {
     l->fits = 1;
     /* Without a specular lobe every fitted albedo is multiplied by an exact zero (metallic, specular
-     * and F_ms(0, .)), so eval's result is prw_lambert(base) to the bit and the fits are not needed:
-     * zeros stand in for them (spec_probability gives the same numbers with them). */
+     * and F_ms(0, .)), so eval's result is prw_lambert(base) to the bit and the fits are not needed
+     * (zeros stand in for them); prw_bsdf_lobes_at then samples the cosine lobe alone. */
     l->lambert = b->metallic <= 0 && b->specular <= 0 && !has_coat(b);
     if (l->lambert) {
         memset(l->ec_row, 0, sizeof l->ec_row), memset(l->ed_row, 0, sizeof l->ed_row);
@@ -257,7 +257,6 @@ static double spec_probability(const prw_bsdf *b, const prw_bsdf_lobes *l, doubl
         diff += (1 - m) * (base * (1 - e_ds) + fms_d * ec) + m * fms_m * ec;
     }
     if (albedo) *albedo = (spec + diff) / 3;
-    if (l->lambert) return 0; /* no specular lobe to sample */
     if (!(spec + diff > 0)) return 0.5;
     return clampd(spec / (spec + diff), 0.05, 0.95);
 }

@@ -314,6 +314,30 @@ char *iges_model_brep_cylinder(size_t *len)
     return brep_finish(&b, len);
 }
 
+char *iges_model_plane190_trimmed(size_t *len)
+{
+    static igw w;
+    igw_init(&w);
+    /* a 100 x 60 mm rectangle at z = 5 trimming a 190 plane (144 / 142, model-space curve only) */
+    int pt = igw_add(&w, 116, 0, DEP, 0, 0, "0.,0.,5.");
+    int nr = igw_add(&w, 123, 0, DEP, 0, 0, "0.,0.,1.");
+    int pl = igw_add(&w, 190, 0, DEP, 0, 0, "%d,%d", pt, nr);
+    const double c[5][2] = {{10, 20}, {110, 20}, {110, 80}, {10, 80}, {10, 20}};
+    int e[4];
+    for (int k = 0; k < 4; k++)
+        e[k] = igw_add(&w, 110, 0, DEP, 0, 0, "%g,%g,5.,%g,%g,5.", c[k][0], c[k][1], c[k + 1][0], c[k + 1][1]);
+    int cc = igw_add(&w, 102, 0, DEP, 0, 0, "4,%d,%d,%d,%d", e[0], e[1], e[2], e[3]);
+    int cos = igw_add(&w, 142, 0, DEP, 0, 0, "0,%d,0,%d,2", pl, cc);
+    igw_add(&w, 144, 0, 0, 0, 0, "%d,1,0,%d", pl, cos);
+    /* and a free plane of its own, which has no extent to draw */
+    int pt2 = igw_add(&w, 116, 0, DEP, 0, 0, "0.,0.,0.");
+    int nr2 = igw_add(&w, 123, 0, DEP, 0, 0, "0.,1.,0.");
+    igw_add(&w, 190, 0, 0, 0, 0, "%d,%d", pt2, nr2);
+    char *t = igw_finish(&w, len);
+    igw_free(&w);
+    return t;
+}
+
 char *iges_model_bounded_band(bool same_way, size_t *len)
 {
     static igw w;

@@ -43,6 +43,8 @@ char *iges_model_brep_box_variant(bool faces_only, bool planes_190, size_t *len)
  * boundaries (141) are its end circles, each on its own (as SolidWorks writes revolved faces); the
  * top circle runs against the bottom one unless same_way. */
 char *iges_model_bounded_band(bool same_way, size_t *len);
+/* A 100 x 60 mm rectangle trimming a 190 plane (144 with a model-space 142), and a free 190. */
+char *iges_model_plane190_trimmed(size_t *len);
 char *iges_model_brep_cylinder(size_t *len);
 char *iges_model_brep_freeform(size_t *len);
 

@@ -225,6 +225,39 @@ static void test_bounded_band(void)
     }
 }
 
+/* A 144 on a 190 plane takes the plane's extent from its trim curves (the exact rectangle); a free
+ * 190 is counted as skipped, not drawn. */
+static void test_plane190_trimmed(void)
+{
+    size_t n;
+    char *s = iges_model_plane190_trimmed(&n);
+    prw_nurbs_model m;
+    prw_iges_info info;
+    prw_error e;
+    CHECK_OK(prw_iges_parse(s, n, "plane190.igs", &m, &info, &e), &e);
+    free(s);
+    printf("  plane190.igs: %zu faces, warning '%s'\n", m.count, info.warning);
+    CHECK(m.count == 1 && strstr(info.warning, "190 x1") != NULL);
+    prw_seam_graph g;
+    CHECK_OK(prw_seam_build(&m, NULL, &g, &e), &e);
+    prw_lod_model lm;
+    CHECK_OK(prw_lod_build(&m, &g, NULL, &lm, &e), &e);
+    CHECK(lm.failed_patches == 0);
+    int lv[1] = {0}, *sl = prw_malloc(sizeof(int) * (size_t)g.nsegs + 1);
+    prw_lod_mesh out;
+    memset(&out, 0, sizeof out);
+    prw_lod_segment_levels(&lm, lv, sl);
+    prw_lod_emit(&lm, 0, 0, sl, &out);
+    double area = mesh_area(&out);
+    printf("  plane190.igs: area %.9g m^2 (exact 0.006)\n", area);
+    CHECK(fabs(area - 0.006) <= 1e-9);
+    prw_lod_mesh_free(&out);
+    free(sl);
+    prw_lod_free(&lm);
+    prw_seam_free(&g);
+    prw_nurbs_model_free(&m);
+}
+
 static void test_freeform(void)
 {
     size_t n;
@@ -325,7 +358,7 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"box", test_box}, {"box_190", test_box_190}, {"box_free_faces", test_box_free_faces},
-        {"bounded_band", test_bounded_band},
+        {"bounded_band", test_bounded_band}, {"plane190_trimmed", test_plane190_trimmed},
         {"cylinder", test_cylinder},
         {"freeform", test_freeform},
         {"bare_records", test_bare_records},
