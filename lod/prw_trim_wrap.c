@@ -337,13 +337,11 @@ bool prw_trim_join_bands(prw_trimmed_surface *t, const bool closed[2], double to
         }
         if (count != 2) continue;
         prw_trim_loop *A = &t->loops[a], *B = &t->loops[b];
-        if (sa == sb) reverse_loop(B); /* walk B the other way round */
-        prw_dvec3 ea = loop_end(A, true), sb0 = loop_end(B, false);
+        /* B's start once it winds against A (walked backwards when it winds the same way) */
+        prw_dvec3 ea = loop_end(A, true), sb0 = loop_end(B, sa == sb);
         double diff = dir == 0 ? ea.x - sb0.x : ea.y - sb0.y, k = nearbyint(diff / P);
-        if (!(fabs(diff - k * P) <= tol)) { /* they do not start at the same place round: left alone */
-            if (sa == sb) reverse_loop(B); /* undo the reversal */
-            continue;
-        }
+        if (!(fabs(diff - k * P) <= tol)) continue; /* they do not start at the same place round */
+        if (sa == sb) reverse_loop(B);
         for (int i = 0; i < B->count && k != 0; i++) { /* B by whole periods: the same curve in 3-D */
             prw_nurbs_curve *c = &B->segs[i].uv;
             for (int j = 0; j < c->n; j++) c->pw[4 * j + dir] += k * P * c->pw[4 * j + 3];
