@@ -37,21 +37,22 @@ trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 bg_build() { # dir [args]: nice 19, output to dir.log, exit status to dir.rc
   local dir=$1
   shift
-  rm -f "$dir.rc"
-  # its own process group (setsid), so that bg_finish can stop the whole build at once
-  (setsid nice -n 19 cmake --build "$dir" -j"$jobs" "$@" >"$dir.log" 2>&1; echo $? >"$dir.rc") &
+  rm -f "$dir.rc" "$dir.pgid"
+  # in a process group of its own (setsid; its id in dir.pgid), so that bg_finish can stop it whole
+  (setsid sh -c 'echo $$ >"$0.pgid"; exec nice -n 19 cmake --build "$0" "$@"' "$dir" -j"$jobs" "$@" \
+    >"$dir.log" 2>&1; echo $? >"$dir.rc") &
   bg_pid=$!
 }
-kill_tree() { # subshell pid: SIGTERM to the build's process group (make deletes half-built targets)
-  local leader
-  leader=$(pgrep -P "$1" 2>/dev/null | head -1)
-  if [ -n "$leader" ]; then kill -TERM -- "-$leader" 2>/dev/null || true; fi
+stop_group() { # dir: SIGTERM to its background build's process group (make deletes half-built targets)
+  local g
+  g=$(cat "$1.pgid" 2>/dev/null || true)
+  if [ -n "$g" ]; then kill -TERM -- "-$g" 2>/dev/null || true; fi
 }
 bg_finish() { # dir: a failed background build shows its log; one still running is stopped, since at
   # nice 19 it starves on a busy machine (2 CPU hogs: the sanitizer build made 5 % in 25 min), and
   # the caller's foreground build finishes the rest at normal priority
   if [ ! -f "$1.rc" ]; then
-    kill_tree "$bg_pid"
+    stop_group "$1"
     wait "$bg_pid" 2>/dev/null || true
     return 0
   fi
