@@ -50,19 +50,20 @@ void main()
     if (bend > 0.0) n = normalize(n + v * bend);
 
     vec3 radiance = S.emission;
+    ggx_view w = prw_material_ggx_view(dot(n, v), S.roughness);
 #ifdef PRW_GLTF_EXT
 #ifdef PRW_GLTF_COAT
     vec3 nc = S.nc;
     float bend_c = prw_normal_bend(dot(nc, v));
     if (bend_c > 0.0) nc = normalize(nc + v * bend_c);
-    prw_direct_light_coated(radiance, v_pos, n, nc, v, S.base, S.metallic, S.roughness, S.specular, S.clearcoat,
+    prw_direct_light_coated(radiance, w, v_pos, n, nc, v, S.base, S.metallic, S.roughness, S.specular, S.clearcoat,
                             S.clearcoat_roughness, 1.5);
 #else
-    prw_direct_light(radiance, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
+    prw_direct_light(radiance, w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
 #endif
     o_color = vec4(radiance, mode == PRW_GPU_ALPHA_BLEND ? clamp(S.alpha, 0.0, 1.0) : 1.0);
 #else
-    prw_direct_light(radiance, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
+    prw_direct_light(radiance, w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
     o_color = vec4(radiance, 1.0);
 #endif
 #ifdef PRW_GBUFFER

@@ -25,22 +25,18 @@ vec3 lambert_edge(vec3 a, vec3 b)
 // The edge a -> b of a convex polygon (relative to the receiver) clipped to the hemisphere of n: adds the
 // part above the horizon to sum and records where the polygon leaves (exit_pt) or re-enters (entry_pt)
 // the hemisphere, so the caller closes it along the horizon.  (No local array: lavapipe makes a
-// dynamically indexed one cost ~300 ms a frame at 1280x720 even when the code never runs.)
+// dynamically indexed one cost ~300 ms a frame at 1280x720 even when the code never runs.  One
+// lambert_edge call on the clipped ends, chosen by selects: lavapipe runs every branch, and a call per
+// case cost three of them per edge.)
 void clip_edge(vec3 a, vec3 b, vec3 n, inout vec3 sum, inout vec3 exit_pt, inout vec3 entry_pt, inout int above)
 {
     float da = dot(n, a), db = dot(n, b);
-    if (da > 0.0) {
-        above++;
-        if (db > 0.0) {
-            sum += lambert_edge(a, b);
-        } else {
-            exit_pt = a + (b - a) * (da / (da - db));
-            sum += lambert_edge(a, exit_pt);
-        }
-    } else if (db > 0.0) {
-        entry_pt = a + (b - a) * (da / (da - db));
-        sum += lambert_edge(entry_pt, b);
-    }
+    bool ua = da > 0.0, ub = db > 0.0;
+    vec3 cut = a + (b - a) * (da / (da - db)); // used only when exactly one end is above
+    if (ua) above++;
+    if (ua && !ub) exit_pt = cut;
+    if (!ua && ub) entry_pt = cut;
+    if (ua || ub) sum += lambert_edge(ua ? a : cut, ub ? b : cut);
 }
 
 // Irradiance per unit radiance from the quad q0..q3 (camera-relative, convex, planar) at p with normal n,
@@ -117,17 +113,25 @@ struct ggx_view {
     prw_ggx_row ec_row, ed_row;
 };
 
-ggx_view ggx_view_at(float NoV, float roughness)
+// ... from the rows and averages of the roughness (computed here, or by the CPU for a material whose
+// roughness has no texture: material_gltf.glsl).
+ggx_view ggx_view_from(float NoV, prw_ggx_row ec_row, prw_ggx_row ed_row, float ec_avg, float ed_avg)
 {
     float mo = min(max(NoV, 1e-4), 1.0);
     ggx_view w;
-    w.ec_row = prw_ggx_Ec_row(roughness);
-    w.ed_row = prw_ggx_Ed_row(roughness);
-    w.ec_avg = prw_ggx_Ec_avg(roughness);
-    w.ed_avg = prw_ggx_Ed_avg(roughness);
+    w.ec_row = ec_row;
+    w.ed_row = ed_row;
+    w.ec_avg = ec_avg;
+    w.ed_avg = ed_avg;
     w.ec_o = prw_ggx_Ec_at(w.ec_row, mo);
     w.ed_o = prw_ggx_Ed_at(w.ed_row, mo);
     return w;
+}
+
+ggx_view ggx_view_at(float NoV, float roughness)
+{
+    return ggx_view_from(NoV, prw_ggx_Ec_row(roughness), prw_ggx_Ed_row(roughness), prw_ggx_Ec_avg(roughness),
+                         prw_ggx_Ed_avg(roughness));
 }
 
 // ... and with one light's clamped cosine mi: the terms prw_brdf_*_terms take (shared by the three
@@ -260,7 +264,7 @@ vec3 rect_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3
     vec3 fd = diffuse_rgb(t, base, metallic, specular) + specular_ms(t, base, metallic, specular);
     vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base, metallic,
                                            roughness, specular);
-    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
 }
 
 // The direct light of the point, spot or directional light L at p.
@@ -273,14 +277,14 @@ vec3 punctual_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, 
     float NoL = dot(n, l);
     if (NoL <= 0.0 || E <= 0.0) return vec3(0.0);
     return brdf(w, n, v, l, base, metallic, roughness, specular) * L.radiance.rgb * (E * NoL) *
-           (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+           (shadowed ? shadow_factor(L, p, n, shadow_offset, true) : 1.0);
 }
 
-// Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance.
-void prw_direct_light(inout vec3 radiance, vec3 p, vec3 n, vec3 v, vec3 base, float metallic, float roughness,
-                      float specular, float shadow_offset)
+// Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance;
+// w: the fits at the roughness and n.v (ggx_view_at or the material's, material_gltf.glsl).
+void prw_direct_light(inout vec3 radiance, ggx_view w, vec3 p, vec3 n, vec3 v, vec3 base, float metallic,
+                      float roughness, float specular, float shadow_offset)
 {
-    ggx_view w = ggx_view_at(dot(n, v), roughness);
     if (prw_lights_sorted) {
 #define PRW_L(K)                                                                                                  \
     if (K < PRW_N_LIGHTS)                                                                                         \
@@ -358,7 +362,7 @@ vec3 rect_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 
         f += cc * (vec3(ms * Ec) + rect_specular_single(p, nc, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz,
                                                         vec3(0.0), 0.0, rc, 1.0));
     }
-    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
 }
 
 vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,
@@ -370,18 +374,17 @@ vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, v
     float NoL = dot(n, l);
     if (NoL <= 0.0 || E <= 0.0) return vec3(0.0);
     return brdf_coated(w, n, nc, v, l, base, metallic, roughness, specular, cc, rc) * L.radiance.rgb * (E * NoL) *
-           (shadowed ? shadow_factor(L, p, n, shadow_offset) : 1.0);
+           (shadowed ? shadow_factor(L, p, n, shadow_offset, true) : 1.0);
 }
 
 // prw_direct_light for a clear-coated surface (coat normal nc, weight cc, roughness rc).
-void prw_direct_light_coated(inout vec3 radiance, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base, float metallic,
-                             float roughness, float specular, float cc, float rc, float shadow_offset)
+void prw_direct_light_coated(inout vec3 radiance, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,
+                             float metallic, float roughness, float specular, float cc, float rc, float shadow_offset)
 {
     if (!(cc > 0.0)) {
-        prw_direct_light(radiance, p, n, v, base, metallic, roughness, specular, shadow_offset);
+        prw_direct_light(radiance, w, p, n, v, base, metallic, roughness, specular, shadow_offset);
         return;
     }
-    ggx_view w = ggx_view_at(dot(n, v), roughness);
     if (prw_lights_sorted) {
 #define PRW_L(K)                                                                                                  \
     if (K < PRW_N_LIGHTS)                                                                                         \

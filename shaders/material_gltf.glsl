@@ -5,7 +5,7 @@
 // PRW_GLTF_EXT (the pipelines of materials with glTF extension features, engine/render/scene_gpu.h):
 // alpha (MASK / BLEND), a uv set and KHR_texture_transform per texture slot, and with PRW_GLTF_COAT
 // KHR_materials_clearcoat; without it the material is exactly the core one (no transform, uv set 0,
-// no coat).
+// no coat).  prw_material_ggx_view when lights.glsl is included before it.
 #ifndef PRW_MATERIAL_GLTF_GLSL
 #define PRW_MATERIAL_GLTF_GLSL
 
@@ -14,12 +14,13 @@ layout(std140, set = 1, binding = 0) uniform prw_material_block {
     vec4 emission;   // rgb cd/m^2, w: normal scale
     vec4 mr;         // x: metallic, y: roughness, z: double sided, w: has normal map
     vec4 extra;      // x: specular (dielectric F0 scale), y: material slot + 1 (G-buffer id)
-#ifdef PRW_GLTF_EXT
-    vec4 alpha;      // x: mode (PRW_GPU_ALPHA_*), y: cutoff
+    vec4 alpha;      // x: mode (PRW_GPU_ALPHA_*), y: cutoff  (read with PRW_GLTF_EXT only)
     vec4 coat;       // x: clearcoat factor, y: clearcoat roughness factor, z: coat normal scale, w: has coat normal map
     vec4 xf[2 * PRW_GPU_SLOTS]; // per slot: (offset u, offset v, cos r, sin r), (scale u, scale v, uv set, 0)
-#endif
+    vec4 ggx[9];     // the fits' rows at the factor roughness: Ec d0..d15, Ed d0..d15, (Ec_avg, Ed_avg, 0, 0)
 } mat;
+
+
 layout(set = 1, binding = 1) uniform sampler2D tex_base;      // sRGB decoded by the sampler
 layout(set = 1, binding = 2) uniform sampler2D tex_mr;        // G roughness, B metallic
 layout(set = 1, binding = 3) uniform sampler2D tex_normal;    // tangent space
@@ -29,6 +30,39 @@ layout(set = 1, binding = 5) uniform sampler2D tex_coat;           // R: clear c
 layout(set = 1, binding = 6) uniform sampler2D tex_coat_roughness; // G: clear coat roughness
 layout(set = 1, binding = 7) uniform sampler2D tex_coat_normal;    // tangent space
 #endif
+
+// What the slot lacks (PRW_GPU_MAT_*, prw_constants.h), specialised per pipeline (engine/render/pipes.c):
+// on lavapipe a branch on a uniform still runs both sides, a constant removes the code.
+layout(constant_id = PRW_SC_MAT) const int prw_mat_lacks = 0;
+const bool prw_no_base_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_BASE_TEX) != 0;
+const bool prw_no_mr_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_MR_TEX) != 0;
+const bool prw_no_normal_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_NORMAL_TEX) != 0;
+const bool prw_no_emissive_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_EMISSIVE_TEX) != 0;
+
+#ifdef PRW_LIGHTS_GLSL
+// The fits at the surface's roughness and n.v (lights.glsl): from the block when the roughness is the
+// factor (the CPU computed the rows with the same float operations), else here.
+ggx_view prw_material_ggx_view(float NoV, float roughness)
+{
+    if (!prw_no_mr_tex) return ggx_view_at(NoV, roughness);
+    prw_ggx_row ec, ed;
+    ec.d0 = mat.ggx[0].x; ec.d1 = mat.ggx[0].y; ec.d2 = mat.ggx[0].z; ec.d3 = mat.ggx[0].w;
+    ec.d4 = mat.ggx[1].x; ec.d5 = mat.ggx[1].y; ec.d6 = mat.ggx[1].z; ec.d7 = mat.ggx[1].w;
+    ec.d8 = mat.ggx[2].x; ec.d9 = mat.ggx[2].y; ec.d10 = mat.ggx[2].z; ec.d11 = mat.ggx[2].w;
+    ec.d12 = mat.ggx[3].x; ec.d13 = mat.ggx[3].y; ec.d14 = mat.ggx[3].z; ec.d15 = mat.ggx[3].w;
+    ed.d0 = mat.ggx[4].x; ed.d1 = mat.ggx[4].y; ed.d2 = mat.ggx[4].z; ed.d3 = mat.ggx[4].w;
+    ed.d4 = mat.ggx[5].x; ed.d5 = mat.ggx[5].y; ed.d6 = mat.ggx[5].z; ed.d7 = mat.ggx[5].w;
+    ed.d8 = mat.ggx[6].x; ed.d9 = mat.ggx[6].y; ed.d10 = mat.ggx[6].z; ed.d11 = mat.ggx[6].w;
+    ed.d12 = mat.ggx[7].x; ed.d13 = mat.ggx[7].y; ed.d14 = mat.ggx[7].z; ed.d15 = mat.ggx[7].w;
+    return ggx_view_from(NoV, ec, ed, mat.ggx[8].x, mat.ggx[8].y);
+}
+#endif
+
+// The slot's textures, or what their fallbacks give (white; texture() of the 1 x 1 white is exactly 1).
+vec4 prw_tex_base(vec2 uv) { return prw_no_base_tex ? vec4(1.0) : texture(tex_base, uv); }
+vec4 prw_tex_mr(vec2 uv) { return prw_no_mr_tex ? vec4(1.0) : texture(tex_mr, uv); }
+vec3 prw_tex_emissive(vec2 uv) { return prw_no_emissive_tex ? vec3(1.0) : texture(tex_emissive, uv).rgb; }
+bool prw_has_normal_map() { return !prw_no_normal_tex && mat.mr.w > 0.5; }
 
 struct prw_surface {
     vec3 base;
@@ -47,9 +81,9 @@ struct prw_surface {
 prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_facing)
 {
     prw_surface S;
-    vec4 base4 = mat.base_color * texture(tex_base, uv);
+    vec4 base4 = mat.base_color * prw_tex_base(uv);
     S.base = base4.rgb;
-    vec4 mrt = texture(tex_mr, uv);
+    vec4 mrt = prw_tex_mr(uv);
     S.roughness = prw_roughness_from(mat.mr.y, mrt.g);
     S.metallic = prw_metallic_from(mat.mr.x, mrt.b);
     S.specular = mat.extra.x;
@@ -57,7 +91,7 @@ prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_
 
     vec3 n = normalize(normal);
     if (prw_normal_flips(mat.mr.z > 0.5, front_facing)) n = -n;
-    if (mat.mr.w > 0.5) {
+    if (prw_has_normal_map()) {
         vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
         float tl = length(t);
         if (tl > 1e-8) {
@@ -70,7 +104,7 @@ prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_
         }
     }
     S.n = n;
-    S.emission = mat.emission.rgb * texture(tex_emissive, uv).rgb;
+    S.emission = mat.emission.rgb * prw_tex_emissive(uv);
     return S;
 }
 #else
@@ -105,10 +139,10 @@ vec3 prw_apply_normal_map(vec3 n, vec4 tangent, vec3 tt, float scale, int slot)
 prw_surface prw_material_surface(vec2 uv, vec2 uv1, vec3 normal, vec4 tangent, bool front_facing)
 {
     prw_surface S;
-    vec4 base4 = mat.base_color * texture(tex_base, prw_slot_uv(PRW_GPU_SLOT_BASE, uv, uv1));
+    vec4 base4 = mat.base_color * prw_tex_base(prw_slot_uv(PRW_GPU_SLOT_BASE, uv, uv1));
     S.base = base4.rgb;
     S.alpha = base4.a;
-    vec4 mrt = texture(tex_mr, prw_slot_uv(PRW_GPU_SLOT_METAL_ROUGH, uv, uv1));
+    vec4 mrt = prw_tex_mr(prw_slot_uv(PRW_GPU_SLOT_METAL_ROUGH, uv, uv1));
     S.roughness = prw_roughness_from(mat.mr.y, mrt.g);
     S.metallic = prw_metallic_from(mat.mr.x, mrt.b);
     S.specular = mat.extra.x;
@@ -117,11 +151,11 @@ prw_surface prw_material_surface(vec2 uv, vec2 uv1, vec3 normal, vec4 tangent, b
     vec3 n = normalize(normal);
     if (prw_normal_flips(mat.mr.z > 0.5, front_facing)) n = -n;
     S.nc = n;
-    if (mat.mr.w > 0.5)
+    if (prw_has_normal_map())
         n = prw_apply_normal_map(n, tangent, texture(tex_normal, prw_slot_uv(PRW_GPU_SLOT_NORMAL, uv, uv1)).xyz,
                                  mat.emission.w, PRW_GPU_SLOT_NORMAL);
     S.n = n;
-    S.emission = mat.emission.rgb * texture(tex_emissive, prw_slot_uv(PRW_GPU_SLOT_EMISSIVE, uv, uv1)).rgb;
+    S.emission = mat.emission.rgb * prw_tex_emissive(prw_slot_uv(PRW_GPU_SLOT_EMISSIVE, uv, uv1));
     S.clearcoat = 0.0;
     S.clearcoat_roughness = 0.0;
 #ifdef PRW_GLTF_COAT

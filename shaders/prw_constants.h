@@ -27,6 +27,15 @@
 #define PRW_SC_N_RECT 2
 #define PRW_SC_N_PUNCTUAL_SHADOWED 3
 #define PRW_SC_N_PUNCTUAL 4
+/* The base fragment shaders' material specialisation (int, PRW_GPU_MAT_* bits): what the material slot
+ * does not have, so the shader neither fetches the fallback texture nor computes what the CPU has put
+ * into the material block (material_gltf.glsl).  0: everything from the textures and the shader. */
+#define PRW_SC_MAT 5
+#define PRW_GPU_MAT_NO_BASE_TEX 1     /* the base colour is the factor (white fallback texture) */
+#define PRW_GPU_MAT_NO_MR_TEX 2       /* metallic and roughness are the factors; the block's ggx rows are theirs */
+#define PRW_GPU_MAT_NO_NORMAL_TEX 4   /* no normal map */
+#define PRW_GPU_MAT_NO_EMISSIVE_TEX 8 /* the emission is the factor */
+#define PRW_GPU_MAT_BITS 4
 
 /* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
 #define PRW_VERTEX_FLOATS 12

@@ -44,14 +44,16 @@ float shadow_centre_tap(float ref, vec4 r1, vec4 r2, vec2 f)
     return mix(mix(m1.x, m1.y, f.x), mix(m2.x, m2.y, f.x), f.y);
 }
 
-// offset: the receiver's normal offset in texels (base.frag: 1.5).
-float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset)
+// offset: the receiver's normal offset in texels (base.frag: 1.5).  may_be_cube: false (a constant at
+// the call) for a light known to have one layer (a rect light), whose layer is then the same for every
+// fragment: lavapipe then loads its matrices once instead of per fragment, and drops the face selection.
+float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset, bool may_be_cube)
 {
     int first = int(L.cone_shadow.z);
     if (first < 0) return 1.0;
     int layer = first;
     vec3 d = p - L.pos_type.xyz;
-    if (int(L.cone_shadow.w) == 6) {
+    if (may_be_cube && int(L.cone_shadow.w) == 6) {
         vec3 a = abs(d);
         if (a.x >= a.y && a.x >= a.z) layer += d.x > 0.0 ? 0 : 1;
         else if (a.y >= a.z) layer += d.y > 0.0 ? 2 : 3;

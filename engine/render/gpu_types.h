@@ -39,6 +39,7 @@ typedef struct prw_gpu_material {
     float alpha[4];    /* x: alpha mode (PRW_GPU_ALPHA_*), y: cutoff */
     float coat[4];     /* x: clearcoat, y: clearcoat roughness, z: coat normal scale, w: has coat normal map */
     float xf[2 * PRW_GPU_SLOTS][4]; /* per slot: (offset u, v, cos r, sin r), (scale u, v, uv set, 0) */
+    float ggx[9][4]; /* prw_ggx_Ec_row, prw_ggx_Ed_row of the factor roughness, (Ec_avg, Ed_avg, 0, 0) */
 } prw_gpu_material;
 
 /* std140: vec4 members 16-byte aligned, arrays of structs padded to 16, mat4 = 64 bytes */
@@ -48,6 +49,8 @@ _Static_assert(PRW_SC_N_RECT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_R
                    PRW_SC_N_PUNCTUAL_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED &&
                    PRW_SC_N_PUNCTUAL == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_PUNCTUAL,
                "specialisation constants of the light classes");
+_Static_assert(PRW_SC_MAT == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES, "the material constant follows the light classes");
+_Static_assert(PRW_GPU_MAT_BITS + 6 <= 32 && PRW_GPU_MAT_BITS + 4 <= 32, "PRW_GPU_MAT_* fit the pipeline features and slot flags");
 _Static_assert(PRW_MAX_LIGHTS < 32, "light class sizes fit 5 bits (prw_pipe_key.light_classes)");
 _Static_assert(sizeof(prw_gpu_light) == 7 * 16, "prw_gpu_light: 7 vec4");
 _Static_assert(offsetof(prw_gpu_globals, eye_rel) == 64, "globals.eye_rel");
@@ -56,7 +59,8 @@ _Static_assert(offsetof(prw_gpu_globals, lights) == 96, "globals.lights");
 _Static_assert(offsetof(prw_gpu_globals, shadow_mats) == 96 + PRW_MAX_LIGHTS * 7 * 16, "globals.shadow_mats");
 _Static_assert(sizeof(prw_gpu_globals) == 96 + PRW_MAX_LIGHTS * 7 * 16 + PRW_MAX_SHADOW_VIEWS * 64, "globals size");
 _Static_assert(offsetof(prw_gpu_material, alpha) == 64, "material block: the core part is 4 vec4");
-_Static_assert(sizeof(prw_gpu_material) == (6 + 2 * PRW_GPU_SLOTS) * 16, "material block: 6 + 2 x slots vec4");
+_Static_assert(sizeof(prw_gpu_material) == (6 + 2 * PRW_GPU_SLOTS + 9) * 16, "material block: 6 + 2 x slots + 9 vec4");
+_Static_assert(offsetof(prw_gpu_material, ggx) == (6 + 2 * PRW_GPU_SLOTS) * 16, "material block: ggx after xf");
 _Static_assert(PRW_GPU_ALPHA_OPAQUE == PRW_ALPHA_OPAQUE && PRW_GPU_ALPHA_MASK == PRW_ALPHA_MASK &&
                    PRW_GPU_ALPHA_BLEND == PRW_ALPHA_BLEND,
                "alpha modes: shaders/prw_constants.h and prw_alpha_mode agree");

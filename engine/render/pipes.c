@@ -101,7 +101,8 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
     if (!floor && !prepass) { /* lights.glsl: one loop per light class, of the plan's sizes (PRW_SC_*) */
         d->fs_spec[PRW_SC_LIGHTS_SORTED] = 1;
         for (int c = 0; c < PRW_LIGHT_CLASSES; c++) d->fs_spec[PRW_SC_LIGHT_CLASS0 + c] = (k->light_classes >> (5 * c)) & 31u;
-        d->fs_spec_count = PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES;
+        d->fs_spec[PRW_SC_MAT] = (k->features >> PRW_PIPE_LACKS_SHIFT) & ((1u << PRW_GPU_MAT_BITS) - 1u);
+        d->fs_spec_count = PRW_SC_MAT + 1;
     }
     return true;
 }

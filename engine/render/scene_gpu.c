@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "gpu_types.h"
+#include "prw_brdf.h"
+#include "prw_shading.h"
 #include "scene_gpu.h"
 
 #define VERTEX_FLOATS PRW_VERTEX_FLOATS
@@ -23,6 +25,30 @@ uint32_t prw_scene_gpu_material_flags(const prw_material *m)
         if (tex[i] >= 0 && (m->tex_xf[i].tex_coord != 0 || !prw_tex_transform_is_identity(&m->tex_xf[i])))
             f |= PRW_SG_EXT;
     return f;
+}
+
+uint32_t prw_scene_gpu_material_lacks(const prw_material *m, uint32_t texture_count)
+{
+    /* a texture index the scene does not have is drawn with the fallback (tex_view) */
+#define PRW_LACKS(tex) ((tex) < 0 || (uint32_t)(tex) >= texture_count)
+    return (PRW_LACKS(m->base_color_tex) ? PRW_GPU_MAT_NO_BASE_TEX : 0u) |
+           (PRW_LACKS(m->metal_rough_tex) ? PRW_GPU_MAT_NO_MR_TEX : 0u) |
+           (PRW_LACKS(m->normal_tex) ? PRW_GPU_MAT_NO_NORMAL_TEX : 0u) |
+           (PRW_LACKS(m->emissive_tex) ? PRW_GPU_MAT_NO_EMISSIVE_TEX : 0u);
+#undef PRW_LACKS
+}
+
+/* The fits' rows at roughness r (material_gltf.glsl prw_material_ggx_view: the shader's own evaluation
+ * with the same float operations). */
+static void fill_ggx(float out[9][4], float r)
+{
+    prw_ggx_row ec = prw_ggx_Ec_row(r), ed = prw_ggx_Ed_row(r);
+    _Static_assert(sizeof ec == 16 * sizeof(float), "prw_ggx_row is 16 floats");
+    memcpy(out[0], &ec, sizeof ec);
+    memcpy(out[4], &ed, sizeof ed);
+    out[8][0] = prw_ggx_Ec_avg(r);
+    out[8][1] = prw_ggx_Ed_avg(r);
+    out[8][2] = out[8][3] = 0.0f;
 }
 
 static uint32_t flags_of(const prw_scene *s, int material)
@@ -202,7 +228,9 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
             memcpy(g.xf[2 * k], row0, sizeof row0);
             memcpy(g.xf[2 * k + 1], row1, sizeof row1);
         }
+        fill_ggx(g.ggx, (float)prw_roughness_from(m.roughness, 1.0f)); /* a white texel's G is 1 */
         r->slot_flags[i] = i < r->scene_material_slots ? prw_scene_gpu_material_flags(&m) : 0;
+        r->slot_flags[i] |= prw_scene_gpu_material_lacks(&m, r->texture_count) << PRW_SG_LACKS_SHIFT;
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
         if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) return false;
         VkDescriptorSet set = r->material_sets[i];

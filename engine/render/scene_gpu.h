@@ -13,7 +13,9 @@
  *    When a mesh has an EXT material, `uv1` holds uv set 1 for every vertex of the vertex buffer (same
  *    indexing; the vertex's set 0 where its mesh has no TEXCOORD_1, prw_shading.h), else it is not
  *    created.  Material slots' blocks carry the extension members and descriptor sets all seven
- *    textures (white / flat-normal fallbacks).
+ *    textures (white / flat-normal fallbacks).  Each slot's flags also say which textures it lacks
+ *    (PRW_SG_LACKS_SHIFT), and its block carries the GGX fits' rows at its factor roughness, so a pipeline
+ *    specialised on them (PRW_PIPE_LACKS_SHIFT) draws it with the same values without those fetches.
  *  - Read-only after create; the renderer re-creates it when the scene is synced.
  */
 #ifndef PRW_SCENE_GPU_H
@@ -33,6 +35,7 @@ enum {
     PRW_SG_MASK = 2u,  /* alpha MASK: cut out in the base pass and in the shadow pass */
     PRW_SG_BLEND = 4u, /* alpha BLEND: drawn by PRW_DRAW_BLEND, back to front, over the opaque image */
     PRW_SG_COAT = 8u,  /* a clear coat (PRW_PIPE_COAT) */
+    PRW_SG_LACKS_SHIFT = 4, /* bits 4..: PRW_GPU_MAT_* (prw_constants.h), what the slot has no texture for */
 };
 
 typedef struct prw_scene_gpu {
@@ -56,6 +59,8 @@ typedef struct prw_scene_gpu {
 bool prw_scene_gpu_create(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout material_layout,
                           prw_desc_pool *pool, prw_scene_gpu **out, prw_error *e);
 void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g);
+/* PRW_GPU_MAT_* of m: the textures it does not have (absent, or an index past the scene's texture_count). */
+uint32_t prw_scene_gpu_material_lacks(const prw_material *m, uint32_t texture_count);
 /* The material slot of scene material index m (out of range: 0). */
 uint32_t prw_scene_gpu_slot(const prw_scene *s, int m);
 /* PRW_SG_* of a material (see the top). */
