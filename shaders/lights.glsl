@@ -64,9 +64,16 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out ve
 // Single-scattering specular of a rect light (centre c, half axes du, dv, emitting towards +ln,
 // radiance 1) at p: the D * V * cos factor is integrated by midpoint quadrature over the quad on a
 // grid whose cells subtend at most half the GGX alpha (radians, seen from p), so the lobe is
-// resolved (at most 32 x 32 cells: near-mirror surfaces reflecting a large light are then
-// under-resolved, seen as a dotted reflection); Fresnel, which varies slowly over the light, is
-// taken at the quadrature's D V-weighted mean cos(v, h).
+// resolved.  When that grid would need more than PRW_RECT_NODES cells along an axis (a glossy surface
+// reflecting a large light), the nodes are mapped instead: per axis x = x* + s tan(t), t uniform, with
+// x* the mirror ray's hit on the light's plane and s = PRW_RECT_SCALE alpha times its distance, so
+// PRW_RECT_NODES^2 nodes cluster where the GGX lobe is (its heavy tails are what the tan map's
+// Jacobian s / cos^2 t follows): fewer nodes than the grid, and no longer the grid's dotted reflection
+// at its 32 x 32 cap (materials/tools/rect_quad_study.c compares both rules with a converged
+// quadrature).  Fresnel, which varies slowly over the light, is taken at the quadrature's D V-weighted
+// mean cos(v, h).
+#define PRW_RECT_NODES 10
+#define PRW_RECT_SCALE 3.0
 vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
                           float roughness, float specular)
 {
@@ -77,22 +84,51 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
     int nu = int(clamp(ceil(2.0 * lu / cell), 1.0, 32.0));
     int nv = int(clamp(ceil(2.0 * lv / cell), 1.0, 32.0));
     float NoV = min(max(dot(n, v), 1e-4), 1.0);
+    // the mirror ray's hit on the light's plane (light coordinates), if it reaches it
+    vec3 r = 2.0 * dot(n, v) * n - v;
+    float rl = dot(r, ln), tr = dot(c - p, ln) / rl;
+    bool mapped = (nu > PRW_RECT_NODES || nv > PRW_RECT_NODES) && rl < 0.0 && tr > 0.0;
+    float xu = 0.0, xv = 0.0, s = 1.0, tu0 = 0.0, tv0 = 0.0, Tu = 0.0, Tv = 0.0, dtu = 0.0, dtv = 0.0;
+    if (mapped) {
+        vec3 hit = p + r * tr - c;
+        xu = dot(hit, du) / lu;
+        xv = dot(hit, dv) / lv;
+        s = PRW_RECT_SCALE * alpha * tr;
+        nu = PRW_RECT_NODES;
+        nv = PRW_RECT_NODES;
+        float a0 = atan((-lu - xu) / s), a1 = atan((lu - xu) / s);
+        float b0 = atan((-lv - xv) / s), b1 = atan((lv - xv) / s);
+        dtu = (a1 - a0) / float(nu);
+        dtv = (b1 - b0) / float(nv);
+        tu0 = tan(a0 + 0.5 * dtu); // tan of the first node; the next by the addition theorem
+        tv0 = tan(b0 + 0.5 * dtv);
+        Tu = tan(dtu);
+        Tv = tan(dtv);
+    }
+    vec3 eu = du / lu, ev = dv / lv;
     float sum = 0.0, sum_voh = 0.0;
+    float tv = tv0;
     for (int j = 0; j < nv; j++) {
         float sv = (2.0 * (float(j) + 0.5)) / float(nv) - 1.0;
+        float wv = s * (1.0 + tv * tv) * dtv; // mapped: metres of the node along v
+        vec3 rowv = mapped ? ev * (xv + s * tv) : dv * sv;
+        float tu = tu0;
         for (int i = 0; i < nu; i++) {
             float su = (2.0 * (float(i) + 0.5)) / float(nu) - 1.0;
-            vec3 d = c + du * su + dv * sv - p;
+            vec3 d = mapped ? c + eu * (xu + s * tu) + rowv - p : c + du * su + dv * sv - p;
+            float cw = mapped ? s * (1.0 + tu * tu) * dtu * wv : 1.0;
+            tu = (tu + Tu) / (1.0 - tu * Tu);
             float d2 = max(dot(d, d), 1e-8);
             vec3 l = d * inversesqrt(d2);
             float NoL = dot(n, l), cl = -dot(l, ln);
             if (NoL <= 0.0 || cl <= 0.0) continue;
             vec3 h = normalize(v + l);
             float w = prw_D_ggx(prw_clamp01(dot(n, h)), alpha) * prw_V_smith_ggx(NoV, min(NoL, 1.0), alpha) *
-                      (NoL * cl / d2);
+                      (NoL * cl / d2) * cw;
             sum += w;
             sum_voh += w * prw_clamp01(dot(v, h));
         }
+        tv = (tv + Tv) / (1.0 - tv * Tv);
     }
     if (!(sum > 0.0)) return vec3(0.0);
     float voh = sum_voh / sum;
@@ -100,7 +136,7 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
     float f_diel = prw_clamp01(specular) * prw_F_dielectric(voh);
     vec3 f = vec3((1.0 - m) * f_diel + m * prw_F_schlick(base.r, voh), (1.0 - m) * f_diel + m * prw_F_schlick(base.g, voh),
                   (1.0 - m) * f_diel + m * prw_F_schlick(base.b, voh));
-    return f * (sum * 4.0 * lu * lv / float(nu * nv));
+    return f * (mapped ? sum : sum * 4.0 * lu * lv / float(nu * nv));
 }
 
 // The fitted albedos (prw_ggx_fit.h) a surface point needs for every light: those of its roughness and
@@ -221,6 +257,7 @@ layout(constant_id = PRW_SC_LIGHTS_SORTED) const bool prw_lights_sorted = false;
 layout(constant_id = PRW_SC_N_RECT_SHADOWED) const int prw_n_rect_shadowed = 0;
 layout(constant_id = PRW_SC_N_RECT) const int prw_n_rect = 0;
 layout(constant_id = PRW_SC_N_PUNCTUAL_SHADOWED) const int prw_n_punctual_shadowed = 0;
+layout(constant_id = PRW_SC_N_POINT_SHADOWED) const int prw_n_point_shadowed = 0;
 layout(constant_id = PRW_SC_N_PUNCTUAL) const int prw_n_punctual = 0;
 
 // The first PRW_UNROLLED slots are written out, one call site each whose kind and shadowing are constants
@@ -229,11 +266,12 @@ layout(constant_id = PRW_SC_N_PUNCTUAL) const int prw_n_punctual = 0;
 // loop.  (Written out for every slot, the inlined copies made pipeline creation 4x slower.)
 #define PRW_UNROLLED 4
 #define PRW_UNROLLED_SLOTS(X) X(0) X(1) X(2) X(3)
-#define PRW_N_LIGHTS (prw_n_rect_shadowed + prw_n_rect + prw_n_punctual_shadowed + prw_n_punctual)
+#define PRW_N_LIGHTS (prw_n_rect_shadowed + prw_n_rect + prw_n_punctual_shadowed + prw_n_point_shadowed + prw_n_punctual)
 #define PRW_SLOT_RECT(K) ((K) < prw_n_rect_shadowed + prw_n_rect)
+#define PRW_N_BEFORE_POINT (prw_n_rect_shadowed + prw_n_rect + prw_n_punctual_shadowed)
 #define PRW_SLOT_SHADOWED(K)                                                                                      \
-    ((K) < prw_n_rect_shadowed ||                                                                                 \
-     ((K) >= prw_n_rect_shadowed + prw_n_rect && (K) < prw_n_rect_shadowed + prw_n_rect + prw_n_punctual_shadowed))
+    ((K) < prw_n_rect_shadowed || ((K) >= prw_n_rect_shadowed + prw_n_rect && (K) < PRW_N_BEFORE_POINT + prw_n_point_shadowed))
+#define PRW_SLOT_CUBE(K) ((K) >= PRW_N_BEFORE_POINT && (K) < PRW_N_BEFORE_POINT + prw_n_point_shadowed)
 
 // The corners of a rect light (camera-relative).
 void rect_corners(prw_gpu_light L, out vec3 q0, out vec3 q1, out vec3 q2, out vec3 q3)
@@ -268,7 +306,7 @@ vec3 rect_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3
 }
 
 // The direct light of the point, spot or directional light L at p.
-vec3 punctual_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 v, vec3 base, float metallic,
+vec3 punctual_light(prw_gpu_light L, bool shadowed, bool may_be_cube, ggx_view w, vec3 p, vec3 n, vec3 v, vec3 base, float metallic,
                     float roughness, float specular, float shadow_offset)
 {
     vec3 l;
@@ -277,7 +315,7 @@ vec3 punctual_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, 
     float NoL = dot(n, l);
     if (NoL <= 0.0 || E <= 0.0) return vec3(0.0);
     return brdf(w, n, v, l, base, metallic, roughness, specular) * L.radiance.rgb * (E * NoL) *
-           (shadowed ? shadow_factor(L, p, n, shadow_offset, true) : 1.0);
+           (shadowed ? shadow_factor(L, p, n, shadow_offset, may_be_cube) : 1.0);
 }
 
 // Adds the direct light of every light at p (camera-relative; normal n, towards the eye v) to radiance;
@@ -290,16 +328,16 @@ void prw_direct_light(inout vec3 radiance, ggx_view w, vec3 p, vec3 n, vec3 v, v
     if (K < PRW_N_LIGHTS)                                                                                         \
         radiance += PRW_SLOT_RECT(K) ? rect_light(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, v, base, metallic,   \
                                                   roughness, specular, shadow_offset)                             \
-                                     : punctual_light(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, v, base, metallic, \
-                                                      roughness, specular, shadow_offset);
+                                     : punctual_light(g.lights[K], PRW_SLOT_SHADOWED(K), PRW_SLOT_CUBE(K), w, p, n, v,  \
+                                                      base, metallic, roughness, specular, shadow_offset);
         PRW_UNROLLED_SLOTS(PRW_L)
 #undef PRW_L
         if (PRW_N_LIGHTS > PRW_UNROLLED)
             for (int i = PRW_UNROLLED; i < PRW_N_LIGHTS; i++)
                 radiance += PRW_SLOT_RECT(i) ? rect_light(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, v, base, metallic,
                                                           roughness, specular, shadow_offset)
-                                             : punctual_light(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, v, base,
-                                                              metallic, roughness, specular, shadow_offset);
+                                             : punctual_light(g.lights[i], PRW_SLOT_SHADOWED(i), PRW_SLOT_CUBE(i), w, p,
+                                                              n, v, base, metallic, roughness, specular, shadow_offset);
         return;
     }
     int count = int(g.params.x);
@@ -309,7 +347,7 @@ void prw_direct_light(inout vec3 radiance, ggx_view w, vec3 p, vec3 n, vec3 v, v
         if (int(L.pos_type.w) == PRW_GPU_LIGHT_RECT)
             radiance += rect_light(L, shadowed, w, p, n, v, base, metallic, roughness, specular, shadow_offset);
         else
-            radiance += punctual_light(L, shadowed, w, p, n, v, base, metallic, roughness, specular, shadow_offset);
+            radiance += punctual_light(L, shadowed, true, w, p, n, v, base, metallic, roughness, specular, shadow_offset);
     }
 }
 
@@ -365,7 +403,7 @@ vec3 rect_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 
     return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
 }
 
-vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,
+vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, bool may_be_cube, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,
                            float metallic, float roughness, float specular, float cc, float rc, float shadow_offset)
 {
     vec3 l;
@@ -374,7 +412,7 @@ vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, v
     float NoL = dot(n, l);
     if (NoL <= 0.0 || E <= 0.0) return vec3(0.0);
     return brdf_coated(w, n, nc, v, l, base, metallic, roughness, specular, cc, rc) * L.radiance.rgb * (E * NoL) *
-           (shadowed ? shadow_factor(L, p, n, shadow_offset, true) : 1.0);
+           (shadowed ? shadow_factor(L, p, n, shadow_offset, may_be_cube) : 1.0);
 }
 
 // prw_direct_light for a clear-coated surface (coat normal nc, weight cc, roughness rc).
@@ -390,17 +428,18 @@ void prw_direct_light_coated(inout vec3 radiance, ggx_view w, vec3 p, vec3 n, ve
     if (K < PRW_N_LIGHTS)                                                                                         \
         radiance += PRW_SLOT_RECT(K) ? rect_light_coated(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, nc, v, base,  \
                                                          metallic, roughness, specular, cc, rc, shadow_offset)    \
-                                     : punctual_light_coated(g.lights[K], PRW_SLOT_SHADOWED(K), w, p, n, nc, v, base, \
-                                                             metallic, roughness, specular, cc, rc, shadow_offset);
+                                     : punctual_light_coated(g.lights[K], PRW_SLOT_SHADOWED(K), PRW_SLOT_CUBE(K), w, p, \
+                                                             n, nc, v, base, metallic, roughness, specular, cc, rc,      \
+                                                             shadow_offset);
         PRW_UNROLLED_SLOTS(PRW_L)
 #undef PRW_L
         if (PRW_N_LIGHTS > PRW_UNROLLED)
             for (int i = PRW_UNROLLED; i < PRW_N_LIGHTS; i++)
                 radiance += PRW_SLOT_RECT(i) ? rect_light_coated(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, nc, v,
                                                                  base, metallic, roughness, specular, cc, rc, shadow_offset)
-                                             : punctual_light_coated(g.lights[i], PRW_SLOT_SHADOWED(i), w, p, n, nc, v,
-                                                                     base, metallic, roughness, specular, cc, rc,
-                                                                     shadow_offset);
+                                             : punctual_light_coated(g.lights[i], PRW_SLOT_SHADOWED(i), PRW_SLOT_CUBE(i),
+                                                                     w, p, n, nc, v, base, metallic, roughness, specular,
+                                                                     cc, rc, shadow_offset);
         return;
     }
     int count = int(g.params.x);
@@ -411,7 +450,7 @@ void prw_direct_light_coated(inout vec3 radiance, ggx_view w, vec3 p, vec3 n, ve
             radiance += rect_light_coated(L, shadowed, w, p, n, nc, v, base, metallic, roughness, specular, cc, rc,
                                           shadow_offset);
         else
-            radiance += punctual_light_coated(L, shadowed, w, p, n, nc, v, base, metallic, roughness, specular, cc,
+            radiance += punctual_light_coated(L, shadowed, true, w, p, n, nc, v, base, metallic, roughness, specular, cc,
                                               rc, shadow_offset);
     }
 }

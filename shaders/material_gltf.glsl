@@ -38,6 +38,8 @@ const bool prw_no_base_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_BASE_TEX) != 0;
 const bool prw_no_mr_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_MR_TEX) != 0;
 const bool prw_no_normal_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_NORMAL_TEX) != 0;
 const bool prw_no_emissive_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_EMISSIVE_TEX) != 0;
+const bool prw_no_metal = (prw_mat_lacks & PRW_GPU_MAT_NO_METAL) != 0;
+const bool prw_all_metal = (prw_mat_lacks & PRW_GPU_MAT_ALL_METAL) != 0;
 
 #ifdef PRW_LIGHTS_GLSL
 // The fits at the surface's roughness and n.v (lights.glsl): from the block when the roughness is the
@@ -57,6 +59,13 @@ ggx_view prw_material_ggx_view(float NoV, float roughness)
     return ggx_view_from(NoV, ec, ed, mat.ggx[8].x, mat.ggx[8].y);
 }
 #endif
+
+// metallic as the material gives it (factor x texel), as a constant where it is one: the lobes it
+// weights by 0 then fold away (the same value: 0 x a finite texel is 0, 1 x white is 1).
+float prw_metallic(float texel_b)
+{
+    return prw_no_metal ? 0.0 : prw_all_metal ? 1.0 : prw_metallic_from(mat.mr.x, texel_b);
+}
 
 // The slot's textures, or what their fallbacks give (white; texture() of the 1 x 1 white is exactly 1).
 vec4 prw_tex_base(vec2 uv) { return prw_no_base_tex ? vec4(1.0) : texture(tex_base, uv); }
@@ -85,7 +94,7 @@ prw_surface prw_material_surface(vec2 uv, vec3 normal, vec4 tangent, bool front_
     S.base = base4.rgb;
     vec4 mrt = prw_tex_mr(uv);
     S.roughness = prw_roughness_from(mat.mr.y, mrt.g);
-    S.metallic = prw_metallic_from(mat.mr.x, mrt.b);
+    S.metallic = prw_metallic(mrt.b);
     S.specular = mat.extra.x;
     S.double_sided = mat.mr.z > 0.5;
 
@@ -144,7 +153,7 @@ prw_surface prw_material_surface(vec2 uv, vec2 uv1, vec3 normal, vec4 tangent, b
     S.alpha = base4.a;
     vec4 mrt = prw_tex_mr(prw_slot_uv(PRW_GPU_SLOT_METAL_ROUGH, uv, uv1));
     S.roughness = prw_roughness_from(mat.mr.y, mrt.g);
-    S.metallic = prw_metallic_from(mat.mr.x, mrt.b);
+    S.metallic = prw_metallic(mrt.b);
     S.specular = mat.extra.x;
     S.double_sided = mat.mr.z > 0.5;
 

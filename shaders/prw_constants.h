@@ -18,24 +18,29 @@
  * and PRW_SC_LIGHT_CLASS0 + class (int: the group's size). */
 #define PRW_LIGHT_CLASS_RECT_SHADOWED 0
 #define PRW_LIGHT_CLASS_RECT 1
-#define PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED 2
-#define PRW_LIGHT_CLASS_PUNCTUAL 3
-#define PRW_LIGHT_CLASSES 4
+#define PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED 2 /* spot, directional: one shadow layer */
+#define PRW_LIGHT_CLASS_POINT_SHADOWED 3    /* point: six layers, a cube face per fragment */
+#define PRW_LIGHT_CLASS_PUNCTUAL 4
+#define PRW_LIGHT_CLASSES 5
 #define PRW_SC_LIGHTS_SORTED 0
 #define PRW_SC_LIGHT_CLASS0 1
 #define PRW_SC_N_RECT_SHADOWED 1 /* = PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_RECT_SHADOWED, and so on */
 #define PRW_SC_N_RECT 2
 #define PRW_SC_N_PUNCTUAL_SHADOWED 3
-#define PRW_SC_N_PUNCTUAL 4
+#define PRW_SC_N_POINT_SHADOWED 4
+#define PRW_SC_N_PUNCTUAL 5
 /* The base fragment shaders' material specialisation (int, PRW_GPU_MAT_* bits): what the material slot
- * does not have, so the shader neither fetches the fallback texture nor computes what the CPU has put
- * into the material block (material_gltf.glsl).  0: everything from the textures and the shader. */
-#define PRW_SC_MAT 5
+ * does not have, so the shader neither fetches the fallback texture, nor computes what the CPU has put
+ * into the material block, nor evaluates lobes of weight 0 (material_gltf.glsl).  0: everything from
+ * the textures and the shader. */
+#define PRW_SC_MAT 6
 #define PRW_GPU_MAT_NO_BASE_TEX 1     /* the base colour is the factor (white fallback texture) */
 #define PRW_GPU_MAT_NO_MR_TEX 2       /* metallic and roughness are the factors; the block's ggx rows are theirs */
 #define PRW_GPU_MAT_NO_NORMAL_TEX 4   /* no normal map */
 #define PRW_GPU_MAT_NO_EMISSIVE_TEX 8 /* the emission is the factor */
-#define PRW_GPU_MAT_BITS 4
+#define PRW_GPU_MAT_NO_METAL 16       /* metallic is 0 (factor 0): the metal lobes drop out */
+#define PRW_GPU_MAT_ALL_METAL 32      /* metallic is 1 (factor 1, no texture): the dielectric and diffuse lobes drop out */
+#define PRW_GPU_MAT_BITS 6
 
 /* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
 #define PRW_VERTEX_FLOATS 12

@@ -47,11 +47,12 @@ _Static_assert(sizeof(prw_mat4) == 64, "mat4 is 64 bytes");
 _Static_assert(PRW_SC_N_RECT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_RECT_SHADOWED &&
                    PRW_SC_N_RECT == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_RECT &&
                    PRW_SC_N_PUNCTUAL_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED &&
+                   PRW_SC_N_POINT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_POINT_SHADOWED &&
                    PRW_SC_N_PUNCTUAL == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_PUNCTUAL,
                "specialisation constants of the light classes");
 _Static_assert(PRW_SC_MAT == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES, "the material constant follows the light classes");
 _Static_assert(PRW_GPU_MAT_BITS + 6 <= 32 && PRW_GPU_MAT_BITS + 4 <= 32, "PRW_GPU_MAT_* fit the pipeline features and slot flags");
-_Static_assert(PRW_MAX_LIGHTS < 32, "light class sizes fit 5 bits (prw_pipe_key.light_classes)");
+_Static_assert(PRW_MAX_LIGHTS < 32 && 5 * PRW_LIGHT_CLASSES <= 32, "light class sizes fit 5 bits each (prw_pipe_key.light_classes)");
 _Static_assert(sizeof(prw_gpu_light) == 7 * 16, "prw_gpu_light: 7 vec4");
 _Static_assert(offsetof(prw_gpu_globals, eye_rel) == 64, "globals.eye_rel");
 _Static_assert(offsetof(prw_gpu_globals, params) == 80, "globals.params");

@@ -45,7 +45,7 @@ enum {
     PRW_PIPE_MASK = 16u,  /* shadow recipe: the alpha-tested caster (shadow_mask.vert + mask.frag, material set 1) */
     PRW_PIPE_COAT = 32u,  /* with EXT: the clear-coated shaders (PRW_GLTF_COAT) */
     PRW_PIPE_LACKS_SHIFT = 6, /* bits 6..: PRW_GPU_MAT_* (prw_constants.h), the base shaders' PRW_SC_MAT: what
-                                 the material slot has no texture for (scene_gpu.h) */
+                                 the material slot has no texture or lobe for (scene_gpu.h) */
     /* PRW_PIPE_MASK in the base recipe: the material is alpha-tested (its fragments may be discarded) */
 };
 

@@ -34,7 +34,9 @@ uint32_t prw_scene_gpu_material_lacks(const prw_material *m, uint32_t texture_co
     return (PRW_LACKS(m->base_color_tex) ? PRW_GPU_MAT_NO_BASE_TEX : 0u) |
            (PRW_LACKS(m->metal_rough_tex) ? PRW_GPU_MAT_NO_MR_TEX : 0u) |
            (PRW_LACKS(m->normal_tex) ? PRW_GPU_MAT_NO_NORMAL_TEX : 0u) |
-           (PRW_LACKS(m->emissive_tex) ? PRW_GPU_MAT_NO_EMISSIVE_TEX : 0u);
+           (PRW_LACKS(m->emissive_tex) ? PRW_GPU_MAT_NO_EMISSIVE_TEX : 0u) |
+           (m->metallic == 0.0f ? PRW_GPU_MAT_NO_METAL : 0u) |
+           (m->metallic == 1.0f && PRW_LACKS(m->metal_rough_tex) ? PRW_GPU_MAT_ALL_METAL : 0u);
 #undef PRW_LACKS
 }
 

@@ -35,7 +35,7 @@ enum {
     PRW_SG_MASK = 2u,  /* alpha MASK: cut out in the base pass and in the shadow pass */
     PRW_SG_BLEND = 4u, /* alpha BLEND: drawn by PRW_DRAW_BLEND, back to front, over the opaque image */
     PRW_SG_COAT = 8u,  /* a clear coat (PRW_PIPE_COAT) */
-    PRW_SG_LACKS_SHIFT = 4, /* bits 4..: PRW_GPU_MAT_* (prw_constants.h), what the slot has no texture for */
+    PRW_SG_LACKS_SHIFT = 4, /* bits 4..: PRW_GPU_MAT_* (prw_constants.h), what the slot has no texture or lobe for */
 };
 
 typedef struct prw_scene_gpu {
@@ -59,7 +59,8 @@ typedef struct prw_scene_gpu {
 bool prw_scene_gpu_create(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout material_layout,
                           prw_desc_pool *pool, prw_scene_gpu **out, prw_error *e);
 void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g);
-/* PRW_GPU_MAT_* of m: the textures it does not have (absent, or an index past the scene's texture_count). */
+/* PRW_GPU_MAT_* of m: the textures it does not have (absent, or an index past the scene's texture_count)
+ * and whether its metallic is exactly 0 or 1. */
 uint32_t prw_scene_gpu_material_lacks(const prw_material *m, uint32_t texture_count);
 /* The material slot of scene material index m (out of range: 0). */
 uint32_t prw_scene_gpu_slot(const prw_scene *s, int m);

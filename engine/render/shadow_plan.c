@@ -66,7 +66,9 @@ void prw_shadow_plan_make(const prw_scene *s, prw_shadow_plan *plan)
         for (uint32_t i = 0; i < nl; i++) {
             bool rect = s->lights[i].type == PRW_LIGHT_RECT, shadowed = light_first[i] >= 0;
             int cls = rect ? (shadowed ? PRW_LIGHT_CLASS_RECT_SHADOWED : PRW_LIGHT_CLASS_RECT)
-                           : (shadowed ? PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED : PRW_LIGHT_CLASS_PUNCTUAL);
+                           : !shadowed ? PRW_LIGHT_CLASS_PUNCTUAL
+                           : s->lights[i].type == PRW_LIGHT_POINT ? PRW_LIGHT_CLASS_POINT_SHADOWED
+                                                                 : PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED;
             if (cls != c) continue;
             plan->slot_light[k++] = i;
             plan->class_count[c]++;

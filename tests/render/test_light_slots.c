@@ -21,7 +21,8 @@ static int class_of(const prw_scene *s, const prw_shadow_plan *p, uint32_t i)
 {
     bool rect = s->lights[i].type == PRW_LIGHT_RECT, sh = p->light_first[i] >= 0;
     return rect ? (sh ? PRW_LIGHT_CLASS_RECT_SHADOWED : PRW_LIGHT_CLASS_RECT)
-                : (sh ? PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED : PRW_LIGHT_CLASS_PUNCTUAL);
+                : !sh ? PRW_LIGHT_CLASS_PUNCTUAL
+                : s->lights[i].type == PRW_LIGHT_POINT ? PRW_LIGHT_CLASS_POINT_SHADOWED : PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED;
 }
 
 static void test_grouped(void)
@@ -55,7 +56,8 @@ static void test_grouped(void)
     CHECK(k == p.slot_count);
     CHECK(p.class_count[PRW_LIGHT_CLASS_RECT_SHADOWED] == 1 && p.class_count[PRW_LIGHT_CLASS_RECT] == 1);
     CHECK(p.light_first[9] >= 0 && p.light_first[10] < 0); /* 5 cubes + spot + rect = 32 layers, then none */
-    CHECK(p.class_count[PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED] == 6 && p.class_count[PRW_LIGHT_CLASS_PUNCTUAL] == 3);
+    CHECK(p.class_count[PRW_LIGHT_CLASS_PUNCTUAL_SHADOWED] == 1 && p.class_count[PRW_LIGHT_CLASS_POINT_SHADOWED] == 5 &&
+          p.class_count[PRW_LIGHT_CLASS_PUNCTUAL] == 3);
     prw_view v = prw_view_look_at(prw_v3(0, 1, 5), prw_v3(0, 1, 0), prw_v3(0, 1, 0), 1.0, 0.05, 64, 48, 7);
     prw_gpu_globals g;
     prw_view_globals_fill(s, &p, 1024, &v, prw_v3(0, 0, 0), &g);

@@ -10,10 +10,11 @@
  *
  * The remaining raster-vs-reference differences are the rasterizer's documented approximations:
  * hard shadow maps (the reference's rect-light shadows are soft), the rect light's specular
- * quadrature (at most 32 x 32 cells), and shadow-map resolution.  The test can fail: the raster
- * image at twice its radiance (one stop) gives about 0.38 beyond noise (checked as a control
- * below), and the previous representative-point specular of the rect light, which overestimated
- * the window's glossy reflection on the floor several-fold, gave 0.10.
+ * quadrature (a grid of cells of alpha / 2, or 10 x 10 nodes mapped around the mirror direction), and
+ * shadow-map resolution.  The test can fail: the raster image at twice its radiance (one stop) gives
+ * about 0.38 beyond noise (checked as a control below), and the previous representative-point
+ * specular of the rect light, which overestimated the window's glossy reflection on the floor
+ * several-fold, gave 0.10.
  *
  * Environment: PRW_RVR_SPP (default 64) reference samples per pixel; PRW_RVR_GI=1 also renders the
  * unfiltered reference and prints the full-GI gap; PRW_RVR_OUT=DIR writes raster.exr,
