@@ -96,12 +96,15 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
         s = PRW_RECT_SCALE * alpha * tr;
         nu = PRW_RECT_NODES;
         nv = PRW_RECT_NODES;
-        float a0 = atan((-lu - xu) / s), a1 = atan((lu - xu) / s);
-        float b0 = atan((-lv - xv) / s), b1 = atan((lv - xv) / s);
-        dtu = (a1 - a0) / float(nu);
-        dtv = (b1 - b0) / float(nv);
-        tu0 = tan(a0 + 0.5 * dtu); // tan of the first node; the next by the addition theorem
-        tv0 = tan(b0 + 0.5 * dtv);
+        // t ranges atan(y0) .. atan(y1) from the light's edges; far off the light both are near +-pi/2
+        // and their float difference cancels, so the width comes from atan((y1 - y0) / (1 + y0 y1)) then,
+        // and the first node from the addition theorem on tan(atan(y0)) = y0
+        float yu0 = (-lu - xu) / s, yu1 = (lu - xu) / s, yv0 = (-lv - xv) / s, yv1 = (lv - xv) / s;
+        dtu = (yu0 * yu1 > 0.0 ? atan((yu1 - yu0) / (1.0 + yu0 * yu1)) : atan(yu1) - atan(yu0)) / float(nu);
+        dtv = (yv0 * yv1 > 0.0 ? atan((yv1 - yv0) / (1.0 + yv0 * yv1)) : atan(yv1) - atan(yv0)) / float(nv);
+        float hu = tan(0.5 * dtu), hv = tan(0.5 * dtv);
+        tu0 = (yu0 + hu) / (1.0 - yu0 * hu); // tan of the first node; the next by the addition theorem
+        tv0 = (yv0 + hv) / (1.0 - yv0 * hv);
         Tu = tan(dtu);
         Tv = tan(dtv);
     }

@@ -45,8 +45,9 @@ float shadow_centre_tap(float ref, vec4 r1, vec4 r2, vec2 f)
 }
 
 // offset: the receiver's normal offset in texels (base.frag: 1.5).  may_be_cube: false (a constant at
-// the call) for a light known to have one layer (a rect light), whose layer is then the same for every
-// fragment: lavapipe then loads its matrices once instead of per fragment, and drops the face selection.
+// the call) for a light known to have one layer (rect, spot, directional: lights.glsl's classes), whose
+// layer is then the same for every fragment: lavapipe then loads its matrices once instead of per
+// fragment, and drops the face selection.
 float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset, bool may_be_cube)
 {
     int first = int(L.cone_shadow.z);

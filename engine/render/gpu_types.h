@@ -30,7 +30,7 @@ typedef struct prw_gpu_globals {
 } prw_gpu_globals;
 
 /* shaders/material_gltf.glsl: uniform prw_material_block (set 1, binding 0); the shaders without
- * PRW_GLTF_EXT read the first four members only. */
+ * PRW_GLTF_EXT read the first four members and ggx only. */
 typedef struct prw_gpu_material {
     float base_color[4];
     float emission[4]; /* w: normal scale */
@@ -50,6 +50,7 @@ _Static_assert(PRW_SC_N_RECT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_R
                    PRW_SC_N_POINT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_POINT_SHADOWED &&
                    PRW_SC_N_PUNCTUAL == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_PUNCTUAL,
                "specialisation constants of the light classes");
+_Static_assert(PRW_SC_MAT < 8, "specialisation constants: at most 8 (prw_graphics_desc.fs_spec)");
 _Static_assert(PRW_SC_MAT == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES, "the material constant follows the light classes");
 _Static_assert(PRW_GPU_MAT_BITS + 6 <= 32 && PRW_GPU_MAT_BITS + 4 <= 32, "PRW_GPU_MAT_* fit the pipeline features and slot flags");
 _Static_assert(PRW_MAX_LIGHTS < 32 && 5 * PRW_LIGHT_CLASSES <= 32, "light class sizes fit 5 bits each (prw_pipe_key.light_classes)");

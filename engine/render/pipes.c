@@ -205,6 +205,10 @@ bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_err
     key.view_mask = k->view_mask;
     key.variant = k->variant;
     key.features = k->features;
+    /* the floor and the depth pre-pass read no material constant: one pipeline for every slot */
+    if (k->variant == PRW_BASE_VARIANT_FLOOR || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER ||
+        k->variant == PRW_BASE_VARIANT_PREPASS || k->variant == PRW_BASE_VARIANT_PREPASS_GBUFFER)
+        key.features &= ~(((1u << PRW_GPU_MAT_BITS) - 1u) << PRW_PIPE_LACKS_SHIFT);
     const prw_shadow_plan *plan = p->env->shadows;
     for (int c = 0; c < PRW_LIGHT_CLASSES; c++) key.light_classes |= plan->class_count[c] << (5 * c);
     *out = prw_pipeline_table_find(p->table, &key, sizeof key);

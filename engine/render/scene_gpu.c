@@ -218,7 +218,8 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
         prw_gpu_material g = {
             .base_color = {m.base_color[0], m.base_color[1], m.base_color[2], m.base_color[3]},
             .emission = {m.emission[0], m.emission[1], m.emission[2], m.normal_scale},
-            .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f, m.normal_tex >= 0 ? 1.0f : 0.0f},
+            .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f,
+                   prw_scene_gpu_material_lacks(&m, r->texture_count) & PRW_GPU_MAT_NO_NORMAL_TEX ? 0.0f : 1.0f},
             .extra = {m.specular, (float)(i + 1), 0.0f, 0.0f},
             .alpha = {(float)m.alpha_mode, m.alpha_cutoff, 0.0f, 0.0f},
             .coat = {m.clearcoat, m.clearcoat_roughness, m.clearcoat_normal_scale, m.clearcoat_normal_tex >= 0 ? 1.0f : 0.0f},

@@ -1,7 +1,8 @@
 /* rect_quad_study — how accurate the rasterizer's rect-light specular quadrature is (shaders/lights.glsl,
  * rect_specular_single), in double precision against a converged quadrature.  A study, not a test: it
  * re-states the shader's two node rules in C (the GLSL is not compiled here), so it answers "which rule
- * and how many nodes", not "is the shader right" (test_raster_vs_ref checks the shader end to end).
+ * and how many nodes", not "is the shader right" (test_raster_vs_ref checks the shader end to end);
+ * it evaluates each node's tan directly in double, not the shader's float tangent recurrence.
  *
  *   cc -O2 -std=c17 materials/tools/rect_quad_study.c -lm -o rect_quad_study
  *   ./rect_quad_study [M] [k] [--mapped-only]    (default M 10, k 3; ~20 s)
