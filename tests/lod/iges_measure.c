@@ -5,12 +5,13 @@
  * Prints one line "area A bbox X0 Y0 Z0 X1 Y1 Z1 faces N failed F model_bounds X0 .. Z1
  * trimmed_bounds X0 .. Z1" (metres):
  *  - area: the trimmed surface area, the integral of |S_u x S_v| over each face's trimmed (u, v)
- *    region: by scanlines in v (3-point Gauss per strip), each crossing the trim loops' polylines
- *    (even-odd; the domain rectangle added when the outer boundary is natural) and integrated along
- *    u over the inside intervals (3-point Gauss per piece) — the region as the loops bound it, also
- *    where a boundary is a collapsed edge (a cone's apex, a sphere's pole), which the tessellation's
- *    (u, v) triangles fan to one point and so cover only partly (their integral: mesh_area, --faces);
- *    faces that do not tessellate are not counted (they are not drawn);
+ *    region as prw_tess triangulates it at a fine tolerance, each (u, v) triangle integrated by an
+ *    adaptive 7-point rule — except that a triangle with one corner on a collapsed edge of the
+ *    domain (a cone's apex, a sphere's pole: one point in space) is integrated over the quad that
+ *    replaces that corner by the edge's points at the other two corners' parameters: the
+ *    tessellation fans to one (u, v) point there, whose triangles cover the surface next to the
+ *    point only partly (--faces prints that uncorrected integral as mesh_area); faces that do not
+ *    tessellate are not counted (they are not drawn);
  *  - bbox: the box of the tessellation's vertices (points on the trimmed faces) and of dense
  *    samples of every trim loop mapped through its surface;
  *  - model_bounds: prw_nurbs_model_bounds (the untrimmed surfaces' control hulls);
@@ -67,83 +68,46 @@ static double tri_adapt(const prw_nurbs_surface *s, const double *a, const doubl
            tri_adapt(s, ca, bc, c, q[2], depth + 1) + tri_adapt(s, ab, bc, ca, q[3], depth + 1);
 }
 
-static int cmp_double(const void *a, const void *b)
+/* The domain edges that are one point in space (u0, u1, v0, v1: collapsed[0..3]). */
+static void collapsed_edges(const prw_nurbs_surface *s, double u0, double u1, double v0, double v1, double diag,
+                            bool collapsed[4])
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
+    for (int k = 0; k < 4; k++) {
+        prw_dvec3 first = {0};
+        double far = 0;
+        for (int q = 0; q <= 16; q++) {
+            double t = q / 16.0;
+            double u = k == 0 ? u0 : k == 1 ? u1 : u0 + (u1 - u0) * t, v = k == 2 ? v0 : k == 3 ? v1 : v0 + (v1 - v0) * t;
+            prw_dvec3 p = prw_nurbs_surface_eval(s, u, v);
+            if (q == 0) first = p;
+            far = fmax(far, prw_v3_len(prw_v3_sub(p, first)));
+        }
+        collapsed[k] = far <= 1e-9 * diag;
+    }
 }
 
-/* The trimmed (u, v) region's area integral by scanlines (see the top). */
-static double scan_area(const prw_trimmed_surface *t, double u0, double u1, double v0, double v1)
+/* The area of the surface over the (u, v) triangle a, b, c, with the collapsed-edge correction (see
+ * the top). */
+static double tri_area(const prw_nurbs_surface *s, const double *a, const double *b, const double *c,
+                       const bool collapsed[4], const double dom[4])
 {
-    enum { SEG_POINTS = 256, STRIPS = 128, PIECES = 64 };
-    size_t cap = 4, n = 0;
-    for (int l = 0; l < t->nloops; l++) cap += (size_t)t->loops[l].count * SEG_POINTS;
-    double *xy = malloc(2 * cap * sizeof *xy);
-    size_t *start = malloc(((size_t)t->nloops + 2) * sizeof *start);
-    int npoly = 0;
-    if (!xy || !start) {
-        free(xy);
-        free(start);
-        return NAN;
+    const double *p[3] = {a, b, c};
+    double eps[2] = {1e-9 * (dom[1] - dom[0]), 1e-9 * (dom[3] - dom[2])};
+    for (int k = 0; k < 4; k++) {
+        if (!collapsed[k]) continue;
+        int axis = k < 2 ? 0 : 1; /* the edge u = const (axis 0) or v = const */
+        int on = 0, at = -1;
+        for (int i = 0; i < 3; i++)
+            if (fabs(p[i][axis] - dom[k]) <= eps[axis]) on++, at = i;
+        if (on != 1) continue;
+        const double *q1 = p[(at + 1) % 3], *q2 = p[(at + 2) % 3];
+        double e1[2], e2[2]; /* the edge's points at q1's and q2's other parameter */
+        e1[axis] = e2[axis] = dom[k];
+        e1[1 - axis] = q1[1 - axis];
+        e2[1 - axis] = q2[1 - axis];
+        return tri_adapt(s, e1, q1, q2, tri7(s, e1, q1, q2), 0) + tri_adapt(s, e1, q2, e2, tri7(s, e1, q2, e2), 0);
     }
-    for (int l = 0; l < t->nloops; l++) {
-        start[npoly++] = n;
-        for (int sgi = 0; sgi < t->loops[l].count; sgi++) {
-            const prw_nurbs_curve *c = &t->loops[l].segs[sgi].uv;
-            double a, b;
-            prw_nurbs_curve_domain(c, &a, &b);
-            for (int q = 0; q < SEG_POINTS; q++) { /* the segment's end is the next one's start */
-                prw_dvec3 p = prw_nurbs_curve_eval(c, a + (b - a) * q / SEG_POINTS);
-                xy[2 * n] = p.x, xy[2 * n + 1] = p.y, n++;
-            }
-        }
-    }
-    if (t->natural_outer || t->nloops == 0) {
-        start[npoly++] = n;
-        const double r[8] = {u0, v0, u1, v0, u1, v1, u0, v1};
-        memcpy(xy + 2 * n, r, sizeof r);
-        n += 4;
-    }
-    start[npoly] = n;
-    double *xs = malloc((n + 1) * sizeof *xs);
-    if (!xs) {
-        free(xy);
-        free(start);
-        return NAN;
-    }
-    static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834},
-                        gw[3] = {0.5555555555555556, 0.8888888888888888, 0.5555555555555556};
-    double hv = (v1 - v0) / STRIPS, hu = (u1 - u0) / PIECES, total = 0;
-    for (int si = 0; si < STRIPS; si++)
-        for (int gi = 0; gi < 3; gi++) {
-            double y = v0 + hv * (si + 0.5 + 0.5 * gx[gi]);
-            size_t nx = 0;
-            for (int pi = 0; pi < npoly; pi++)
-                for (size_t k = start[pi]; k < start[pi + 1]; k++) {
-                    size_t k2 = k + 1 < start[pi + 1] ? k + 1 : start[pi]; /* closed */
-                    double ay = xy[2 * k + 1], by = xy[2 * k2 + 1];
-                    if ((ay > y) == (by > y)) continue;
-                    xs[nx++] = xy[2 * k] + (y - ay) * (xy[2 * k2] - xy[2 * k]) / (by - ay);
-                }
-            qsort(xs, nx, sizeof *xs, cmp_double);
-            double line = 0;
-            for (size_t k = 0; k + 1 < nx; k += 2) {
-                double a = fmax(xs[k], u0), b = fmin(xs[k + 1], u1);
-                /* pieces on the fixed grid of PIECES cells, clipped to [a, b] */
-                for (int c = (int)floor((a - u0) / hu); c < PIECES && u0 + hu * c < b; c++) {
-                    double pa = fmax(a, u0 + hu * c), pb = fmin(b, u0 + hu * (c + 1));
-                    if (!(pb > pa)) continue;
-                    for (int gj = 0; gj < 3; gj++)
-                        line += 0.5 * (pb - pa) * gw[gj] * jac(&t->surface, 0.5 * (pa + pb) + 0.5 * (pb - pa) * gx[gj], y);
-                }
-            }
-            total += 0.5 * hv * gw[gi] * line;
-        }
-    free(xs);
-    free(xy);
-    free(start);
-    return total;
+    return tri_adapt(s, a, b, c, tri7(s, a, b, c), 0);
 }
 
 static void grow(double *lo, double *hi, prw_dvec3 p)
@@ -188,13 +152,15 @@ int main(int argc, char **argv)
             failed++;
             continue;
         }
-        double mesh_area = 0;
+        double mesh_area = 0, dom[4] = {u0, u1, v0, v1};
+        bool collapsed[4];
+        collapsed_edges(&t->surface, u0, u1, v0, v1, diag, collapsed);
         for (size_t k = 0; k < mesh.ntris; k++) {
             const double *a = mesh.uv + 2 * mesh.tris[3 * k], *b = mesh.uv + 2 * mesh.tris[3 * k + 1],
                          *c = mesh.uv + 2 * mesh.tris[3 * k + 2];
             mesh_area += tri_adapt(&t->surface, a, b, c, tri7(&t->surface, a, b, c), 0);
+            area += tri_area(&t->surface, a, b, c, collapsed, dom);
         }
-        area = scan_area(t, u0, u1, v0, v1);
         for (size_t k = 0; k < mesh.nverts; k++) grow(flo, fhi, prw_v3(mesh.pos[3 * k], mesh.pos[3 * k + 1], mesh.pos[3 * k + 2]));
         double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
         for (int l = 0; l < t->nloops; l++)
