@@ -21,6 +21,7 @@
 #ifndef PRW_SCENE_GPU_H
 #define PRW_SCENE_GPU_H
 
+#include "prw_constants.h" /* PRW_GPU_MAT_* */
 #include "prw_gpu.h"
 #include "prw_scene.h"
 
