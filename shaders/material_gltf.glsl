@@ -9,6 +9,8 @@
 #ifndef PRW_MATERIAL_GLTF_GLSL
 #define PRW_MATERIAL_GLTF_GLSL
 
+#include "prw_brdf.h" /* prw_ggx_row (the block's fit rows) */
+
 layout(std140, set = 1, binding = 0) uniform prw_material_block {
     vec4 base_color;
     vec4 emission;   // rgb cd/m^2, w: normal scale
@@ -17,10 +19,9 @@ layout(std140, set = 1, binding = 0) uniform prw_material_block {
     vec4 alpha;      // x: mode (PRW_GPU_ALPHA_*), y: cutoff  (read with PRW_GLTF_EXT only)
     vec4 coat;       // x: clearcoat factor, y: clearcoat roughness factor, z: coat normal scale, w: has coat normal map
     vec4 xf[2 * PRW_GPU_SLOTS]; // per slot: (offset u, offset v, cos r, sin r), (scale u, scale v, uv set, 0)
-    vec4 ggx[9];     // the fits' rows at the factor roughness: Ec d0..d15, Ed d0..d15, (Ec_avg, Ed_avg, 0, 0)
+    prw_ggx_row ggx_ec, ggx_ed; // the fits' rows at the factor roughness (std140: 16 floats each)
+    vec4 ggx_avg;               // x: Ec_avg, y: Ed_avg at the factor roughness
 } mat;
-
-
 layout(set = 1, binding = 1) uniform sampler2D tex_base;      // sRGB decoded by the sampler
 layout(set = 1, binding = 2) uniform sampler2D tex_mr;        // G roughness, B metallic
 layout(set = 1, binding = 3) uniform sampler2D tex_normal;    // tangent space
@@ -47,16 +48,7 @@ const bool prw_all_metal = (prw_mat_lacks & PRW_GPU_MAT_ALL_METAL) != 0;
 ggx_view prw_material_ggx_view(float NoV, float roughness)
 {
     if (!prw_no_mr_tex) return ggx_view_at(NoV, roughness);
-    prw_ggx_row ec, ed;
-    ec.d0 = mat.ggx[0].x; ec.d1 = mat.ggx[0].y; ec.d2 = mat.ggx[0].z; ec.d3 = mat.ggx[0].w;
-    ec.d4 = mat.ggx[1].x; ec.d5 = mat.ggx[1].y; ec.d6 = mat.ggx[1].z; ec.d7 = mat.ggx[1].w;
-    ec.d8 = mat.ggx[2].x; ec.d9 = mat.ggx[2].y; ec.d10 = mat.ggx[2].z; ec.d11 = mat.ggx[2].w;
-    ec.d12 = mat.ggx[3].x; ec.d13 = mat.ggx[3].y; ec.d14 = mat.ggx[3].z; ec.d15 = mat.ggx[3].w;
-    ed.d0 = mat.ggx[4].x; ed.d1 = mat.ggx[4].y; ed.d2 = mat.ggx[4].z; ed.d3 = mat.ggx[4].w;
-    ed.d4 = mat.ggx[5].x; ed.d5 = mat.ggx[5].y; ed.d6 = mat.ggx[5].z; ed.d7 = mat.ggx[5].w;
-    ed.d8 = mat.ggx[6].x; ed.d9 = mat.ggx[6].y; ed.d10 = mat.ggx[6].z; ed.d11 = mat.ggx[6].w;
-    ed.d12 = mat.ggx[7].x; ed.d13 = mat.ggx[7].y; ed.d14 = mat.ggx[7].z; ed.d15 = mat.ggx[7].w;
-    return ggx_view_from(NoV, ec, ed, mat.ggx[8].x, mat.ggx[8].y);
+    return ggx_view_from(NoV, mat.ggx_ec, mat.ggx_ed, mat.ggx_avg.x, mat.ggx_avg.y);
 }
 #endif
 

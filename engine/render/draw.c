@@ -50,7 +50,7 @@ uint32_t prw_draw_features(const prw_draw_ctx *c, uint32_t slot, bool uv1)
               (f & PRW_SG_MASK ? PRW_PIPE_MASK : 0);
     if (out && !uv1) out |= PRW_PIPE_NO_UV1;
     if (c->kind != PRW_DRAW_SHADOW)
-        out |= ((f >> PRW_SG_LACKS_SHIFT) & ((1u << PRW_GPU_MAT_BITS) - 1u)) << PRW_PIPE_LACKS_SHIFT;
+        out |= ((f >> PRW_SG_LACKS_SHIFT) & PRW_GPU_MAT_MASK) << PRW_PIPE_LACKS_SHIFT;
     return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 
+#include "prw_brdf.h" /* prw_ggx_row */
 #include "prw_constants.h"
 #include "prw_math.h"
 #include "prw_scene.h"
@@ -30,7 +31,7 @@ typedef struct prw_gpu_globals {
 } prw_gpu_globals;
 
 /* shaders/material_gltf.glsl: uniform prw_material_block (set 1, binding 0); the shaders without
- * PRW_GLTF_EXT read the first four members and ggx only. */
+ * PRW_GLTF_EXT read the first four members and the ggx ones only. */
 typedef struct prw_gpu_material {
     float base_color[4];
     float emission[4]; /* w: normal scale */
@@ -39,7 +40,8 @@ typedef struct prw_gpu_material {
     float alpha[4];    /* x: alpha mode (PRW_GPU_ALPHA_*), y: cutoff */
     float coat[4];     /* x: clearcoat, y: clearcoat roughness, z: coat normal scale, w: has coat normal map */
     float xf[2 * PRW_GPU_SLOTS][4]; /* per slot: (offset u, v, cos r, sin r), (scale u, v, uv set, 0) */
-    float ggx[9][4]; /* prw_ggx_Ec_row, prw_ggx_Ed_row of the factor roughness, (Ec_avg, Ed_avg, 0, 0) */
+    prw_ggx_row ggx_ec, ggx_ed; /* prw_ggx_Ec_row, prw_ggx_Ed_row of the factor roughness */
+    float ggx_avg[4];           /* Ec_avg, Ed_avg, 0, 0 */
 } prw_gpu_material;
 
 /* std140: vec4 members 16-byte aligned, arrays of structs padded to 16, mat4 = 64 bytes */
@@ -52,7 +54,8 @@ _Static_assert(PRW_SC_N_RECT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_R
                "specialisation constants of the light classes");
 _Static_assert(PRW_SC_MAT < 8, "specialisation constants: at most 8 (prw_graphics_desc.fs_spec)");
 _Static_assert(PRW_SC_MAT == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES, "the material constant follows the light classes");
-_Static_assert(PRW_GPU_MAT_BITS + 6 <= 32 && PRW_GPU_MAT_BITS + 4 <= 32, "PRW_GPU_MAT_* fit the pipeline features and slot flags");
+_Static_assert(PRW_GPU_MAT_MASK == (1 << PRW_GPU_MAT_BITS) - 1 && PRW_GPU_MAT_BITS + 6 <= 32,
+               "PRW_GPU_MAT_* fit the pipeline features and slot flags");
 _Static_assert(PRW_MAX_LIGHTS < 32 && 5 * PRW_LIGHT_CLASSES <= 32, "light class sizes fit 5 bits each (prw_pipe_key.light_classes)");
 _Static_assert(sizeof(prw_gpu_light) == 7 * 16, "prw_gpu_light: 7 vec4");
 _Static_assert(offsetof(prw_gpu_globals, eye_rel) == 64, "globals.eye_rel");
@@ -62,7 +65,10 @@ _Static_assert(offsetof(prw_gpu_globals, shadow_mats) == 96 + PRW_MAX_LIGHTS * 7
 _Static_assert(sizeof(prw_gpu_globals) == 96 + PRW_MAX_LIGHTS * 7 * 16 + PRW_MAX_SHADOW_VIEWS * 64, "globals size");
 _Static_assert(offsetof(prw_gpu_material, alpha) == 64, "material block: the core part is 4 vec4");
 _Static_assert(sizeof(prw_gpu_material) == (6 + 2 * PRW_GPU_SLOTS + 9) * 16, "material block: 6 + 2 x slots + 9 vec4");
-_Static_assert(offsetof(prw_gpu_material, ggx) == (6 + 2 * PRW_GPU_SLOTS) * 16, "material block: ggx after xf");
+_Static_assert(offsetof(prw_gpu_material, ggx_ec) == (6 + 2 * PRW_GPU_SLOTS) * 16 &&
+                   offsetof(prw_gpu_material, ggx_ed) == (10 + 2 * PRW_GPU_SLOTS) * 16 &&
+                   offsetof(prw_gpu_material, ggx_avg) == (14 + 2 * PRW_GPU_SLOTS) * 16,
+               "material block: the ggx rows after xf (std140: a struct of 16 floats is 64 bytes)");
 _Static_assert(PRW_GPU_ALPHA_OPAQUE == PRW_ALPHA_OPAQUE && PRW_GPU_ALPHA_MASK == PRW_ALPHA_MASK &&
                    PRW_GPU_ALPHA_BLEND == PRW_ALPHA_BLEND,
                "alpha modes: shaders/prw_constants.h and prw_alpha_mode agree");

@@ -101,7 +101,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
     if (!floor && !prepass) { /* lights.glsl: one loop per light class, of the plan's sizes (PRW_SC_*) */
         d->fs_spec[PRW_SC_LIGHTS_SORTED] = 1;
         for (int c = 0; c < PRW_LIGHT_CLASSES; c++) d->fs_spec[PRW_SC_LIGHT_CLASS0 + c] = (k->light_classes >> (5 * c)) & 31u;
-        d->fs_spec[PRW_SC_MAT] = (k->features >> PRW_PIPE_LACKS_SHIFT) & ((1u << PRW_GPU_MAT_BITS) - 1u);
+        d->fs_spec[PRW_SC_MAT] = (k->features >> PRW_PIPE_LACKS_SHIFT) & PRW_GPU_MAT_MASK;
         d->fs_spec_count = PRW_SC_MAT + 1;
     }
     return true;
@@ -208,7 +208,7 @@ bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_err
     /* the floor and the depth pre-pass read no material constant: one pipeline for every slot */
     if (k->variant == PRW_BASE_VARIANT_FLOOR || k->variant == PRW_BASE_VARIANT_FLOOR_GBUFFER ||
         k->variant == PRW_BASE_VARIANT_PREPASS || k->variant == PRW_BASE_VARIANT_PREPASS_GBUFFER)
-        key.features &= ~(((1u << PRW_GPU_MAT_BITS) - 1u) << PRW_PIPE_LACKS_SHIFT);
+        key.features &= ~((uint32_t)PRW_GPU_MAT_MASK << PRW_PIPE_LACKS_SHIFT);
     const prw_shadow_plan *plan = p->env->shadows;
     for (int c = 0; c < PRW_LIGHT_CLASSES; c++) key.light_classes |= plan->class_count[c] << (5 * c);
     *out = prw_pipeline_table_find(p->table, &key, sizeof key);

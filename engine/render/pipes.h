@@ -5,8 +5,9 @@
  *    two-sided, mirrored, clip plane, view mask, variant, features, the scene's light classes); the base
  *    fragment shaders are specialised on the light classes (shadow_plan.h: light slots; lights.glsl), so a
  *    change of the lights' kinds or shadows builds new pipelines, and on what the draw's material slot
- *    lacks (features >> PRW_PIPE_LACKS_SHIFT, scene_gpu.h; not for the floor and depth pre-pass).  A pipeline is built on first use from its
- *    recipe and kept until the renderer is destroyed or its recipe is forgotten (a pass's destroy).
+ *    lacks (features >> PRW_PIPE_LACKS_SHIFT, scene_gpu.h; not for the floor and depth pre-pass).  A
+ *    pipeline is built on first use from its recipe and kept until the renderer is destroyed or its
+ *    recipe is forgotten (a pass's destroy).
  *  - A recipe is a named description function plus its pipeline layout; the base recipe's description
  *    (vertex layout, HDR colour target, reversed-Z D32 depth, the renderer's samples, back-face
  *    culling) is the starting point of every recipe that draws the scene's drawables

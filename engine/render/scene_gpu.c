@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "gpu_types.h"
-#include "prw_brdf.h"
 #include "prw_shading.h"
 #include "scene_gpu.h"
 
@@ -38,19 +37,6 @@ uint32_t prw_scene_gpu_material_lacks(const prw_material *m, uint32_t texture_co
            (m->metallic == 0.0f ? PRW_GPU_MAT_NO_METAL : 0u) |
            (m->metallic == 1.0f && PRW_LACKS(m->metal_rough_tex) ? PRW_GPU_MAT_ALL_METAL : 0u);
 #undef PRW_LACKS
-}
-
-/* The fits' rows at roughness r (material_gltf.glsl prw_material_ggx_view: the shader's own evaluation
- * with the same float operations). */
-static void fill_ggx(float out[9][4], float r)
-{
-    prw_ggx_row ec = prw_ggx_Ec_row(r), ed = prw_ggx_Ed_row(r);
-    _Static_assert(sizeof ec == 16 * sizeof(float), "prw_ggx_row is 16 floats");
-    memcpy(out[0], &ec, sizeof ec);
-    memcpy(out[4], &ed, sizeof ed);
-    out[8][0] = prw_ggx_Ec_avg(r);
-    out[8][1] = prw_ggx_Ed_avg(r);
-    out[8][2] = out[8][3] = 0.0f;
 }
 
 static uint32_t flags_of(const prw_scene *s, int material)
@@ -215,14 +201,21 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
             m.specular = 0.0f;
             for (int c = 0; c < 3; c++) m.emission[c] = (float)(l->color[c] * l->intensity);
         }
+        uint32_t lacks = prw_scene_gpu_material_lacks(&m, r->texture_count);
+        /* the fits' rows at the factor roughness (a white texel's G is 1), by the shader's own float code
+         * (material_gltf.glsl prw_material_ggx_view) */
+        float rough = (float)prw_roughness_from(m.roughness, 1.0f);
         prw_gpu_material g = {
             .base_color = {m.base_color[0], m.base_color[1], m.base_color[2], m.base_color[3]},
             .emission = {m.emission[0], m.emission[1], m.emission[2], m.normal_scale},
             .mr = {m.metallic, m.roughness, m.double_sided ? 1.0f : 0.0f,
-                   prw_scene_gpu_material_lacks(&m, r->texture_count) & PRW_GPU_MAT_NO_NORMAL_TEX ? 0.0f : 1.0f},
+                   lacks & PRW_GPU_MAT_NO_NORMAL_TEX ? 0.0f : 1.0f},
             .extra = {m.specular, (float)(i + 1), 0.0f, 0.0f},
             .alpha = {(float)m.alpha_mode, m.alpha_cutoff, 0.0f, 0.0f},
             .coat = {m.clearcoat, m.clearcoat_roughness, m.clearcoat_normal_scale, m.clearcoat_normal_tex >= 0 ? 1.0f : 0.0f},
+            .ggx_ec = prw_ggx_Ec_row(rough),
+            .ggx_ed = prw_ggx_Ed_row(rough),
+            .ggx_avg = {prw_ggx_Ec_avg(rough), prw_ggx_Ed_avg(rough), 0.0f, 0.0f},
         };
         for (int k = 0; k < PRW_TEX_SLOT_COUNT; k++) {
             const prw_tex_transform *t = &m.tex_xf[k];
@@ -231,9 +224,8 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
             memcpy(g.xf[2 * k], row0, sizeof row0);
             memcpy(g.xf[2 * k + 1], row1, sizeof row1);
         }
-        fill_ggx(g.ggx, (float)prw_roughness_from(m.roughness, 1.0f)); /* a white texel's G is 1 */
         r->slot_flags[i] = i < r->scene_material_slots ? prw_scene_gpu_material_flags(&m) : 0;
-        r->slot_flags[i] |= prw_scene_gpu_material_lacks(&m, r->texture_count) << PRW_SG_LACKS_SHIFT;
+        r->slot_flags[i] |= lacks << PRW_SG_LACKS_SHIFT;
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
         if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) return false;
         VkDescriptorSet set = r->material_sets[i];

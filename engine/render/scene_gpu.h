@@ -14,8 +14,9 @@
  *    indexing; the vertex's set 0 where its mesh has no TEXCOORD_1, prw_shading.h), else it is not
  *    created.  Material slots' blocks carry the extension members and descriptor sets all seven
  *    textures (white / flat-normal fallbacks).  Each slot's flags also say which textures it lacks and
- *    whether its metallic is exactly 0 or 1 (PRW_SG_LACKS_SHIFT), and its block carries the GGX fits' rows at its factor roughness, so a pipeline
- *    specialised on them (PRW_PIPE_LACKS_SHIFT) draws it with the same values without those fetches.
+ *    whether its metallic is exactly 0 or 1 (PRW_SG_LACKS_SHIFT), and its block carries the GGX fits'
+ *    rows at its factor roughness, so a pipeline specialised on them (PRW_PIPE_LACKS_SHIFT) draws it
+ *    with the same values without those fetches.
  *  - Read-only after create; the renderer re-creates it when the scene is synced.
  */
 #ifndef PRW_SCENE_GPU_H

@@ -9,8 +9,9 @@
  *    texel is texel_per_unit / size.
  *  - GPU light slots: the order of the lights in the per-view globals (view_globals.c), grouped by
  *    shading class — shadowed rect, unshadowed rect, shadowed spot and directional (one layer),
- *    shadowed point (six), unshadowed punctual — each group in scene order.  The base shaders are specialised on the group
- *    sizes (lights.glsl, pipes.c), so a light pays only for the code of its own class. */
+ *    shadowed point (six), unshadowed punctual — each group in scene order.  The base shaders are
+ *    specialised on the group sizes (lights.glsl, pipes.c), so a light pays only for the code of its
+ *    own class. */
 #ifndef PRW_SHADOW_PLAN_H
 #define PRW_SHADOW_PLAN_H
 
