@@ -45,6 +45,7 @@
 #include "prw_render.h"
 #include "prw_strbuf.h"
 #include "prw_test.h"
+#include "gltf_writer.h"
 
 #define W 96u
 #define H 64u
@@ -56,188 +57,6 @@
 #define SPP ((uint64_t)prw_test_scale(32, 4)) /* light mode (sanitizers): 8; the tolerances are noise-aware */
 
 static prw_gpu *g_gpu;
-
-/* ---- a small glTF writer ---- */
-
-typedef struct gmesh {
-    float *pos, *nrm, *uv, *uv1; /* uv1 may be NULL */
-    uint32_t nv, ni;
-    uint32_t *idx;
-    int material;
-    double at[3]; /* its node's translation */
-} gmesh;
-
-typedef struct gfile {
-    gmesh mesh[6];
-    int mesh_count;
-    const char *materials;  /* the JSON array's members */
-    const char *images[4];  /* texture i = image i */
-    int image_count;
-    const char *ext_used;   /* extensionsUsed members, e.g. "\"KHR_texture_transform\"" (may be NULL) */
-    double eye[3], target[3], yfov;
-    int light;              /* 1 directional, 2 point, 0 none */
-    double light_at[3], light_to[3], intensity; /* lux or cd */
-} gfile;
-
-static void mesh_free(gmesh *m)
-{
-    free(m->pos), free(m->nrm), free(m->uv), free(m->uv1), free(m->idx);
-    memset(m, 0, sizeof *m);
-}
-
-/* centre +- hu +- hv (prw_scene_add_quad's convention: normal hu x hv, uv (0, 0) at centre - hu + hv). */
-static gmesh quad(const double c[3], const double hu[3], const double hv[3], int material)
-{
-    gmesh m = {.nv = 4, .ni = 6, .material = material};
-    m.pos = malloc(12 * sizeof(float)), m.nrm = malloc(12 * sizeof(float)), m.uv = malloc(8 * sizeof(float));
-    m.idx = malloc(6 * sizeof(uint32_t));
-    const double su[4] = {-1, 1, 1, -1}, sv[4] = {1, 1, -1, -1}; /* top-left, top-right, bottom-right, bottom-left */
-    double n[3] = {hu[1] * hv[2] - hu[2] * hv[1], hu[2] * hv[0] - hu[0] * hv[2], hu[0] * hv[1] - hu[1] * hv[0]};
-    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int v = 0; v < 4; v++) {
-        for (int k = 0; k < 3; k++) {
-            m.pos[3 * v + k] = (float)(su[v] * hu[k] + sv[v] * hv[k]);
-            m.nrm[3 * v + k] = (float)(n[k] / l);
-        }
-        m.uv[2 * v] = (float)(0.5 + 0.5 * su[v]);
-        m.uv[2 * v + 1] = (float)(0.5 - 0.5 * sv[v]);
-    }
-    const uint32_t idx[6] = {3, 2, 1, 3, 1, 0}; /* counter-clockwise seen from the normal's side */
-    memcpy(m.idx, idx, sizeof idx);
-    for (int k = 0; k < 3; k++) m.at[k] = c[k];
-    return m;
-}
-
-static gmesh sphere(const double c[3], double r, int slices, int stacks, int material)
-{
-    gmesh m = {.nv = (uint32_t)((slices + 1) * (stacks + 1)), .ni = (uint32_t)(6 * slices * stacks), .material = material};
-    m.pos = malloc(m.nv * 3 * sizeof(float)), m.nrm = malloc(m.nv * 3 * sizeof(float));
-    m.uv = malloc(m.nv * 2 * sizeof(float)), m.idx = malloc(m.ni * sizeof(uint32_t));
-    uint32_t v = 0, t = 0;
-    for (int j = 0; j <= stacks; j++)
-        for (int i = 0; i <= slices; i++, v++) {
-            double th = PRW_PI * j / stacks, ph = 2 * PRW_PI * i / slices;
-            double n[3] = {sin(th) * cos(ph), cos(th), -sin(th) * sin(ph)};
-            for (int k = 0; k < 3; k++) m.pos[3 * v + k] = (float)(r * n[k]), m.nrm[3 * v + k] = (float)n[k];
-            m.uv[2 * v] = (float)i / slices, m.uv[2 * v + 1] = (float)j / stacks;
-        }
-    for (int j = 0; j < stacks; j++)
-        for (int i = 0; i < slices; i++) {
-            uint32_t a = (uint32_t)(j * (slices + 1) + i), b = a + (uint32_t)slices + 1;
-            const uint32_t q[6] = {a, b, a + 1, a + 1, b, b + 1};
-            memcpy(m.idx + t, q, sizeof q);
-            t += 6;
-        }
-    for (int k = 0; k < 3; k++) m.at[k] = c[k];
-    return m;
-}
-
-static int add_view(uint8_t **bin, size_t *len, prw_strbuf *bv, int *views, const void *data, size_t n)
-{
-    size_t off = (*len + 3) & ~(size_t)3;
-    *bin = realloc(*bin, off + n);
-    memset(*bin + *len, 0, off - *len);
-    memcpy(*bin + off, data, n);
-    *len = off + n;
-    prw_strbuf_printf(bv, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", *views ? "," : "", off, n);
-    return (*views)++;
-}
-
-/* A node rotation looking from `from` towards `to` (-Z forward, +Y up). */
-static prw_dquat look_rotation(const double from[3], const double to[3])
-{
-    prw_node n = prw_node_look_at("x", prw_v3(from[0], from[1], from[2]), prw_v3(to[0], to[1], to[2]), prw_v3(0, 1, 0));
-    return n.rotation;
-}
-
-/* Writes <name>.gltf and <name>.bin into the scratch directory; returns the .gltf path. */
-static const char *write_gltf(const char *name, const gfile *f)
-{
-    uint8_t *bin = NULL;
-    size_t len = 0;
-    int views = 0, accs = 0;
-    prw_strbuf bv = {0}, ac = {0}, me = {0}, no = {0}, sn = {0};
-    for (int i = 0; i < f->mesh_count; i++) {
-        const gmesh *m = &f->mesh[i];
-        float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
-        for (uint32_t v = 0; v < m->nv; v++)
-            for (int c = 0; c < 3; c++) lo[c] = fminf(lo[c], m->pos[3 * v + c]), hi[c] = fmaxf(hi[c], m->pos[3 * v + c]);
-        int a = accs;
-        int vp = add_view(&bin, &len, &bv, &views, m->pos, m->nv * 12);
-        int vn = add_view(&bin, &len, &bv, &views, m->nrm, m->nv * 12);
-        int vu = add_view(&bin, &len, &bv, &views, m->uv, m->nv * 8);
-        int vu1 = m->uv1 ? add_view(&bin, &len, &bv, &views, m->uv1, m->nv * 8) : -1;
-        int vi = add_view(&bin, &len, &bv, &views, m->idx, m->ni * 4);
-        prw_strbuf_printf(&ac, "%s{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\",\"min\":[%g,%g,%g],"
-                       "\"max\":[%g,%g,%g]}",
-                  accs ? "," : "", vp, m->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-        prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", vn, m->nv);
-        prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", vu, m->nv);
-        accs += 3;
-        if (vu1 >= 0) {
-            prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", vu1, m->nv);
-            accs++;
-        }
-        prw_strbuf_printf(&ac, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", vi, m->ni);
-        int ai = accs++;
-        prw_strbuf_printf(&me, "%s{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d,\"TEXCOORD_0\":%d", i ? "," : "",
-                  a, a + 1, a + 2);
-        if (vu1 >= 0) prw_strbuf_printf(&me, ",\"TEXCOORD_1\":%d", a + 3);
-        prw_strbuf_printf(&me, "},\"indices\":%d,\"material\":%d}]}", ai, m->material);
-        prw_strbuf_printf(&no, "%s{\"name\":\"mesh%d\",\"mesh\":%d,\"translation\":[%.17g,%.17g,%.17g]}", i ? "," : "", i, i,
-                  m->at[0], m->at[1], m->at[2]);
-        prw_strbuf_printf(&sn, "%s%d", i ? "," : "", i);
-    }
-    int nodes = f->mesh_count;
-    prw_dquat q = look_rotation(f->eye, f->target);
-    prw_strbuf_printf(&no, ",{\"name\":\"cam\",\"camera\":0,\"translation\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g]}",
-              f->eye[0], f->eye[1], f->eye[2], q.x, q.y, q.z, q.w);
-    prw_strbuf_printf(&sn, ",%d", nodes++);
-    const char *lights = "";
-    if (f->light) {
-        prw_dquat lq = look_rotation(f->light_at, f->light_to);
-        prw_strbuf_printf(&no, ",{\"name\":\"light\",\"translation\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g],"
-                       "\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}",
-                  f->light_at[0], f->light_at[1], f->light_at[2], lq.x, lq.y, lq.z, lq.w);
-        prw_strbuf_printf(&sn, ",%d", nodes++);
-        lights = f->light == 1 ? "\"directional\"" : "\"point\"";
-    }
-    prw_strbuf tx = {0};
-    for (int i = 0; i < f->image_count; i++)
-        prw_strbuf_printf(&tx, "%s{\"source\":%d}", i ? "," : "", i);
-    prw_strbuf im = {0};
-    for (int i = 0; i < f->image_count; i++) prw_strbuf_printf(&im, "%s{\"uri\":\"%s\"}", i ? "," : "", f->images[i]);
-    char binname[128];
-    snprintf(binname, sizeof binname, "%s.bin", name);
-    prw_strbuf j = {0};
-    prw_strbuf_printf(&j, "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_lights_punctual\",\"KHR_materials_specular\"%s%s],",
-              f->ext_used ? "," : "", f->ext_used ? f->ext_used : "");
-    prw_strbuf_printf(&j, "\"scene\":0,\"scenes\":[{\"nodes\":[%s]}],\"nodes\":[%s],\"meshes\":[%s],", sn.p, no.p, me.p);
-    prw_strbuf_printf(&j, "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":%.17g,\"znear\":0.05,\"aspectRatio\":%.17g}}],",
-              f->yfov, (double)W / H);
-    if (f->light)
-        prw_strbuf_printf(&j, "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":%s,\"intensity\":%.17g}]}},", lights,
-                  f->intensity);
-    prw_strbuf_printf(&j, "\"materials\":[%s],", f->materials);
-    if (f->image_count) prw_strbuf_printf(&j, "\"textures\":[%s],\"images\":[%s],", tx.p, im.p);
-    prw_strbuf_printf(&j, "\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],\"bufferViews\":[%s],\"accessors\":[%s]}\n", binname,
-              len, bv.p, ac.p);
-    prw_test_write_file(prw_test_path(binname), bin, len);
-    char gname[128];
-    snprintf(gname, sizeof gname, "%s.gltf", name);
-    char *path = prw_test_path(gname);
-    prw_test_write_file(path, j.p, j.n);
-    free(bin), free(bv.p), free(ac.p), free(me.p), free(no.p), free(sn.p), free(tx.p), free(im.p), free(j.p);
-    return path;
-}
-
-static bool write_png(const char *name, int w, int h, const uint8_t *rgba)
-{
-    prw_error e;
-    if (prw_png_write8(prw_test_path(name), w, h, 4, rgba, &e)) return true;
-    fprintf(stderr, "%s\n", e.msg);
-    return false;
-}
 
 /* ---- rendering ---- */
 
@@ -417,7 +236,7 @@ static const char *cut_file(const char *mode, const char *name)
             p[0] = p[1] = p[2] = 255;
             p[3] = x < 8 ? 0 : 255;
         }
-    write_png("cut_alpha.png", 16, 16, tex);
+    gltfw_png("cut_alpha.png", 16, 16, tex);
     static char mats[1024];
     snprintf(mats, sizeof mats,
              "{\"name\":\"floor\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,"
@@ -431,11 +250,11 @@ static const char *cut_file(const char *mode, const char *name)
                .light = 1, .light_at = {-2, 3, 0}, .light_to = {-1, 2, 0}, .intensity = 10};
     const double c0[3] = {0, 0, 0}, fu[3] = {2.5, 0, 0}, fv[3] = {0, 0, -2.5};
     const double c1[3] = {0, 1, 0}, qu[3] = {0.6, 0, 0}, qv[3] = {0, 0, -0.6};
-    f.mesh[0] = quad(c0, fu, fv, 0);
-    f.mesh[1] = quad(c1, qu, qv, 1);
+    f.mesh[0] = gltfw_quad(c0, fu, fv, 0);
+    f.mesh[1] = gltfw_quad(c1, qu, qv, 1);
     f.mesh_count = 2;
-    const char *p = write_gltf(name, &f);
-    mesh_free(&f.mesh[0]), mesh_free(&f.mesh[1]);
+    const char *p = gltfw_write(name, &f, (double)W / H);
+    gltfw_mesh_free(&f.mesh[0]), gltfw_mesh_free(&f.mesh[1]);
     return p;
 }
 
@@ -526,7 +345,7 @@ static void test_transform(void)
             block_colour(x / 8, y / 8, p);
             p[3] = 255;
         }
-    CHECK(write_png("blocks.png", 32, 32, tex));
+    CHECK(gltfw_png("blocks.png", 32, 32, tex));
     /* left quad: emissive texture, offset + rotation + scale; right quad: lit base colour from
      * TEXCOORD_1 (uv1 = (v, u): a transposed mapping) with another transform */
     const char *mats =
@@ -541,13 +360,13 @@ static void test_transform(void)
                .eye = {0, 0, 3}, .target = {0, 0, 0}, .yfov = 0.7,
                .light = 1, .light_at = {0, 0, 5}, .light_to = {0, 0, 0}, .intensity = PRW_PI};
     const double cl[3] = {-0.82, 0, 0}, cr[3] = {0.82, 0, 0}, hu[3] = {0.78, 0, 0}, hv[3] = {0, 0.78, 0};
-    f.mesh[0] = quad(cl, hu, hv, 0);
-    f.mesh[1] = quad(cr, hu, hv, 1);
+    f.mesh[0] = gltfw_quad(cl, hu, hv, 0);
+    f.mesh[1] = gltfw_quad(cr, hu, hv, 1);
     f.mesh[1].uv1 = malloc(8 * sizeof(float));
     for (int v = 0; v < 4; v++) f.mesh[1].uv1[2 * v] = f.mesh[1].uv[2 * v + 1], f.mesh[1].uv1[2 * v + 1] = f.mesh[1].uv[2 * v];
     f.mesh_count = 2;
-    const char *path = write_gltf("transform", &f);
-    mesh_free(&f.mesh[0]), mesh_free(&f.mesh[1]);
+    const char *path = gltfw_write("transform", &f, (double)W / H);
+    gltfw_mesh_free(&f.mesh[0]), gltfw_mesh_free(&f.mesh[1]);
     prw_error e = {{0}};
     prw_scene *s = NULL;
     images im = {0};
@@ -629,7 +448,7 @@ static void test_normal_transform(void)
 {
     static uint8_t tex[4 * 4 * 4];
     for (int i = 0; i < 16; i++) tex[4 * i] = 191, tex[4 * i + 1] = 128, tex[4 * i + 2] = 238, tex[4 * i + 3] = 255;
-    CHECK(write_png("tilt.png", 4, 4, tex));
+    CHECK(gltfw_png("tilt.png", 4, 4, tex));
     const char *mats =
         "{\"name\":\"a\",\"normalTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":{\"rotation\":1.5707963267948966}}},"
         "\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":1},"
@@ -642,11 +461,11 @@ static void test_normal_transform(void)
                .eye = {0, 0, 3}, .target = {0, 0, 0}, .yfov = 0.7,
                .light = 1, .light_at = {-1, 1.5, 2}, .light_to = {0, 0, 0}, .intensity = PRW_PI};
     const double cl[3] = {-0.82, 0, 0}, cr[3] = {0.82, 0, 0}, hu[3] = {0.78, 0, 0}, hv[3] = {0, 0.78, 0};
-    f.mesh[0] = quad(cl, hu, hv, 0);
-    f.mesh[1] = quad(cr, hu, hv, 1);
+    f.mesh[0] = gltfw_quad(cl, hu, hv, 0);
+    f.mesh[1] = gltfw_quad(cr, hu, hv, 1);
     f.mesh_count = 2;
-    const char *path = write_gltf("normal_xf", &f);
-    mesh_free(&f.mesh[0]), mesh_free(&f.mesh[1]);
+    const char *path = gltfw_write("normal_xf", &f, (double)W / H);
+    gltfw_mesh_free(&f.mesh[0]), gltfw_mesh_free(&f.mesh[1]);
     prw_error e = {{0}};
     prw_scene *s = NULL;
     images im = {0}, ctl = {0};
@@ -701,8 +520,8 @@ static const char *coat_file(double coat, const char *name)
             for (int k = 0; k < 3; k++) p[k] = (uint8_t)lrint(255 * (0.5 + 0.5 * n[k] / l));
             p[3] = 255;
         }
-    write_png("coat_stripes.png", 16, 16, stripes);
-    write_png("coat_bumps.png", 32, 32, bumps);
+    gltfw_png("coat_stripes.png", 16, 16, stripes);
+    gltfw_png("coat_bumps.png", 32, 32, bumps);
     static char mats[2048];
     snprintf(mats, sizeof mats,
              "{\"name\":\"paint\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.6,0.08,0.04,1],\"metallicFactor\":0,"
@@ -718,11 +537,11 @@ static const char *coat_file(double coat, const char *name)
                .target = {0, 0, 0}, .yfov = 0.6, .light = 2, .light_at = {1.2, 1.6, 1.8}, .light_to = {0, 0, 0},
                .intensity = 12};
     const double cl[3] = {-0.55, 0, 0}, cr[3] = {0.55, 0, 0};
-    f.mesh[0] = sphere(cl, 0.45, 96, 48, 0);
-    f.mesh[1] = sphere(cr, 0.45, 96, 48, 1);
+    f.mesh[0] = gltfw_sphere(cl, 0.45, 96, 48, 0);
+    f.mesh[1] = gltfw_sphere(cr, 0.45, 96, 48, 1);
     f.mesh_count = 2;
-    const char *p = write_gltf(name, &f);
-    mesh_free(&f.mesh[0]), mesh_free(&f.mesh[1]);
+    const char *p = gltfw_write(name, &f, (double)W / H);
+    gltfw_mesh_free(&f.mesh[0]), gltfw_mesh_free(&f.mesh[1]);
     return p;
 }
 
@@ -910,12 +729,12 @@ static void test_blend(void)
     const double cw[3] = {0, 0, -1}, wu[3] = {3, 0, 0}, wv[3] = {0, 2, 0};
     const double cf[3] = {-0.25, 0.1, 0.4}, fu[3] = {0.5, 0, 0}, fv[3] = {0, 0.45, 0};
     const double cb[3] = {0.25, -0.1, 0}, bu[3] = {0.55, 0, 0}, bv[3] = {0, 0.5, 0};
-    f.mesh[0] = quad(cf, fu, fv, 1);
-    f.mesh[1] = quad(cb, bu, bv, 2);
-    f.mesh[2] = quad(cw, wu, wv, 0);
+    f.mesh[0] = gltfw_quad(cf, fu, fv, 1);
+    f.mesh[1] = gltfw_quad(cb, bu, bv, 2);
+    f.mesh[2] = gltfw_quad(cw, wu, wv, 0);
     f.mesh_count = 3;
-    const char *path = write_gltf("blend", &f);
-    for (int i = 0; i < 3; i++) mesh_free(&f.mesh[i]);
+    const char *path = gltfw_write("blend", &f, (double)W / H);
+    for (int i = 0; i < 3; i++) gltfw_mesh_free(&f.mesh[i]);
     prw_error e = {{0}};
     prw_scene *s = NULL;
     images im = {0};
@@ -1231,11 +1050,11 @@ static bool nurbs_render(const char *mode, double alpha, double out[3][3], prw_e
              alpha);
     gfile f = {.materials = mats, .eye = {0, 0, 5}, .target = {0, 0, 0}, .yfov = 0.6};
     const double cw[3] = {0, 0, -3}, wu[3] = {4, 0, 0}, wv[3] = {0, 3, 0};
-    f.mesh[0] = quad(cw, wu, wv, 0);
+    f.mesh[0] = gltfw_quad(cw, wu, wv, 0);
     f.mesh_count = 1;
     snprintf(name, sizeof name, "nurbs_%s_%02d", mode, (int)lrint(100 * alpha));
-    write_gltf(name, &f);
-    mesh_free(&f.mesh[0]);
+    gltfw_write(name, &f, (double)W / H);
+    gltfw_mesh_free(&f.mesh[0]);
     snprintf(json, sizeof json,
              "{\"prw_manifest\":1,\"gltf\":[{\"file\":\"%s.gltf\"}],\"nurbs\":[{\"name\":\"box\",\"procedural\":\"box\","
              "\"material\":\"glass\",\"single_sided\":true,\"scale\":[0.5,0.5,0.5]}],\"lights\":[{\"type\":\"directional\","
