@@ -207,6 +207,66 @@ static void test_manifest_matches_demo(void)
     prw_scene_destroy(d);
 }
 
+/* Whether world point p (on the plane x = 3) is covered by a triangle of s lying in that plane. */
+static bool wall_covers(const prw_scene *s, prw_dvec3 p)
+{
+    for (uint32_t m = 0; m < s->mesh_count; m++) {
+        int n = node_of_mesh(s, m);
+        const prw_mesh *me = &s->meshes[m];
+        for (uint32_t t = 0; n >= 0 && t < me->index_count / 3; t++) {
+            prw_dvec3 v[3];
+            for (int k = 0; k < 3; k++) {
+                const float *q = me->positions + 3 * me->indices[3 * t + k];
+                v[k] = prw_dm4_point(s->nodes[n].world, prw_v3(q[0], q[1], q[2]));
+            }
+            if (fabs(v[0].x - 3) > 1e-9 || fabs(v[1].x - 3) > 1e-9 || fabs(v[2].x - 3) > 1e-9) continue;
+            /* 2-D (z, y) point in triangle, either winding */
+            double d[3];
+            for (int k = 0; k < 3; k++) {
+                prw_dvec3 a = v[k], b = v[(k + 1) % 3];
+                d[k] = (b.z - a.z) * (p.y - a.y) - (b.y - a.y) * (p.z - a.z);
+            }
+            if ((d[0] >= 0 && d[1] >= 0 && d[2] >= 0) || (d[0] <= 0 && d[1] <= 0 && d[2] <= 0)) return true;
+        }
+    }
+    return false;
+}
+
+/* gi-room-sky is gi-room with the window light replaced by an opening of the same rectangle in the
+ * wall: the same objects (all but the wall box), spot and cameras; the wall x = 3 covered exactly
+ * outside the window light's rectangle (sampled on a 5 cm grid, off the edges). */
+static void test_sky_variant_matches(void)
+{
+    prw_scene *room = prw_scene_create(), *sky = prw_scene_create();
+    prw_error e = {{0}};
+    CHECK_OK(prw_scene_load_manifest(room, GI_ROOM, &e), &e);
+    CHECK_OK(prw_scene_load_manifest(sky, GI_ROOM_SKY, &e), &e);
+    for (uint32_t i = 0; i < room->mesh_count; i++)
+        if (strcmp(room->meshes[i].name, "room walls") != 0) check_mesh(sky, room, room->meshes[i].name);
+    CHECK(room->light_count == 2 && sky->light_count == 1 && room->lights[0].type == PRW_LIGHT_RECT);
+    if (room->light_count == 2 && sky->light_count == 1) {
+        /* compare the spot and cameras through a copy of the room without its window light */
+        prw_scene tmp = *room;
+        tmp.lights = room->lights + 1;
+        tmp.light_count = 1;
+        check_lights_cameras(sky, &tmp);
+        const prw_light *w = &room->lights[0];
+        prw_dmat4 wm = room->nodes[w->node].world;
+        prw_dvec3 c = column(wm, 3), ax = column(wm, 0), ay = column(wm, 1);
+        int wrong = 0, n = 0;
+        for (double y = 0.025; y < 3; y += 0.05)
+            for (double z = -2.475; z < 2.5; z += 0.05, n++) {
+                prw_dvec3 rel = prw_v3(3 - c.x, y - c.y, z - c.z);
+                double a = prw_v3_dot(rel, ax) / (w->width / 2), b = prw_v3_dot(rel, ay) / (w->height / 2);
+                bool in_window = fabs(a) < 1 && fabs(b) < 1;
+                if (wall_covers(sky, prw_v3(3, y, z)) == in_window) wrong++;
+            }
+        CHECK_MSG(wrong == 0, "gi-room-sky: %d of %d points of the wall x = 3 disagree with the window light", wrong, n);
+    }
+    prw_scene_destroy(room);
+    prw_scene_destroy(sky);
+}
+
 /* The committed map is the formula (to float rounding of the libm in use). */
 static void test_sky_map(void)
 {
@@ -396,6 +456,7 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"manifest_matches_demo", test_manifest_matches_demo},
+        {"sky_variant_matches", test_sky_variant_matches},
         {"sky_map", test_sky_map},
         {"filters_exact", test_filters_exact},
         {"terms_sum", test_terms_sum},
