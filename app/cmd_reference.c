@@ -269,6 +269,9 @@ int prw_cmd_reference(int argc, char **argv)
            prw_threads_get());
     printf("reference: %.3f samples per pixel per CPU-second (%.2f CPU-s for %llu spp)\n",
            cpu > 0 ? (double)st.spp / cpu : 0.0, cpu, (unsigned long long)st.spp);
+    if (filter.kind == PRW_REF_ENVIRONMENT_DIRECT && !scene->environment.present)
+        printf("reference: %s has no environment (manifest \"environment\"): environment-direct is 0 everywhere\n",
+               scene->source);
     if (against) {
         double mse, rvar;
         if (!error_against(&acc, &ref_img, &ref_var_img, &mse, &rvar, &e)) goto done;
