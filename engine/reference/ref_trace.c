@@ -666,6 +666,10 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
     pa.rng = rng;
     pa.rays = rays;
     for (int c = 0; c < 3; c++) pa.beta[c] = pa.cls[c] = 1;
+    if (f.kind == PRW_REF_ENVIRONMENT_DIRECT && !r->env.kind) {
+        out[0] = out[1] = out[2] = 0; /* no environment: nothing to trace */
+        return;
+    }
     const int kmax = max_depth(f);
     const uint32_t S = 9 + 2 * r->rect_count;
 
