@@ -25,7 +25,9 @@ static void reference_usage(void)
            "  --seed S             random seed (default 1); the same seed gives bit-identical output\n"
            "  --time-limit SEC     stop after the sample batch during which SEC runs out (records the real spp)\n"
            "  --filter F           light paths: all | emission | direct | indirect | diffuse-last | glossy-last |\n"
-           "                       depth:N | maxdepth:N (N scattering events between eye and emitter; default all)\n"
+           "                       indirect-diffuse-last | indirect-glossy-last | environment-direct |\n"
+           "                       depth:N | maxdepth:N (N scattering events between eye and emitter; default all;\n"
+           "                       definitions in engine/reference/prw_reference.h)\n"
            "  --tile x0,y0,x1,y1   render only pixels [x0,x1) x [y0,y1) (needs --acc unless it is the whole image)\n"
            "  --samples s0,s1      render samples [s0, s1) instead of [0, spp)\n"
            "  --acc FILE.acc       also write the exact fixed-point accumulation; join them with\n"
@@ -267,6 +269,9 @@ int prw_cmd_reference(int argc, char **argv)
            prw_threads_get());
     printf("reference: %.3f samples per pixel per CPU-second (%.2f CPU-s for %llu spp)\n",
            cpu > 0 ? (double)st.spp / cpu : 0.0, cpu, (unsigned long long)st.spp);
+    if (filter.kind == PRW_REF_ENVIRONMENT_DIRECT && !scene->environment.present)
+        printf("reference: %s has no environment (manifest \"environment\"): environment-direct is 0 everywhere\n",
+               scene->source);
     if (against) {
         double mse, rvar;
         if (!error_against(&acc, &ref_img, &ref_var_img, &mse, &rvar, &e)) goto done;

@@ -36,8 +36,19 @@
  *      all; emission (k = 0); direct (k <= 1); indirect (k >= 2); depth:N (k == N); maxdepth:N
  *      (k <= N); diffuse-last / glossy-last: k >= 1 paths weighted by the fraction of the eye
  *      vertex's BSDF value that belongs to its diffuse lobe (prw_brdf_diffuse_channel), resp. the
- *      rest (the specular lobes), for the direction actually taken (NEE or BSDF sample).  Sums that hold per sample:
- *      emission + (direct - emission) + indirect = all; emission + diffuse-last + glossy-last = all.
+ *      rest (the specular lobes), for the direction actually taken (NEE or BSDF sample);
+ *      indirect-diffuse-last / indirect-glossy-last: k >= 2 paths with the same weights (the eye
+ *      vertex's diffuse share for the BSDF sample that continued the path; every later vertex
+ *      counts whole); environment-direct: k == 1 paths whose emitter is the environment
+ *      (prw_scene.environment: the EXR map or uniform sky outside the scene, reached by the eye
+ *      vertex's environment sample or by its BSDF ray escaping the scene; not rect lights or
+ *      emissive meshes, even behind a window), with the MIS weights of `all`.  A scene without an
+ *      environment has none: its environment-direct image is 0 everywhere.
+ *    Sums that hold per sample (same seed), to the rounding of the class weights x + (1 - x):
+ *      emission + (direct - emission) + indirect = all; emission + diffuse-last + glossy-last = all;
+ *      direct + indirect-diffuse-last + indirect-glossy-last = all;
+ *      indirect-diffuse-last + indirect-glossy-last = indirect;
+ *      environment-direct = depth:1 - depth:1 of the same scene without its environment.
  *    The filter never changes which random numbers a path uses, so the same seed gives the same paths.
  */
 #ifndef PRW_REFERENCE_H
@@ -60,7 +71,10 @@ typedef enum prw_ref_filter_kind {
     PRW_REF_GLOSSY_LAST,
     PRW_REF_DEPTH,     /* exactly `depth` scattering vertices */
     PRW_REF_MAX_DEPTH, /* at most `depth` */
-    PRW_REF_FILTER_COUNT
+    PRW_REF_INDIRECT_DIFFUSE_LAST,
+    PRW_REF_INDIRECT_GLOSSY_LAST,
+    PRW_REF_ENVIRONMENT_DIRECT,
+    PRW_REF_FILTER_COUNT /* new kinds go before this: .acc files store the number */
 } prw_ref_filter_kind;
 
 typedef struct prw_ref_filter {
@@ -68,7 +82,8 @@ typedef struct prw_ref_filter {
     int depth; /* PRW_REF_DEPTH / PRW_REF_MAX_DEPTH: 0..1000000 */
 } prw_ref_filter;
 
-/* "all|emission|direct|indirect|diffuse-last|glossy-last|depth:N|maxdepth:N". */
+/* "all|emission|direct|indirect|diffuse-last|glossy-last|indirect-diffuse-last|indirect-glossy-last|
+ *  environment-direct|depth:N|maxdepth:N". */
 bool prw_ref_filter_parse(const char *s, prw_ref_filter *out, prw_error *e);
 /* The same spelling back (cap >= 32). */
 void prw_ref_filter_name(prw_ref_filter f, char *buf, size_t cap);

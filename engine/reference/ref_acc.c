@@ -57,15 +57,16 @@ bool prw_ref_view_for_camera(const prw_scene *s, const char *camera, uint32_t wi
 
 /* ---- filters ---- */
 
-static const char *const k_filter_names[] = {"all", "emission", "direct", "indirect", "diffuse-last", "glossy-last",
-                                             "depth", "maxdepth"};
+static const char *const k_filter_names[PRW_REF_FILTER_COUNT] = {
+    "all", "emission", "direct", "indirect", "diffuse-last", "glossy-last", "depth", "maxdepth",
+    "indirect-diffuse-last", "indirect-glossy-last", "environment-direct"};
 
 bool prw_ref_filter_parse(const char *s, prw_ref_filter *out, prw_error *e)
 {
     out->kind = PRW_REF_ALL;
     out->depth = 0;
-    for (int k = 0; k < PRW_REF_DEPTH; k++)
-        if (strcmp(s, k_filter_names[k]) == 0) {
+    for (int k = 0; k < PRW_REF_FILTER_COUNT; k++)
+        if (k != PRW_REF_DEPTH && k != PRW_REF_MAX_DEPTH && strcmp(s, k_filter_names[k]) == 0) {
             out->kind = (prw_ref_filter_kind)k;
             return true;
         }
@@ -80,7 +81,8 @@ bool prw_ref_filter_parse(const char *s, prw_ref_filter *out, prw_error *e)
             return true;
         }
     }
-    return prw_fail(e, "filter '%.64s': expected all|emission|direct|indirect|diffuse-last|glossy-last|depth:N|maxdepth:N "
+    return prw_fail(e, "filter '%.64s': expected all|emission|direct|indirect|diffuse-last|glossy-last|"
+                       "indirect-diffuse-last|indirect-glossy-last|environment-direct|depth:N|maxdepth:N "
                        "(N in 0..1000000)", s);
 }
 

@@ -53,7 +53,8 @@ static inline double power_heuristic(double a, double b)
 
 /* ---- filters ---- */
 
-static bool accept(prw_ref_filter f, int k)
+/* Whether a light path with k scattering vertices ending on an emitter (env: the environment) counts. */
+static bool accept_path(prw_ref_filter f, int k, bool env)
 {
     switch (f.kind) {
     case PRW_REF_EMISSION: return k == 0;
@@ -63,15 +64,25 @@ static bool accept(prw_ref_filter f, int k)
     case PRW_REF_MAX_DEPTH: return k <= f.depth;
     case PRW_REF_DIFFUSE_LAST:
     case PRW_REF_GLOSSY_LAST: return k >= 1;
+    case PRW_REF_INDIRECT_DIFFUSE_LAST:
+    case PRW_REF_INDIRECT_GLOSSY_LAST: return k >= 2;
+    case PRW_REF_ENVIRONMENT_DIRECT: return k == 1 && env;
     default: return true;
     }
+}
+
+/* Whether some emitter of a path with k scattering vertices may count (gates the next-event work). */
+static bool accept(prw_ref_filter f, int k)
+{
+    return accept_path(f, k, false) || accept_path(f, k, true);
 }
 
 static int max_depth(prw_ref_filter f)
 {
     switch (f.kind) {
     case PRW_REF_EMISSION: return 0;
-    case PRW_REF_DIRECT: return 1;
+    case PRW_REF_DIRECT:
+    case PRW_REF_ENVIRONMENT_DIRECT: return 1;
     case PRW_REF_DEPTH:
     case PRW_REF_MAX_DEPTH: return f.depth;
     default: return SAFETY_DEPTH;
@@ -461,7 +472,7 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
     sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
 }
 
-/* Class weight per channel for the diffuse-last / glossy-last filters: the diffuse lobe's share
+/* Class weight per channel for the (indirect-)diffuse-last / glossy-last filters: the diffuse lobe's share
  * (prw_brdf_diffuse_channel of the shared model) of the BSDF value fv for direction wl (local). */
 static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
 {
@@ -470,7 +481,9 @@ static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], 
     for (int c = 0; c < 3; c++) {
         double x = fv[c] > 0 ? kd[c] / fv[c] : 0;
         x = fmin(fmax(x, 0.0), 1.0);
-        cw[c] = f.kind == PRW_REF_DIFFUSE_LAST ? x : f.kind == PRW_REF_GLOSSY_LAST ? 1 - x : 1;
+        bool diffuse = f.kind == PRW_REF_DIFFUSE_LAST || f.kind == PRW_REF_INDIRECT_DIFFUSE_LAST;
+        bool glossy = f.kind == PRW_REF_GLOSSY_LAST || f.kind == PRW_REF_INDIRECT_GLOSSY_LAST;
+        cw[c] = diffuse ? x : glossy ? 1 - x : 1;
     }
 }
 
@@ -525,8 +538,10 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
 static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
 {
     const prw_ref_renderer *r = pa->r;
+    /* skipping a class of emitters leaves the others' random numbers alone (fixed dimensions) */
+    const bool local = accept_path(pa->f, pa->k, false);
     /* delta lights */
-    for (uint32_t i = 0; i < r->delta_count; i++) {
+    for (uint32_t i = 0; i < r->delta_count && local; i++) {
         const ref_delta *dl = &r->deltas[i];
         double wi[3], Li[3];
         if (dl->type == PRW_LIGHT_DIRECTIONAL) {
@@ -547,7 +562,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         connect(pa, s, sh, wi, dl->type == PRW_LIGHT_DIRECTIONAL ? NULL : dl->p, 0, -1, Li, 0, TAG_DELTA + i);
     }
     /* rect lights: uniform area sampling */
-    for (uint32_t i = 0; i < r->rect_count; i++) {
+    for (uint32_t i = 0; i < r->rect_count && local; i++) {
         const ref_rect *q = &r->rects[i];
         pa->rng->dim = base + 9 + 2 * i;
         double a = 2 * ref_rand(pa->rng) - 1, b = 2 * ref_rand(pa->rng) - 1;
@@ -565,7 +580,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         connect(pa, s, sh, wi, lp, 0, (int)i, q->L, pdf, TAG_RECT + i);
     }
     /* emissive triangles: one sample */
-    if (r->etri_count) {
+    if (r->etri_count && local) {
         pa->rng->dim = base + 4;
         double u0 = ref_rand(pa->rng), u1 = ref_rand(pa->rng), u2 = ref_rand(pa->rng);
         double x = u0 * r->etri_cdf[r->etri_count];
@@ -620,7 +635,7 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
         }
     }
     /* environment: one sample */
-    if (r->env.kind) {
+    if (r->env.kind && accept_path(pa->f, pa->k, true)) {
         pa->rng->dim = base + 7;
         double u0 = ref_rand(pa->rng), u1 = ref_rand(pa->rng);
         double wi[3], Le[3], pdf;
@@ -651,6 +666,10 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
     pa.rng = rng;
     pa.rays = rays;
     for (int c = 0; c < 3; c++) pa.beta[c] = pa.cls[c] = 1;
+    if (f.kind == PRW_REF_ENVIRONMENT_DIRECT && !r->env.kind) {
+        out[0] = out[1] = out[2] = 0; /* no environment: nothing to trace */
+        return;
+    }
     const int kmax = max_depth(f);
     const uint32_t S = 9 + 2 * r->rect_count;
 
@@ -678,7 +697,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
         double t_rect;
         int ri = rect_hit(r, o, d, tnear, t_surf, &t_rect, -1);
         if (ri >= 0) {
-            if (accept(f, pa.k)) {
+            if (accept_path(f, pa.k, false)) {
                 const ref_rect *q = &r->rects[ri];
                 double w = 1;
                 if (pa.k > 0) {
@@ -691,7 +710,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
             break;
         }
         if (!hit) {
-            if (r->env.kind && accept(f, pa.k)) {
+            if (r->env.kind && accept_path(f, pa.k, true)) {
                 double Le[3], pdf_l;
                 ref_env_eval(&r->env, d, Le, &pdf_l);
                 double w = pa.k > 0 ? power_heuristic(pdf_prev, pdf_l) : 1;
@@ -701,7 +720,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
         }
         if (!s.front && !(s.in->mat->double_sided || s.in->two_sided)) break; /* opaque black back face */
         double Le[3];
-        if (accept(f, pa.k) && surf_emission(r, &s, Le)) {
+        if (accept_path(f, pa.k, false) && surf_emission(r, &s, Le)) {
             double w = 1;
             if (pa.k > 0) {
                 double cl = fabs(dot3(d, s.ng));

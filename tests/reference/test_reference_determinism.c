@@ -184,10 +184,12 @@ static void test_filters(void)
     prw_error e;
     prw_ref_renderer *r = NULL;
     CHECK_OK(prw_ref_create(s, v.eye, 0, &r, &e), &e);
-    const char *names[] = {"all", "direct", "indirect", "emission", "diffuse-last", "glossy-last", "depth:1", "maxdepth:1"};
-    prw_ref_acc acc[8] = {{0}}, other[3] = {{0}};
+    const char *names[] = {"all", "direct", "indirect", "emission", "diffuse-last", "glossy-last", "depth:1",
+                           "maxdepth:1", "indirect-diffuse-last", "indirect-glossy-last", "environment-direct"};
+    enum { NF = (int)PRW_ARRAY_LEN(names) };
+    prw_ref_acc acc[NF] = {{0}}, other[3] = {{0}};
     bool ok = true;
-    for (int k = 0; k < 8 && ok; k++) {
+    for (int k = 0; k < NF && ok; k++) {
         prw_ref_filter f;
         CHECK_OK(prw_ref_filter_parse(names[k], &f, &e), &e);
         char back[32];
@@ -222,8 +224,16 @@ static void test_filters(void)
         CHECK_NEAR(t_em + t_d1, t_dir, 1e-9 * t_all);
         CHECK_NEAR(t_m1, t_dir, 1e-9 * t_all);
         CHECK(t_em > 0 && t_dif > 0 && t_gl > 0);
+        /* the GI terms (every emitter kind: rect, point, spot, directional, emissive mesh) */
+        double t_idl = acc_total(&acc[8]), t_igl = acc_total(&acc[9]), t_env = acc_total(&acc[10]);
+        printf("  seed 5: direct+indirect-diffuse-last+indirect-glossy-last %.9g (%.4g, %.4g)\n", t_dir + t_idl + t_igl,
+               t_idl, t_igl);
+        CHECK_NEAR(t_dir + t_idl + t_igl, t_all, 1e-9 * t_all);
+        CHECK_NEAR(t_idl + t_igl, t_ind, 1e-9 * t_all);
+        CHECK(t_idl > 0 && t_igl > 0 && t_idl < t_dif && t_igl < t_gl);
+        CHECK(t_env <= 1e-6 * t_all); /* the room is closed: its sky is (all but) never reached */
     }
-    for (int k = 0; k < 8; k++) prw_ref_acc_free(&acc[k]);
+    for (int k = 0; k < NF; k++) prw_ref_acc_free(&acc[k]);
     for (int k = 0; k < 3; k++) prw_ref_acc_free(&other[k]);
     prw_ref_destroy(r);
     prw_scene_destroy(s);
