@@ -1,0 +1,361 @@
+/* btf_codec.c — the BTF codecs, the decode definition and the error figures (prw_btf_codec.h). */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "btf_linalg.h"
+#include "prw_btf_codec.h"
+
+static uint16_t h16(double v) { return prw_btf_float_to_half((float)v); }
+static float f16(uint16_t h) { return prw_btf_half_to_float(h); }
+
+static void progress(const prw_btf_codec_params *p, const char *stage, double f)
+{
+    if (p->progress) p->progress(p->user, stage, f);
+}
+
+/* A as D x N: row d = (v * lights + l) * 3 + c, column t = texel. */
+static btf_mat whole(const prw_btf *a)
+{
+    uint64_t n = (uint64_t)a->width * a->height;
+    return (btf_mat){.base = a->rgb, .m = (uint64_t)a->views * a->lights * 3, .n = n, .rd = 3, .r1 = n * 3, .r2 = 1,
+                     .cd = 1, .c1 = 3, .c2 = 0};
+}
+
+void prw_btf_packed_free(prw_btf_packed *p)
+{
+    if (!p) return;
+    free(p->view_dirs), free(p->light_dirs), free(p->u), free(p->w), free(p->mean), free(p->basis), free(p->index);
+    memset(p, 0, sizeof *p);
+}
+
+static void copy_dirs(const prw_btf *a, prw_btf_packed *p)
+{
+    p->width = a->width, p->height = a->height, p->views = a->views, p->lights = a->lights;
+    p->view_dirs = prw_malloc(sizeof(float) * 2 * a->views);
+    p->light_dirs = prw_malloc(sizeof(float) * 2 * a->lights);
+    memcpy(p->view_dirs, a->view_dirs, sizeof(float) * 2 * a->views);
+    memcpy(p->light_dirs, a->light_dirs, sizeof(float) * 2 * a->lights);
+}
+
+static bool fmf(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
+{
+    btf_mat m = whole(a);
+    uint32_t k = p->components;
+    if (k < 1 || k > m.m || k > m.n) return prw_fail(e, "btf fmf: %u components for %llu x %llu", k, (unsigned long long)m.m, (unsigned long long)m.n);
+    double *u = prw_malloc(sizeof(double) * m.m * k), *s = prw_malloc(sizeof(double) * k), *v = prw_malloc(sizeof(double) * m.n * k);
+    progress(p, "fmf: svd", 0);
+    bool ok = btf_svd(&m, k, 8, p->power ? p->power : 2, p->seed, p->threads, u, s, v, e);
+    if (ok) {
+        /* balanced for half floats: W ~ 1 per entry, U carries the values' magnitude */
+        double sq = sqrt((double)m.n);
+        out->u = prw_malloc(sizeof(uint16_t) * m.m * k);
+        out->w = prw_malloc(sizeof(uint16_t) * m.n * k);
+        for (uint64_t i = 0; i < m.m * k; i++) out->u[i] = h16(u[i] * s[i % k] / sq);
+        for (uint64_t i = 0; i < m.n * k; i++) out->w[i] = h16(v[i] * sq);
+    }
+    free(u), free(s), free(v);
+    progress(p, "fmf: svd", 1);
+    return ok;
+}
+
+typedef struct assign_ctx {
+    const double *pts; /* N x dim */
+    const double *cent; /* c x dim */
+    uint32_t dim, c;
+    uint32_t *idx;
+    double *dist;
+} assign_ctx;
+
+static void assign_part(void *user, uint64_t b, uint64_t e)
+{
+    assign_ctx *x = user;
+    for (uint64_t t = b; t < e; t++) {
+        double best = DBL_MAX;
+        uint32_t bi = 0;
+        for (uint32_t i = 0; i < x->c; i++) {
+            double d = 0;
+            for (uint32_t k = 0; k < x->dim; k++) {
+                double q = x->pts[t * x->dim + k] - x->cent[i * x->dim + k];
+                d += q * q;
+            }
+            if (d < best) best = d, bi = i;
+        }
+        x->idx[t] = bi;
+        x->dist[t] = best;
+    }
+}
+
+static double urand(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*s >> 11) * 0x1.0p-53;
+}
+
+/* k-means (k-means++ seeding, Lloyd iterations) of N points of dimension dim into c clusters. */
+static void kmeans(const double *pts, uint64_t n, uint32_t dim, uint32_t c, uint32_t iters, uint64_t seed, int threads,
+                   uint32_t *idx, const prw_btf_codec_params *p)
+{
+    double *cent = prw_calloc((size_t)c * dim, sizeof(double)), *dist = prw_malloc(sizeof(double) * n);
+    uint64_t st = seed * 2862933555777941757ull + 3037000493ull;
+    uint64_t first = (uint64_t)(urand(&st) * (double)n) % n;
+    memcpy(cent, pts + first * dim, sizeof(double) * dim);
+    for (uint64_t t = 0; t < n; t++) dist[t] = DBL_MAX;
+    for (uint32_t i = 1; i < c; i++) {
+        double total = 0;
+        for (uint64_t t = 0; t < n; t++) {
+            double d = 0;
+            for (uint32_t k = 0; k < dim; k++) {
+                double q = pts[t * dim + k] - cent[(i - 1) * dim + k];
+                d += q * q;
+            }
+            if (d < dist[t]) dist[t] = d;
+            total += dist[t];
+        }
+        uint64_t pick = 0;
+        if (total > 0) {
+            double r = urand(&st) * total, acc = 0;
+            for (pick = 0; pick + 1 < n; pick++) {
+                acc += dist[pick];
+                if (acc > r) break;
+            }
+        } else {
+            pick = (uint64_t)(urand(&st) * (double)n) % n;
+        }
+        memcpy(cent + (size_t)i * dim, pts + pick * dim, sizeof(double) * dim);
+    }
+    uint64_t *count = prw_malloc(sizeof(uint64_t) * c);
+    for (uint32_t it = 0; it < iters; it++) {
+        assign_ctx x = {pts, cent, dim, c, idx, dist};
+        btf_parallel(n, threads, assign_part, &x);
+        memset(cent, 0, sizeof(double) * c * dim);
+        memset(count, 0, sizeof(uint64_t) * c);
+        for (uint64_t t = 0; t < n; t++) {
+            count[idx[t]]++;
+            for (uint32_t k = 0; k < dim; k++) cent[idx[t] * dim + k] += pts[t * dim + k];
+        }
+        for (uint32_t i = 0; i < c; i++) {
+            if (count[i]) {
+                for (uint32_t k = 0; k < dim; k++) cent[i * dim + k] /= (double)count[i];
+            } else { /* an empty cluster takes the point farthest from its centre */
+                uint64_t far = 0;
+                for (uint64_t t = 1; t < n; t++)
+                    if (dist[t] > dist[far]) far = t;
+                memcpy(cent + (size_t)i * dim, pts + far * dim, sizeof(double) * dim);
+                dist[far] = 0;
+            }
+        }
+        progress(p, "cluster: k-means", (double)(it + 1) / iters);
+    }
+    assign_ctx x = {pts, cent, dim, c, idx, dist};
+    btf_parallel(n, threads, assign_part, &x);
+    free(cent), free(dist), free(count);
+}
+
+static bool cluster(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
+{
+    btf_mat m = whole(a);
+    uint64_t D = m.m, N = m.n;
+    uint32_t c = p->clusters, k = p->components;
+    if (c < 1 || c > N) return prw_fail(e, "btf cluster: %u clusters for %llu texels", c, (unsigned long long)N);
+    if (k > D) return prw_fail(e, "btf cluster: %u components for %llu directions", k, (unsigned long long)D);
+    /* the texels' coordinates in the leading components of the whole BTF */
+    uint32_t dim = (uint32_t)PRW_MIN((uint64_t)16, PRW_MIN(D, N));
+    double *u = prw_malloc(sizeof(double) * D * dim), *s = prw_malloc(sizeof(double) * dim),
+           *v = prw_malloc(sizeof(double) * N * dim);
+    progress(p, "cluster: svd", 0);
+    if (!btf_svd(&m, dim, 8, p->power ? p->power : 2, p->seed, p->threads, u, s, v, e)) {
+        free(u), free(s), free(v);
+        return false;
+    }
+    for (uint64_t t = 0; t < N; t++)
+        for (uint32_t j = 0; j < dim; j++) v[t * dim + j] *= s[j];
+    free(u), free(s);
+    out->index = prw_malloc(sizeof(uint32_t) * N);
+    kmeans(v, N, dim, c, p->kmeans_iterations ? p->kmeans_iterations : 20, p->seed, p->threads, out->index, p);
+    free(v);
+    /* per cluster: its texels, the mean ABRDF, the local principal components */
+    uint32_t *order = prw_malloc(sizeof(uint32_t) * N);
+    uint64_t *start = prw_calloc((size_t)c + 1, sizeof(uint64_t));
+    for (uint64_t t = 0; t < N; t++) start[out->index[t] + 1]++;
+    for (uint32_t i = 0; i < c; i++) start[i + 1] += start[i];
+    uint64_t *fill = prw_malloc(sizeof(uint64_t) * c);
+    memcpy(fill, start, sizeof(uint64_t) * c);
+    for (uint64_t t = 0; t < N; t++) order[fill[out->index[t]]++] = (uint32_t)t;
+    free(fill);
+    out->mean = prw_calloc((size_t)c * D, sizeof(uint16_t));
+    out->basis = prw_calloc((size_t)c * (k ? k : 1) * D, sizeof(uint16_t));
+    out->w = prw_calloc((size_t)N * (k ? k : 1), sizeof(uint16_t));
+    double *mean = prw_malloc(sizeof(double) * D);
+    bool ok = true;
+    double sd = sqrt((double)D);
+    for (uint32_t i = 0; ok && i < c; i++) {
+        uint64_t n_i = start[i + 1] - start[i];
+        const uint32_t *rows = order + start[i];
+        for (uint64_t d = 0; d < D; d++) {
+            double sum = 0;
+            for (uint64_t r = 0; r < n_i; r++) sum += btf_mat_at(&m, d, rows[r]);
+            mean[d] = n_i ? sum / (double)n_i : 0;
+            out->mean[(uint64_t)i * D + d] = h16(mean[d]);
+        }
+        uint32_t ki = (uint32_t)PRW_MIN((uint64_t)k, n_i);
+        if (ki) {
+            /* texels x directions, centred on the cluster's mean */
+            btf_mat cm = {.base = a->rgb, .m = n_i, .n = D, .rd = 1, .r1 = 3, .r2 = 0, .cd = 3, .c1 = N * 3, .c2 = 1,
+                          .rows = rows, .sub = mean};
+            double *cu = prw_malloc(sizeof(double) * n_i * ki), *cs = prw_malloc(sizeof(double) * ki),
+                   *cv = prw_malloc(sizeof(double) * D * ki);
+            ok = btf_svd(&cm, ki, 6, p->power ? p->power : 2, p->seed + i + 1, p->threads, cu, cs, cv, e);
+            if (ok) {
+                for (uint32_t j = 0; j < ki; j++)
+                    for (uint64_t d = 0; d < D; d++) out->basis[((uint64_t)i * k + j) * D + d] = h16(cv[d * ki + j] * sd);
+                for (uint64_t r = 0; r < n_i; r++)
+                    for (uint32_t j = 0; j < ki; j++) out->w[(uint64_t)rows[r] * k + j] = h16(cu[r * ki + j] * cs[j] / sd);
+            }
+            free(cu), free(cs), free(cv);
+        }
+        progress(p, "cluster: local components", (double)(i + 1) / c);
+    }
+    free(mean), free(order), free(start);
+    if (!k) { /* pure vector quantisation: no weights or bases */
+        free(out->basis), free(out->w);
+        out->basis = NULL, out->w = NULL;
+    }
+    return ok;
+}
+
+static bool pvf(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
+{
+    uint64_t N = (uint64_t)a->width * a->height, E = (uint64_t)a->lights * 3;
+    uint32_t k = p->components;
+    if (k < 1 || k > E || k > N) return prw_fail(e, "btf pvf: %u components for %llu x %llu per view", k, (unsigned long long)N, (unsigned long long)E);
+    out->clusters = a->views;
+    out->mean = prw_malloc(sizeof(uint16_t) * a->views * E);
+    out->basis = prw_malloc(sizeof(uint16_t) * a->views * k * E);
+    out->w = prw_malloc(sizeof(uint16_t) * a->views * N * k);
+    double *mean = prw_malloc(sizeof(double) * E), *cu = prw_malloc(sizeof(double) * N * k),
+           *cs = prw_malloc(sizeof(double) * k), *cv = prw_malloc(sizeof(double) * E * k);
+    bool ok = true;
+    double se = sqrt((double)E);
+    for (uint32_t v = 0; ok && v < a->views; v++) {
+        const float *base = a->rgb + (uint64_t)v * a->lights * N * 3;
+        btf_mat vm = {.base = base, .m = N, .n = E, .rd = 1, .r1 = 3, .r2 = 0, .cd = 3, .c1 = N * 3, .c2 = 1};
+        for (uint64_t j = 0; j < E; j++) {
+            double sum = 0;
+            for (uint64_t t = 0; t < N; t++) sum += btf_mat_at(&vm, t, j);
+            mean[j] = sum / (double)N;
+            out->mean[v * E + j] = h16(mean[j]);
+        }
+        vm.sub = mean;
+        ok = btf_svd(&vm, k, 6, p->power ? p->power : 2, p->seed + v, p->threads, cu, cs, cv, e);
+        for (uint32_t j = 0; ok && j < k; j++)
+            for (uint64_t i = 0; i < E; i++) out->basis[((uint64_t)v * k + j) * E + i] = h16(cv[i * k + j] * se);
+        for (uint64_t t = 0; ok && t < N; t++)
+            for (uint32_t j = 0; j < k; j++) out->w[((uint64_t)v * N + t) * k + j] = h16(cu[t * k + j] * cs[j] / se);
+        progress(p, "pvf: views", (double)(v + 1) / a->views);
+    }
+    free(mean), free(cu), free(cs), free(cv);
+    return ok;
+}
+
+bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
+{
+    memset(out, 0, sizeof *out);
+    if (!a->rgb) return prw_fail(e, "btf compress: empty BTF");
+    copy_dirs(a, out);
+    out->codec = p->codec;
+    out->components = p->components;
+    out->clusters = p->clusters;
+    bool ok;
+    switch (p->codec) {
+    case PRW_BTF_CODEC_FMF: out->clusters = 0, ok = fmf(a, p, out, e); break;
+    case PRW_BTF_CODEC_CLUSTER: ok = cluster(a, p, out, e); break;
+    case PRW_BTF_CODEC_PVF: ok = pvf(a, p, out, e); break;
+    default: ok = prw_fail(e, "btf compress: unknown codec %d", (int)p->codec);
+    }
+    if (!ok) prw_btf_packed_free(out);
+    return ok;
+}
+
+float prw_btf_packed_value(const prw_btf_packed *p, uint32_t v, uint32_t l, uint32_t x, uint32_t y, uint32_t c)
+{
+    uint64_t N = (uint64_t)p->width * p->height, t = (uint64_t)y * p->width + x, k = p->components;
+    float sum = 0;
+    switch (p->codec) {
+    case PRW_BTF_CODEC_FMF: {
+        uint64_t d = ((uint64_t)v * p->lights + l) * 3 + c;
+        for (uint64_t j = 0; j < k; j++) sum += f16(p->u[d * k + j]) * f16(p->w[t * k + j]);
+        return sum;
+    }
+    case PRW_BTF_CODEC_CLUSTER: {
+        uint64_t D = (uint64_t)p->views * p->lights * 3, d = ((uint64_t)v * p->lights + l) * 3 + c, i = p->index[t];
+        sum = f16(p->mean[i * D + d]);
+        for (uint64_t j = 0; j < k; j++) sum += f16(p->w[t * k + j]) * f16(p->basis[(i * k + j) * D + d]);
+        return sum;
+    }
+    case PRW_BTF_CODEC_PVF: {
+        uint64_t E = (uint64_t)p->lights * 3, i = (uint64_t)l * 3 + c;
+        sum = f16(p->mean[v * E + i]);
+        for (uint64_t j = 0; j < k; j++) sum += f16(p->w[((uint64_t)v * N + t) * k + j]) * f16(p->basis[((uint64_t)v * k + j) * E + i]);
+        return sum;
+    }
+    }
+    return 0;
+}
+
+typedef struct err_ctx {
+    const prw_btf *a;
+    const prw_btf_packed *p;
+    double *part; /* per direction pair: |A|^2, |A - Abar|^2, |A - Ahat|^2, sum |A - Ahat| */
+} err_ctx;
+
+static void err_part(void *user, uint64_t b, uint64_t e)
+{
+    err_ctx *x = user;
+    const prw_btf *a = x->a;
+    uint64_t N = (uint64_t)a->width * a->height;
+    for (uint64_t vl = b; vl < e; vl++) {
+        uint32_t v = (uint32_t)(vl / a->lights), l = (uint32_t)(vl % a->lights);
+        double *r = x->part + vl * 4;
+        r[0] = r[1] = r[2] = r[3] = 0;
+        for (uint32_t c = 0; c < 3; c++) {
+            double mean = 0;
+            for (uint64_t t = 0; t < N; t++) mean += a->rgb[(vl * N + t) * 3 + c];
+            mean /= (double)N;
+            for (uint32_t y = 0; y < a->height; y++)
+                for (uint32_t xx = 0; xx < a->width; xx++) {
+                    double A = a->rgb[prw_btf_at(a, v, l, xx, y) + c];
+                    double h = x->p ? prw_btf_packed_value(x->p, v, l, xx, y, c) : A;
+                    r[0] += A * A;
+                    r[1] += (A - mean) * (A - mean);
+                    r[2] += (A - h) * (A - h);
+                    r[3] += fabs(A - h);
+                }
+        }
+    }
+}
+
+void prw_btf_errors(const prw_btf *a, const prw_btf_packed *p, int threads, prw_btf_error *out)
+{
+    uint64_t pairs = (uint64_t)a->views * a->lights;
+    err_ctx x = {a, p, prw_malloc(sizeof(double) * 4 * pairs)};
+    btf_parallel(pairs, threads, err_part, &x);
+    double s[4] = {0, 0, 0, 0};
+    for (uint64_t i = 0; i < pairs; i++)
+        for (int k = 0; k < 4; k++) s[k] += x.part[i * 4 + k];
+    free(x.part);
+    double count = (double)pairs * a->width * a->height * 3;
+    out->norm = sqrt(s[0]);
+    out->varying_norm = sqrt(s[1]);
+    out->rms_pct = s[0] > 0 ? 100 * sqrt(s[2] / s[0]) : 0;
+    out->varying_pct = s[1] > 0 ? 100 * sqrt(s[2] / s[1]) : 0;
+    out->mean_abs = s[3] / count;
+}
+
+double prw_btf_varying_fraction(const prw_btf *a)
+{
+    prw_btf_error r;
+    prw_btf_errors(a, NULL, 0, &r);
+    return r.norm > 0 ? r.varying_norm / r.norm : 0;
+}

@@ -1,0 +1,223 @@
+/* btf_packed_io.c — the file of our compressed BTF form (prw_btf_codec.h):
+ *   "PRWBTFC1", u32 version (1), u32 codec, u32 width, height, views, lights, components, clusters,
+ *   f32 view (theta, phi) x views, f32 light (theta, phi) x lights, then the codec's arrays:
+ *   FMF u (D x k halves), w (N x k); CLUSTER u32 index (N), mean (c x D), basis (c x k x D),
+ *   w (N x k); PVF mean (V x 3L), basis (V x k x 3L), w (V x N x k); little-endian, nothing after. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "btf_ubo_internal.h"
+#include "prw_btf_codec.h"
+
+#define MAGIC "PRWBTFC1"
+
+typedef struct sizes {
+    uint64_t u, w, mean, basis, index; /* element counts */
+} sizes;
+
+static bool sizes_of(const prw_btf_packed *p, sizes *s)
+{
+    uint64_t D = prw_mul_sat((uint64_t)p->views * p->lights, 3), N = (uint64_t)p->width * p->height, k = p->components;
+    memset(s, 0, sizeof *s);
+    switch (p->codec) {
+    case PRW_BTF_CODEC_FMF: s->u = prw_mul_sat(D, k), s->w = prw_mul_sat(N, k); return k >= 1;
+    case PRW_BTF_CODEC_CLUSTER:
+        s->index = N, s->mean = prw_mul_sat(p->clusters, D), s->basis = prw_mul_sat(prw_mul_sat(p->clusters, k), D),
+        s->w = prw_mul_sat(N, k);
+        return p->clusters >= 1;
+    case PRW_BTF_CODEC_PVF: {
+        uint64_t E = (uint64_t)p->lights * 3;
+        s->mean = prw_mul_sat(p->views, E), s->basis = prw_mul_sat(prw_mul_sat(p->views, k), E),
+        s->w = prw_mul_sat(prw_mul_sat(p->views, N), k);
+        return k >= 1 && p->clusters == p->views;
+    }
+    }
+    return false;
+}
+
+uint64_t prw_btf_packed_bytes(const prw_btf_packed *p)
+{
+    sizes s;
+    sizes_of(p, &s);
+    uint64_t b = 8 + 9 * 4 + 8 * ((uint64_t)p->views + p->lights);
+    return prw_add_sat(b, prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
+                                      prw_mul_sat(s.index, 4)));
+}
+
+static void put(uint8_t **o, const void *src, size_t n)
+{
+    memcpy(*o, src, n);
+    *o += n;
+}
+
+static void put_u32(uint8_t **o, uint32_t v)
+{
+    uint8_t b[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
+    put(o, b, 4);
+}
+
+static void put_halves(uint8_t **o, const uint16_t *h, uint64_t n)
+{
+    for (uint64_t i = 0; i < n; i++) {
+        uint8_t b[2] = {(uint8_t)h[i], (uint8_t)(h[i] >> 8)};
+        put(o, b, 2);
+    }
+}
+
+bool prw_btf_packed_write(const char *path, const prw_btf_packed *p, prw_error *e)
+{
+    sizes s;
+    if (!sizes_of(p, &s)) return prw_fail(e, "%s: not a consistent compressed BTF (codec %d)", path, (int)p->codec);
+    uint64_t bytes = prw_btf_packed_bytes(p);
+    if (!prw_mem_check(bytes, path, "the compressed BTF file", e)) return false;
+    uint8_t *buf = prw_malloc((size_t)bytes), *o = buf;
+    put(&o, MAGIC, 8);
+    uint32_t hdr[9] = {1, (uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters, 0};
+    for (int i = 0; i < 8; i++) put_u32(&o, hdr[i]);
+    put_u32(&o, 0); /* reserved */
+    for (uint64_t i = 0; i < 2 * (uint64_t)p->views; i++) {
+        uint32_t u;
+        memcpy(&u, &p->view_dirs[i], 4);
+        put_u32(&o, u);
+    }
+    for (uint64_t i = 0; i < 2 * (uint64_t)p->lights; i++) {
+        uint32_t u;
+        memcpy(&u, &p->light_dirs[i], 4);
+        put_u32(&o, u);
+    }
+    if (p->codec == PRW_BTF_CODEC_FMF) {
+        put_halves(&o, p->u, s.u);
+        put_halves(&o, p->w, s.w);
+    } else {
+        for (uint64_t i = 0; i < s.index; i++) put_u32(&o, p->index[i]);
+        put_halves(&o, p->mean, s.mean);
+        put_halves(&o, p->basis, s.basis);
+        put_halves(&o, p->w, s.w);
+    }
+    bool ok = prw_write_file_atomic(path, buf, (size_t)bytes, e);
+    free(buf);
+    return ok;
+}
+
+typedef struct cur {
+    const uint8_t *p;
+    size_t n, at;
+    const char *name;
+    prw_error *e;
+} cur;
+
+static bool fail_at(cur *c, const char *what, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static bool fail_at(cur *c, const char *what, const char *fmt, ...)
+{
+    char why[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    return prw_fail(c->e, "%s: byte %zu (%s): %s", c->name, c->at, what, why);
+}
+
+static bool need(cur *c, uint64_t count, uint64_t size, const char *what)
+{
+    uint64_t b = prw_mul_sat(count, size);
+    if (b > c->n - c->at)
+        return fail_at(c, what, "%llu x %llu bytes claimed, only %zu bytes left in the file", (unsigned long long)count,
+                       (unsigned long long)size, c->n - c->at);
+    return true;
+}
+
+static uint32_t get_u32(cur *c)
+{
+    uint32_t v = prw_btf_le32(c->p + c->at);
+    c->at += 4;
+    return v;
+}
+
+static bool halves(cur *c, uint16_t **dst, uint64_t n, const char *what)
+{
+    if (!need(c, n, 2, what)) return false;
+    *dst = prw_malloc(n ? (size_t)n * 2 : 2);
+    for (uint64_t i = 0; i < n; i++) {
+        uint16_t h = (uint16_t)(c->p[c->at] | (c->p[c->at + 1] << 8));
+        if ((h & 0x7c00u) == 0x7c00u) return fail_at(c, what, "element %llu is not finite", (unsigned long long)i);
+        (*dst)[i] = h;
+        c->at += 2;
+    }
+    return true;
+}
+
+bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name, prw_btf_packed *out, prw_error *e)
+{
+    memset(out, 0, sizeof *out);
+    cur c = {.p = data, .n = size, .name = name ? name : "(btf)", .e = e};
+    bool ok = need(&c, 1, 8 + 9 * 4, "header");
+    if (ok && memcmp(c.p, MAGIC, 8) != 0) ok = fail_at(&c, "signature", "not a prw compressed BTF (PRWBTFC1)");
+    if (ok) {
+        c.at = 8;
+        uint32_t version = get_u32(&c);
+        out->codec = (prw_btf_codec)get_u32(&c);
+        out->width = get_u32(&c), out->height = get_u32(&c), out->views = get_u32(&c), out->lights = get_u32(&c);
+        out->components = get_u32(&c), out->clusters = get_u32(&c);
+        (void)get_u32(&c);
+        if (version != 1) ok = fail_at(&c, "version", "version %u (this reader knows 1)", version);
+        else if (out->codec < PRW_BTF_CODEC_FMF || out->codec > PRW_BTF_CODEC_PVF)
+            ok = fail_at(&c, "codec", "unknown codec %d", (int)out->codec);
+        else if (!out->width || !out->height || !out->views || !out->lights || out->width > PRW_BTF_UBO_MAX_SIDE ||
+                 out->height > PRW_BTF_UBO_MAX_SIDE || out->views > PRW_BTF_UBO_MAX_DIRS || out->lights > PRW_BTF_UBO_MAX_DIRS)
+            ok = fail_at(&c, "size", "%u x %u texels, %u views, %u lights", out->width, out->height, out->views, out->lights);
+    }
+    sizes s;
+    if (ok && !sizes_of(out, &s))
+        ok = fail_at(&c, "codec", "%u components, %u clusters do not fit codec %d", out->components, out->clusters,
+                     (int)out->codec);
+    if (ok) {
+        uint64_t all = prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
+                                   prw_add_sat(prw_mul_sat(s.index, 4), prw_mul_sat(8, (uint64_t)out->views + out->lights)));
+        ok = need(&c, all, 1, "data") && prw_mem_check(all, c.name, "the compressed BTF", e);
+    }
+    if (ok) {
+        out->view_dirs = prw_malloc(sizeof(float) * 2 * out->views);
+        out->light_dirs = prw_malloc(sizeof(float) * 2 * out->lights);
+        for (uint64_t i = 0; i < 2 * (uint64_t)out->views; i++) {
+            uint32_t u = get_u32(&c);
+            memcpy(&out->view_dirs[i], &u, 4);
+        }
+        for (uint64_t i = 0; i < 2 * (uint64_t)out->lights; i++) {
+            uint32_t u = get_u32(&c);
+            memcpy(&out->light_dirs[i], &u, 4);
+        }
+        for (uint64_t i = 0; ok && i < 2 * (uint64_t)out->views; i++)
+            if (!isfinite(out->view_dirs[i])) ok = fail_at(&c, "view directions", "direction %llu is not finite", (unsigned long long)i / 2);
+        for (uint64_t i = 0; ok && i < 2 * (uint64_t)out->lights; i++)
+            if (!isfinite(out->light_dirs[i])) ok = fail_at(&c, "light directions", "direction %llu is not finite", (unsigned long long)i / 2);
+    }
+    if (ok && out->codec == PRW_BTF_CODEC_FMF) {
+        ok = halves(&c, &out->u, s.u, "U") && halves(&c, &out->w, s.w, "W");
+    } else if (ok) {
+        out->index = prw_malloc(sizeof(uint32_t) * (size_t)(s.index ? s.index : 1));
+        for (uint64_t i = 0; ok && i < s.index; i++) {
+            out->index[i] = get_u32(&c);
+            if (out->index[i] >= out->clusters)
+                ok = fail_at(&c, "cluster index", "texel %llu: cluster %u of %u", (unsigned long long)i, out->index[i], out->clusters);
+        }
+        if (ok) ok = halves(&c, &out->mean, s.mean, "means") && halves(&c, &out->basis, s.basis, "bases") &&
+                     halves(&c, &out->w, s.w, "weights");
+    }
+    if (ok && c.at != c.n) ok = fail_at(&c, "end", "%zu bytes after the data", c.n - c.at);
+    if (!ok) prw_btf_packed_free(out);
+    return ok;
+}
+
+bool prw_btf_packed_read(const char *path, prw_btf_packed *out, prw_error *e)
+{
+    memset(out, 0, sizeof *out);
+    char *data = NULL;
+    size_t size = 0;
+    if (!prw_read_file_bounded(path, 0, 1, "a compressed BTF", &data, &size, e)) return false;
+    bool ok = prw_btf_packed_read_memory(data, size, path, out, e);
+    free(data);
+    return ok;
+}
