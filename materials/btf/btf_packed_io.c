@@ -161,8 +161,9 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
         out->codec = (prw_btf_codec)get_u32(&c);
         out->width = get_u32(&c), out->height = get_u32(&c), out->views = get_u32(&c), out->lights = get_u32(&c);
         out->components = get_u32(&c), out->clusters = get_u32(&c);
-        (void)get_u32(&c);
-        if (version != 1) ok = fail_at(&c, "version", "version %u (this reader knows 1)", version);
+        uint32_t reserved = get_u32(&c);
+        if (reserved != 0) ok = fail_at(&c, "reserved", "%u where version 1 has 0", reserved);
+        else if (version != 1) ok = fail_at(&c, "version", "version %u (this reader knows 1)", version);
         else if (out->codec < PRW_BTF_CODEC_FMF || out->codec > PRW_BTF_CODEC_PVF)
             ok = fail_at(&c, "codec", "unknown codec %d", (int)out->codec);
         else if (!out->width || !out->height || !out->views || !out->lights || out->width > PRW_BTF_UBO_MAX_SIDE ||

@@ -1,5 +1,6 @@
 /* btf_ubo_read.c — the Bonn BTF binaries' reader (prw_btf_ubo.h).  Every count is checked against
  * the bytes left before anything is allocated, and the allocations against the memory budget. */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -99,7 +100,9 @@ static bool scalars(cur *c, uint8_t size, double *dst, uint64_t n, const char *w
             uint64_t u = (uint64_t)prw_btf_le32(p) | ((uint64_t)prw_btf_le32(p + 4) << 32);
             memcpy(&dst[i], &u, 8);
         }
-        if (!isfinite(dst[i])) return fail_at(c, what, "element %llu is not finite", (unsigned long long)i);
+        /* beyond float no renderer can use it, and within it every dot product stays finite in double */
+        if (!(fabs(dst[i]) <= FLT_MAX))
+            return fail_at(c, what, "element %llu (%g) is not a finite float value", (unsigned long long)i, dst[i]);
     }
     c->at += (size_t)(n * size);
     return true;

@@ -25,7 +25,9 @@
  *    else with one line "<name>: <place>: <problem>": a truncated file, counts or sizes that the
  *    remaining bytes cannot hold (checked before anything is allocated), a total beyond the memory
  *    budget (prw_mem_check), a meta block whose size disagrees with its fields, matrix shapes that
- *    disagree with the directions and the texture size, trailing bytes.  On failure *out is empty.
+ *    disagree with the directions and the texture size, values that are not finite floats (doubles
+ *    beyond the float range included: raw values then stay finite), trailing bytes.  On failure
+ *    *out is empty.
  *  - Texel (x, y) is column y * width + x as stored.  (zeroeffects/btf reads the columns so and
  *    then flips y; btflib indexes them y fastest: the two public readers disagree, for square
  *    textures by a transpose.  No measured file is at hand to decide it.)

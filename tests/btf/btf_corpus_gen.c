@@ -1,10 +1,13 @@
-/* btf_corpus_gen DIR — writes the seed corpus of fuzz_btf_ubo (tests/fuzz_readers/corpus_btf_ubo):
- * every sample kind of btf_samples.h and the closed-form tensor in each format, at small sizes.
- * Regenerate: build/tests/btf/btf_corpus_gen tests/fuzz_readers/corpus_btf_ubo */
+/* btf_corpus_gen UBO_DIR PACKED_DIR — writes the seed corpora of fuzz_btf_ubo
+ * (tests/fuzz_readers/corpus_btf_ubo: every sample kind of btf_samples.h and the closed-form tensor in
+ * each format, at small sizes) and of fuzz_btf_packed (tests/fuzz_readers/corpus_btf_packed: the
+ * tensor compressed by each codec).  regress_* files in the corpora are fuzzer finds, kept by hand.
+ * Regenerate: build/tests/btf/btf_corpus_gen tests/fuzz_readers/corpus_btf_ubo tests/fuzz_readers/corpus_btf_packed */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "btf_samples.h"
+#include "prw_btf_codec.h"
 
 static int put(const char *dir, const char *name, prw_btf_ubo *b)
 {
@@ -18,8 +21,8 @@ static int put(const char *dir, const char *name, prw_btf_ubo *b)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: btf_corpus_gen DIR\n");
+    if (argc != 3) {
+        fprintf(stderr, "usage: btf_corpus_gen UBO_DIR PACKED_DIR\n");
         return 2;
     }
     static const char *names[BTF_SAMPLE_KIND_COUNT] = {"dfmf_r_v4.btf", "dfmf_v1.btf", "fmf_ext.btf", "fmf_plain.btf",
@@ -36,5 +39,24 @@ int main(int argc, char **argv)
     rc |= put(argv[1], "tensor_fmf.btf", &b);
     btf_sample_tensor_file(PRW_BTF_UBO_BDI, 2, 2, 2, 2, &b);
     rc |= put(argv[1], "tensor_bdi.bdi", &b);
+    prw_btf t;
+    prw_error e;
+    btf_sample_tensor_file(PRW_BTF_UBO_DFMF, 2, 3, 3, 2, &b);
+    if (!prw_btf_from_ubo(&b, &t, &e)) return fprintf(stderr, "%s\n", e.msg), 1;
+    prw_btf_ubo_free(&b);
+    const prw_btf_codec codecs[3] = {PRW_BTF_CODEC_FMF, PRW_BTF_CODEC_CLUSTER, PRW_BTF_CODEC_PVF};
+    const char *pn[3] = {"fmf.btfc", "cluster.btfc", "pvf.btfc"};
+    for (int i = 0; i < 3; i++) {
+        prw_btf_codec_params p = {.codec = codecs[i], .components = 2, .clusters = 2, .seed = 1, .threads = 1};
+        prw_btf_packed pk;
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", argv[2], pn[i]);
+        if (!prw_btf_compress(&t, &p, &pk, &e) || !prw_btf_packed_write(path, &pk, &e)) {
+            fprintf(stderr, "%s\n", e.msg);
+            rc = 1;
+        }
+        prw_btf_packed_free(&pk);
+    }
+    prw_btf_free(&t);
     return rc;
 }
