@@ -34,7 +34,7 @@
  *  - Light-path filters (DESIGN.md §4), by the number k of scattering vertices between the eye and
  *    the emitter (k = 0: emission seen directly; k = 1: one bounce):
  *      all; emission (k = 0); direct (k <= 1); indirect (k >= 2); depth:N (k == N); maxdepth:N
- *      (k <= N); diffuse-last / glossy-last: k >= 1 paths weighted by the fraction of the eye
+ *      (k <= N); mindepth:N (k >= N); diffuse-last / glossy-last: k >= 1 paths weighted by the fraction of the eye
  *      vertex's BSDF value that belongs to its diffuse lobe (prw_brdf_diffuse_channel), resp. the
  *      rest (the specular lobes), for the direction actually taken (NEE or BSDF sample);
  *      indirect-diffuse-last / indirect-glossy-last: k >= 2 paths with the same weights (the eye
@@ -74,16 +74,17 @@ typedef enum prw_ref_filter_kind {
     PRW_REF_INDIRECT_DIFFUSE_LAST,
     PRW_REF_INDIRECT_GLOSSY_LAST,
     PRW_REF_ENVIRONMENT_DIRECT,
+    PRW_REF_MIN_DEPTH, /* at least `depth` */
     PRW_REF_FILTER_COUNT /* new kinds go before this: .acc files store the number */
 } prw_ref_filter_kind;
 
 typedef struct prw_ref_filter {
     prw_ref_filter_kind kind;
-    int depth; /* PRW_REF_DEPTH / PRW_REF_MAX_DEPTH: 0..1000000 */
+    int depth; /* PRW_REF_DEPTH / PRW_REF_MAX_DEPTH / PRW_REF_MIN_DEPTH: 0..1000000 */
 } prw_ref_filter;
 
 /* "all|emission|direct|indirect|diffuse-last|glossy-last|indirect-diffuse-last|indirect-glossy-last|
- *  environment-direct|depth:N|maxdepth:N". */
+ *  environment-direct|depth:N|maxdepth:N|mindepth:N". */
 bool prw_ref_filter_parse(const char *s, prw_ref_filter *out, prw_error *e);
 /* The same spelling back (cap >= 32). */
 void prw_ref_filter_name(prw_ref_filter f, char *buf, size_t cap);
@@ -171,6 +172,52 @@ typedef struct prw_ref_hit {
     double t; /* ray distance, metres */
 } prw_ref_hit;
 bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *view, double x, double y, prw_ref_hit *out);
+
+/* ---- rays: the integrator of prw_ref_render along any rays (bakers: light maps, BTFs) ----
+ * prw_ref_trace_rays estimates, for each ray i of `rays`, the radiance arriving at its origin from
+ * along its direction (cd/m^2, i.e. the radiance leaving the first surface hit towards the origin),
+ * restricted to the light paths of the filter, counting k from the ray: its first hit is
+ * scattering vertex 1 (so mindepth:1 = everything but emission seen directly along the ray;
+ * the eye-vertex filters (diffuse-last, ...) weight at that first hit).  Same integrator, MIS,
+ * Russian roulette, and random numbers as prw_ref_render: sample s of ray i uses the key of
+ * (seed, first_index + i, s), dimensions from 2 on — the numbers prw_ref_render gives pixel
+ * y * width + x.  Hence the relation (a test checks it bit-exactly): for sample s of pixel (x, y),
+ * the ray prw_ref_camera_ray returns, traced with first_index = y * width + x, camera = true,
+ * over [s, s + 1), gives exactly that sample's value (mean = the pixel's fixed-point sum / 2^32).
+ * Samples accumulate per ray in the same fixed point, so the result is bit-identical for any thread
+ * count.  A ray's direction is fixed over its samples: a baker wanting a distribution of directions
+ * passes one ray per direction. */
+typedef struct prw_ref_ray {
+    prw_dvec3 origin; /* absolute world position */
+    prw_dvec3 dir;    /* unit (normalised by the call when not) */
+    double tnear;     /* hits closer than this are ignored, metres (>= 0) */
+} prw_ref_ray;
+
+typedef struct prw_ref_ray_desc {
+    uint64_t first_index;     /* random-number index of rays[0] */
+    uint64_t s0, s1;          /* samples [s0, s1) of every ray; 1..PRW_REF_MAX_SPP of them */
+    uint64_t seed;
+    prw_ref_filter filter;
+    bool camera;              /* true: the first hit passes through back faces of single-sided materials
+                                 (as camera rays do); false: they are opaque black, as for bounce rays */
+    int threads;              /* 0: the renderer's */
+} prw_ref_ray_desc;
+
+typedef struct prw_ref_ray_result {
+    double mean[3];     /* the fixed-point sum / 2^32 / samples */
+    double var_mean[3]; /* sample variance / samples (the variance of the mean); 0 with one sample */
+} prw_ref_ray_result;
+
+/* out holds n results.  Errors: n > 2^32, empty or too long sample range, unknown filter, a
+ * non-finite ray or negative tnear (naming the ray).  rays_traced (may be NULL) gets the count of
+ * traced rays (camera, bounce, shadow) and nonfinite (may be NULL) the dropped samples. */
+bool prw_ref_trace_rays(const prw_ref_renderer *r, const prw_ref_ray *rays, size_t n, const prw_ref_ray_desc *d,
+                        prw_ref_ray_result *out, uint64_t *rays_traced, uint64_t *nonfinite, prw_error *e);
+
+/* The camera ray prw_ref_render traces for sample s of pixel (x, y) of view (jittered position in
+ * the pixel, eye origin, near-plane tnear); with seed the render's seed. */
+prw_ref_ray prw_ref_camera_ray(const prw_ref_renderer *r, const prw_view *view, uint64_t seed, uint32_t x, uint32_t y,
+                               uint64_t s);
 
 /* ---- accumulation files ("PRWACC01", little-endian, version 1; see ref_acc.c) ---- */
 bool prw_ref_acc_write(const char *path, const prw_ref_acc *a, prw_error *e);

@@ -59,20 +59,21 @@ bool prw_ref_view_for_camera(const prw_scene *s, const char *camera, uint32_t wi
 
 static const char *const k_filter_names[PRW_REF_FILTER_COUNT] = {
     "all", "emission", "direct", "indirect", "diffuse-last", "glossy-last", "depth", "maxdepth",
-    "indirect-diffuse-last", "indirect-glossy-last", "environment-direct"};
+    "indirect-diffuse-last", "indirect-glossy-last", "environment-direct", "mindepth"};
 
 bool prw_ref_filter_parse(const char *s, prw_ref_filter *out, prw_error *e)
 {
     out->kind = PRW_REF_ALL;
     out->depth = 0;
     for (int k = 0; k < PRW_REF_FILTER_COUNT; k++)
-        if (k != PRW_REF_DEPTH && k != PRW_REF_MAX_DEPTH && strcmp(s, k_filter_names[k]) == 0) {
+        if (k != PRW_REF_DEPTH && k != PRW_REF_MAX_DEPTH && k != PRW_REF_MIN_DEPTH && strcmp(s, k_filter_names[k]) == 0) {
             out->kind = (prw_ref_filter_kind)k;
             return true;
         }
     const char *num = NULL;
     if (strncmp(s, "depth:", 6) == 0) out->kind = PRW_REF_DEPTH, num = s + 6;
     else if (strncmp(s, "maxdepth:", 9) == 0) out->kind = PRW_REF_MAX_DEPTH, num = s + 9;
+    else if (strncmp(s, "mindepth:", 9) == 0) out->kind = PRW_REF_MIN_DEPTH, num = s + 9;
     if (num) {
         char *end = NULL;
         long v = *num ? strtol(num, &end, 10) : -1;
@@ -82,14 +83,14 @@ bool prw_ref_filter_parse(const char *s, prw_ref_filter *out, prw_error *e)
         }
     }
     return prw_fail(e, "filter '%.64s': expected all|emission|direct|indirect|diffuse-last|glossy-last|"
-                       "indirect-diffuse-last|indirect-glossy-last|environment-direct|depth:N|maxdepth:N "
+                       "indirect-diffuse-last|indirect-glossy-last|environment-direct|depth:N|maxdepth:N|mindepth:N "
                        "(N in 0..1000000)", s);
 }
 
 void prw_ref_filter_name(prw_ref_filter f, char *buf, size_t cap)
 {
     if ((unsigned)f.kind >= PRW_REF_FILTER_COUNT) snprintf(buf, cap, "invalid(%d)", (int)f.kind);
-    else if (f.kind == PRW_REF_DEPTH || f.kind == PRW_REF_MAX_DEPTH) snprintf(buf, cap, "%s:%d", k_filter_names[f.kind], f.depth);
+    else if (f.kind == PRW_REF_DEPTH || f.kind == PRW_REF_MAX_DEPTH || f.kind == PRW_REF_MIN_DEPTH) snprintf(buf, cap, "%s:%d", k_filter_names[f.kind], f.depth);
     else snprintf(buf, cap, "%s", k_filter_names[f.kind]);
 }
 
@@ -197,7 +198,8 @@ static bool parse_header(const uint8_t *p, size_t avail, uint64_t size, const ch
                         (unsigned long long)a->s0, (unsigned long long)a->s1, (unsigned long long)PRW_REF_MAX_SPP);
     if (fk >= PRW_REF_FILTER_COUNT) return prw_fail(e, "%s: header: unknown filter %u", name, fk);
     a->filter.kind = (prw_ref_filter_kind)fk;
-    bool depth_kind = a->filter.kind == PRW_REF_DEPTH || a->filter.kind == PRW_REF_MAX_DEPTH;
+    bool depth_kind = a->filter.kind == PRW_REF_DEPTH || a->filter.kind == PRW_REF_MAX_DEPTH ||
+                      a->filter.kind == PRW_REF_MIN_DEPTH;
     if (a->filter.depth < 0 || a->filter.depth > 1000000 || (!depth_kind && a->filter.depth != 0))
         return prw_fail(e, "%s: header: filter depth %d is invalid", name, a->filter.depth);
     uint64_t evb = get64(p + 112);

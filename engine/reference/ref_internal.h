@@ -185,6 +185,16 @@ void ref_tri_geometry(const ref_inst *in, uint32_t prim, double out[4]);
 void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filter f, double x, double y,
                       ref_rng *rng, double out[3], uint64_t *rays);
 
+/* The camera ray through image point (x, y): origin (camera-relative), unit direction, near distance. */
+void ref_camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, double y, double o[3], double d[3],
+                    double *tnear);
+/* The same path from any ray: origin o (camera-relative), unit direction d, near distance tnear.
+ * camera: the first hit passes through back faces of single-sided materials (camera rays);
+ * otherwise they are opaque black, as for every bounce ray.  k counts from this ray (its first hit
+ * is scattering vertex 1).  ref_trace_sample is camera_ray + this. */
+void ref_trace_ray(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, bool camera,
+                   prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays);
+
 /* Environment radiance towards world direction d (unit) and its sampling density (solid angle). */
 /* The environment of the scene (se) as a light: a uniform colour, or the EXR map read with the
  * reader's limits and the memory budget counting the sampling tables (28 bytes per pixel) with it,

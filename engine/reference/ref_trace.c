@@ -62,6 +62,7 @@ static bool accept_path(prw_ref_filter f, int k, bool env)
     case PRW_REF_INDIRECT: return k >= 2;
     case PRW_REF_DEPTH: return k == f.depth;
     case PRW_REF_MAX_DEPTH: return k <= f.depth;
+    case PRW_REF_MIN_DEPTH: return k >= f.depth;
     case PRW_REF_DIFFUSE_LAST:
     case PRW_REF_GLOSSY_LAST: return k >= 1;
     case PRW_REF_INDIRECT_DIFFUSE_LAST:
@@ -645,8 +646,8 @@ static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
 
 /* The camera ray through image point (x, y): origin (camera-relative), unit direction, and the ray
  * distance of the near plane. */
-static void camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, double y, double o[3], double d[3],
-                       double *tnear)
+void ref_camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, double y, double o[3], double d[3],
+                    double *tnear)
 {
     prw_dvec3 dd = prw_view_ray_dir(v, x, y);
     o[0] = v->eye.x - r->origin.x, o[1] = v->eye.y - r->origin.y, o[2] = v->eye.z - r->origin.z;
@@ -658,6 +659,14 @@ static void camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, d
 
 void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filter f, double x, double y,
                       ref_rng *rng, double out[3], uint64_t *rays)
+{
+    double o[3], d[3], tnear;
+    ref_camera_ray(r, v, x, y, o, d, &tnear);
+    ref_trace_ray(r, o, d, tnear, true, f, rng, out, rays);
+}
+
+void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double d_in[3], double tnear, bool camera,
+                   prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays)
 {
     path pa;
     memset(&pa, 0, sizeof pa);
@@ -673,8 +682,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
     const int kmax = max_depth(f);
     const uint32_t S = 9 + 2 * r->rect_count;
 
-    double o[3], d[3], tnear;
-    camera_ray(r, v, x, y, o, d, &tnear);
+    double o[3] = {o_in[0], o_in[1], o_in[2]}, d[3] = {d_in[0], d_in[1], d_in[2]};
     double pdf_prev = 0; /* solid-angle density of the BSDF sample that made the current ray */
 
     for (;;) {
@@ -688,7 +696,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
             hit = isect(r, o, d, tnear, key, false, &rh);
             if (!hit) break;
             fill_surf(r, &rh, d, &s);
-            if (pa.k > 0 || s.front || (s.in->mat->double_sided || s.in->two_sided)) break;
+            if (pa.k > 0 || !camera || s.front || (s.in->mat->double_sided || s.in->two_sided)) break;
             tnear = s.t + s.eps;
             hit = false;
             if (guard == 255) break;
@@ -770,7 +778,7 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
 bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *v, double x, double y, prw_ref_hit *out)
 {
     double o[3], d[3], tnear;
-    camera_ray(r, v, x, y, o, d, &tnear);
+    ref_camera_ray(r, v, x, y, o, d, &tnear);
     struct RTCRayHit rh;
     surf s;
     bool hit = false;
