@@ -23,8 +23,8 @@ static void help(void)
            "  FILE: a Bonn BTF binary (DFMF, FMF or sparse BDI; 3 channels).\n"
            "  --synthetic P     the generator's preset, measured by the path tracer on the 81 x 81 Bonn directions\n"
            "  --size N          synthetic: texels a side (default 256)\n"
-           "  --spp N           synthetic: samples per ray (default 4)\n"
-           "  --rays N          synthetic: stratified rays per texel side (default 2)\n"
+           "  --spp N           synthetic: samples per ray (default 1: direct light is exact per sample)\n"
+           "  --rays N          synthetic: stratified rays per texel side (default 1: the texel centre)\n"
            "  --dirs N          synthetic: the first N of the 81 directions (default 81; fewer for quick looks)\n"
            "  --codec C         fmf | cluster | pvf (default: every codec)\n"
            "  --points LIST     knob points: components for fmf / pvf (\"4,8,16\"), clusters x components for\n"
@@ -133,7 +133,7 @@ int prw_cmd_btf_compress(int argc, char **argv)
     if (bad || !prw_args_finish(&a, &e)) return fail(e.msg, &a, 2);
     if (!!synthetic == (a.positional_count == 1) || a.positional_count > 1)
         return fail("give either --synthetic PRESET or one BTF file (see prw btf-compress --help)", &a, 2);
-    prw_btf_synth_params sp = {.size = 256, .rays = 2, .spp = 4, .dirs = 81, .seed = 1};
+    prw_btf_synth_params sp = {.size = 256, .rays = 1, .spp = 1, .dirs = 81, .seed = 1};
     long v;
     if (synthetic && !prw_btf_synth_parse(synthetic, &sp.kind)) {
         snprintf(e.msg, sizeof e.msg, "--synthetic '%s': expected fabric, leather, flakes or brushed", synthetic);

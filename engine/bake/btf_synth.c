@@ -300,7 +300,7 @@ bool prw_btf_synthesize(const prw_btf_synth_params *p, prw_btf *out, prw_error *
 {
     memset(out, 0, sizeof *out);
     if (p->kind >= PRW_BTF_SYNTH_COUNT) return prw_fail(e, "btf synth: unknown preset %d", (int)p->kind);
-    uint32_t S = p->size, R = p->rays ? p->rays : 2, spp = p->spp ? p->spp : 4, nd = p->dirs ? p->dirs : PRW_BTF_UBO81;
+    uint32_t S = p->size, R = p->rays ? p->rays : 1, spp = p->spp ? p->spp : 1, nd = p->dirs ? p->dirs : PRW_BTF_UBO81;
     double tau = p->texel_m > 0 ? p->texel_m : 1e-4;
     if (S < 1 || S > 65536 || R > 64 || spp > 1u << 20 || nd > PRW_BTF_UBO81)
         return prw_fail(e, "btf synth: size %u, %u x %u rays per texel, %u spp, %u directions: out of range", S, R, R, spp, nd);

@@ -50,8 +50,8 @@ typedef enum prw_btf_synth_kind {
 typedef struct prw_btf_synth_params {
     prw_btf_synth_kind kind;
     uint32_t size;     /* texels a side (>= 1) */
-    uint32_t rays;     /* stratified positions per texel side (>= 1; default 2) */
-    uint32_t spp;      /* samples per position (>= 1; default 4) */
+    uint32_t rays;     /* stratified positions per texel side (0: 1, the texel centre) */
+    uint32_t spp;      /* samples per position (0: 1; direct light is exact per sample) */
     uint32_t dirs;     /* 81: the Bonn set; fewer: its first `dirs` directions (tests) */
     double texel_m;    /* texel size in metres (default 1e-4) */
     uint64_t seed;
