@@ -263,6 +263,11 @@ bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_p
 {
     memset(out, 0, sizeof *out);
     if (!a->rgb) return prw_fail(e, "btf compress: empty BTF");
+    uint64_t D = (uint64_t)a->views * a->lights * 3, N = (uint64_t)a->width * a->height;
+    uint64_t kk = p->components ? p->components : 1, big = PRW_MAX(PRW_MAX(D * kk, N * kk), (uint64_t)a->views * N * kk);
+    if (big > UINT32_MAX || prw_mul_sat(prw_mul_sat(p->clusters, kk), D) > UINT32_MAX)
+        return prw_fail(e, "btf compress: %llu texels x %llu directions x %llu components: an array beyond 2^32 elements "
+                        "(the decode indexes with 32 bits)", (unsigned long long)N, (unsigned long long)D, (unsigned long long)kk);
     copy_dirs(a, out);
     out->codec = p->codec;
     out->components = p->components;
@@ -278,28 +283,22 @@ bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_p
     return ok;
 }
 
+/* the shared decode (prw_btf_decode.h) on the packed struct */
+#define PRW_BTF_PARAMS const prw_btf_packed *p,
+#define PRW_BTF_U(i) f16(p->u[i])
+#define PRW_BTF_W(i) f16(p->w[i])
+#define PRW_BTF_MEAN(i) f16(p->mean[i])
+#define PRW_BTF_BASIS(i) f16(p->basis[i])
+#define PRW_BTF_INDEX(t) p->index[t]
+#include "prw_btf_decode.h"
+
 float prw_btf_packed_value(const prw_btf_packed *p, uint32_t v, uint32_t l, uint32_t x, uint32_t y, uint32_t c)
 {
-    uint64_t N = (uint64_t)p->width * p->height, t = (uint64_t)y * p->width + x, k = p->components;
-    float sum = 0;
+    uint32_t N = p->width * p->height, t = y * p->width + x, d = (v * p->lights + l) * 3 + c;
     switch (p->codec) {
-    case PRW_BTF_CODEC_FMF: {
-        uint64_t d = ((uint64_t)v * p->lights + l) * 3 + c;
-        for (uint64_t j = 0; j < k; j++) sum += f16(p->u[d * k + j]) * f16(p->w[t * k + j]);
-        return sum;
-    }
-    case PRW_BTF_CODEC_CLUSTER: {
-        uint64_t D = (uint64_t)p->views * p->lights * 3, d = ((uint64_t)v * p->lights + l) * 3 + c, i = p->index[t];
-        sum = f16(p->mean[i * D + d]);
-        for (uint64_t j = 0; j < k; j++) sum += f16(p->w[t * k + j]) * f16(p->basis[(i * k + j) * D + d]);
-        return sum;
-    }
-    case PRW_BTF_CODEC_PVF: {
-        uint64_t E = (uint64_t)p->lights * 3, i = (uint64_t)l * 3 + c;
-        sum = f16(p->mean[v * E + i]);
-        for (uint64_t j = 0; j < k; j++) sum += f16(p->w[((uint64_t)v * N + t) * k + j]) * f16(p->basis[((uint64_t)v * k + j) * E + i]);
-        return sum;
-    }
+    case PRW_BTF_CODEC_FMF: return prw_btf_decode_fmf(p, d, t, p->components);
+    case PRW_BTF_CODEC_CLUSTER: return prw_btf_decode_cluster(p, d, t, p->components, p->views * p->lights * 3);
+    case PRW_BTF_CODEC_PVF: return prw_btf_decode_pvf(p, v, l * 3 + c, t, p->components, N, p->lights * 3);
     }
     return 0;
 }

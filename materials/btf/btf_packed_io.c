@@ -174,6 +174,9 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
     if (ok && !sizes_of(out, &s))
         ok = fail_at(&c, "codec", "%u components, %u clusters do not fit codec %d", out->components, out->clusters,
                      (int)out->codec);
+    /* the decode (prw_btf_decode.h) indexes with 32 bits, the GPU's */
+    if (ok && (s.u > UINT32_MAX || s.w > UINT32_MAX || s.mean > UINT32_MAX || s.basis > UINT32_MAX || s.index > UINT32_MAX))
+        ok = fail_at(&c, "size", "an array of more than 2^32 elements (the decode indexes with 32 bits)");
     if (ok) {
         uint64_t all = prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
                                    prw_add_sat(prw_mul_sat(s.index, 4), prw_mul_sat(8, (uint64_t)out->views + out->lights)));
