@@ -260,18 +260,13 @@ static prw_scene *sample_scene(const geo *g, double x0, double x1, double y0, do
         ok = add_buf(s, &b[0], warp, "warp", e) && add_buf(s, &b[1], weft, "weft", e);
         break;
     }
-    case PRW_BTF_SYNTH_LEATHER: {
-        prw_material m = mat(0.25f, 0.12f, 0.06f, 0, 0.45f, 0);
+    case PRW_BTF_SYNTH_LEATHER:
+    case PRW_BTF_SYNTH_BRUSHED: { /* one material over a height field */
+        bool leather = g->kind == PRW_BTF_SYNTH_LEATHER;
+        prw_material m = leather ? mat(0.25f, 0.12f, 0.06f, 0, 0.45f, 0) : mat(0.91f, 0.92f, 0.92f, 1, 0.25f, 0);
         int mi = prw_scene_add_material(s, &m);
-        height_field(g, x0, x1, y0, y1, 2, tau, b, 1);
-        ok = add_buf(s, &b[0], mi, "leather", e);
-        break;
-    }
-    case PRW_BTF_SYNTH_BRUSHED: {
-        prw_material m = mat(0.91f, 0.92f, 0.92f, 1, 0.25f, 0);
-        int mi = prw_scene_add_material(s, &m);
-        height_field(g, x0, x1, y0, y1, 4, tau, b, 1);
-        ok = add_buf(s, &b[0], mi, "brushed", e);
+        height_field(g, x0, x1, y0, y1, leather ? 2 : 4, tau, b, 1);
+        ok = add_buf(s, &b[0], mi, leather ? "leather" : "brushed", e);
         break;
     }
     case PRW_BTF_SYNTH_FLAKES: {

@@ -4,7 +4,6 @@
  *   FMF u (D x k halves), w (N x k); CLUSTER u32 index (N), mean (c x D), basis (c x k x D),
  *   w (N x k); PVF mean (V x 3L), basis (V x k x 3L), w (V x N x k); little-endian, nothing after. */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -102,32 +101,7 @@ bool prw_btf_packed_write(const char *path, const prw_btf_packed *p, prw_error *
     return ok;
 }
 
-typedef struct cur {
-    const uint8_t *p;
-    size_t n, at;
-    const char *name;
-    prw_error *e;
-} cur;
-
-static bool fail_at(cur *c, const char *what, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static bool fail_at(cur *c, const char *what, const char *fmt, ...)
-{
-    char why[400];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(why, sizeof why, fmt, ap);
-    va_end(ap);
-    return prw_fail(c->e, "%s: byte %zu (%s): %s", c->name, c->at, what, why);
-}
-
-static bool need(cur *c, uint64_t count, uint64_t size, const char *what)
-{
-    uint64_t b = prw_mul_sat(count, size);
-    if (b > c->n - c->at)
-        return fail_at(c, what, "%llu x %llu bytes claimed, only %zu bytes left in the file", (unsigned long long)count,
-                       (unsigned long long)size, c->n - c->at);
-    return true;
-}
+typedef btf_cur cur;
 
 static uint32_t get_u32(cur *c)
 {
@@ -138,11 +112,11 @@ static uint32_t get_u32(cur *c)
 
 static bool halves(cur *c, uint16_t **dst, uint64_t n, const char *what)
 {
-    if (!need(c, n, 2, what)) return false;
+    if (!btf_cur_need(c, n, 2, what)) return false;
     *dst = prw_malloc(n ? (size_t)n * 2 : 2);
     for (uint64_t i = 0; i < n; i++) {
         uint16_t h = (uint16_t)(c->p[c->at] | (c->p[c->at + 1] << 8));
-        if ((h & 0x7c00u) == 0x7c00u) return fail_at(c, what, "element %llu is not finite", (unsigned long long)i);
+        if ((h & 0x7c00u) == 0x7c00u) return btf_cur_fail(c, what, "element %llu is not finite", (unsigned long long)i);
         (*dst)[i] = h;
         c->at += 2;
     }
@@ -153,8 +127,8 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
 {
     memset(out, 0, sizeof *out);
     cur c = {.p = data, .n = size, .name = name ? name : "(btf)", .e = e};
-    bool ok = need(&c, 1, 8 + 9 * 4, "header");
-    if (ok && memcmp(c.p, MAGIC, 8) != 0) ok = fail_at(&c, "signature", "not a prw compressed BTF (PRWBTFC1)");
+    bool ok = btf_cur_need(&c, 1, 8 + 9 * 4, "header");
+    if (ok && memcmp(c.p, MAGIC, 8) != 0) ok = btf_cur_fail(&c, "signature", "not a prw compressed BTF (PRWBTFC1)");
     if (ok) {
         c.at = 8;
         uint32_t version = get_u32(&c);
@@ -162,25 +136,25 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
         out->width = get_u32(&c), out->height = get_u32(&c), out->views = get_u32(&c), out->lights = get_u32(&c);
         out->components = get_u32(&c), out->clusters = get_u32(&c);
         uint32_t reserved = get_u32(&c);
-        if (reserved != 0) ok = fail_at(&c, "reserved", "%u where version 1 has 0", reserved);
-        else if (version != 1) ok = fail_at(&c, "version", "version %u (this reader knows 1)", version);
+        if (reserved != 0) ok = btf_cur_fail(&c, "reserved", "%u where version 1 has 0", reserved);
+        else if (version != 1) ok = btf_cur_fail(&c, "version", "version %u (this reader knows 1)", version);
         else if (out->codec < PRW_BTF_CODEC_FMF || out->codec > PRW_BTF_CODEC_PVF)
-            ok = fail_at(&c, "codec", "unknown codec %d", (int)out->codec);
+            ok = btf_cur_fail(&c, "codec", "unknown codec %d", (int)out->codec);
         else if (!out->width || !out->height || !out->views || !out->lights || out->width > PRW_BTF_UBO_MAX_SIDE ||
                  out->height > PRW_BTF_UBO_MAX_SIDE || out->views > PRW_BTF_UBO_MAX_DIRS || out->lights > PRW_BTF_UBO_MAX_DIRS)
-            ok = fail_at(&c, "size", "%u x %u texels, %u views, %u lights", out->width, out->height, out->views, out->lights);
+            ok = btf_cur_fail(&c, "size", "%u x %u texels, %u views, %u lights", out->width, out->height, out->views, out->lights);
     }
     sizes s;
     if (ok && !sizes_of(out, &s))
-        ok = fail_at(&c, "codec", "%u components, %u clusters do not fit codec %d", out->components, out->clusters,
+        ok = btf_cur_fail(&c, "codec", "%u components, %u clusters do not fit codec %d", out->components, out->clusters,
                      (int)out->codec);
     /* the decode (prw_btf_decode.h) indexes with 32 bits, the GPU's */
     if (ok && (s.u > UINT32_MAX || s.w > UINT32_MAX || s.mean > UINT32_MAX || s.basis > UINT32_MAX || s.index > UINT32_MAX))
-        ok = fail_at(&c, "size", "an array of more than 2^32 elements (the decode indexes with 32 bits)");
+        ok = btf_cur_fail(&c, "size", "an array of more than 2^32 elements (the decode indexes with 32 bits)");
     if (ok) {
         uint64_t all = prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
                                    prw_add_sat(prw_mul_sat(s.index, 4), prw_mul_sat(8, (uint64_t)out->views + out->lights)));
-        ok = need(&c, all, 1, "data") && prw_mem_check(all, c.name, "the compressed BTF", e);
+        ok = btf_cur_need(&c, all, 1, "data") && prw_mem_check(all, c.name, "the compressed BTF", e);
     }
     if (ok) {
         out->view_dirs = prw_malloc(sizeof(float) * 2 * out->views);
@@ -194,9 +168,9 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
             memcpy(&out->light_dirs[i], &u, 4);
         }
         for (uint64_t i = 0; ok && i < 2 * (uint64_t)out->views; i++)
-            if (!isfinite(out->view_dirs[i])) ok = fail_at(&c, "view directions", "direction %llu is not finite", (unsigned long long)i / 2);
+            if (!isfinite(out->view_dirs[i])) ok = btf_cur_fail(&c, "view directions", "direction %llu is not finite", (unsigned long long)i / 2);
         for (uint64_t i = 0; ok && i < 2 * (uint64_t)out->lights; i++)
-            if (!isfinite(out->light_dirs[i])) ok = fail_at(&c, "light directions", "direction %llu is not finite", (unsigned long long)i / 2);
+            if (!isfinite(out->light_dirs[i])) ok = btf_cur_fail(&c, "light directions", "direction %llu is not finite", (unsigned long long)i / 2);
     }
     if (ok && out->codec == PRW_BTF_CODEC_FMF) {
         ok = halves(&c, &out->u, s.u, "U") && halves(&c, &out->w, s.w, "W");
@@ -205,12 +179,12 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
         for (uint64_t i = 0; ok && i < s.index; i++) {
             out->index[i] = get_u32(&c);
             if (out->index[i] >= out->clusters)
-                ok = fail_at(&c, "cluster index", "texel %llu: cluster %u of %u", (unsigned long long)i, out->index[i], out->clusters);
+                ok = btf_cur_fail(&c, "cluster index", "texel %llu: cluster %u of %u", (unsigned long long)i, out->index[i], out->clusters);
         }
         if (ok) ok = halves(&c, &out->mean, s.mean, "means") && halves(&c, &out->basis, s.basis, "bases") &&
                      halves(&c, &out->w, s.w, "weights");
     }
-    if (ok && c.at != c.n) ok = fail_at(&c, "end", "%zu bytes after the data", c.n - c.at);
+    if (ok && c.at != c.n) ok = btf_cur_fail(&c, "end", "%zu bytes after the data", c.n - c.at);
     if (!ok) prw_btf_packed_free(out);
     return ok;
 }
