@@ -118,6 +118,15 @@ int prw_cmd_info(int argc, char **argv)
         printf("  light %-16s %-11s %.4g %s%s\n", l->name, light_type_name(l->type), l->intensity,
                light_unit(l->type), l->cast_shadows ? ", shadows" : "");
     }
+    if (s->environment.present) {
+        const prw_environment *env = &s->environment;
+        if (env->file[0])
+            printf("  environment %s (x %.4g cd/m^2 per unit, rotated %.1f deg about +Y)", env->file, env->scale,
+                   env->rotation * 180.0 / PRW_PI);
+        else
+            printf("  environment uniform (%.4g %.4g %.4g) cd/m^2", env->uniform[0], env->uniform[1], env->uniform[2]);
+        printf(": lights the path tracer; the rasterizer does not draw environment light yet\n");
+    }
     for (uint32_t i = 0; i < s->camera_count; i++)
         printf("  camera %-16s yfov %.1f deg, EV100 %.2f\n", s->cameras[i].name, s->cameras[i].yfov * 180.0 / PRW_PI,
                s->cameras[i].ev100);

@@ -56,10 +56,14 @@ static void scene_defaults(prw_scene *s, const char *path)
                     s->cameras[c].yfov * 180.0 / PRW_PI, FRAMING_EV100);
         }
     }
+    if (s->environment.present)
+        prw_log(PRW_LOG_INFO, "%s: its environment lights the path tracer only: the rasterizer does not draw "
+                "environment light yet", path);
     if (s->light_count || s->environment.present || s->camera_count == 0 || !s->has_bounds) return;
-    /* Only light sources and an environment light the rasterizer today; emissive surfaces light it
-     * once the GI issue's emissive-mesh lights exist.  Strong emitters (a lamp, a Cornell-box ceiling)
-     * still keep the scene as its author made it: the path tracer renders their light. */
+    /* Only light sources light the rasterizer today; an environment and emissive surfaces light it once
+     * the GI issue's environment pass and emissive-mesh lights exist.  A scene with an environment or
+     * strong emitters (a lamp, a Cornell-box ceiling) still keeps its lighting as its author made it:
+     * the path tracer renders that light. */
     prw_emitters em = prw_scene_emitters(s);
     double r = fmax(0.5 * prw_v3_len(prw_v3_sub(s->bounds_max, s->bounds_min)), 1e-6);
     double lux = em.mesh_flux_lm / (4.0 * PRW_PI * r * r);
