@@ -34,7 +34,9 @@ static void tmbench_usage(void)
            "                     (the demo's first frame as RGBA16F, default 1280x720): the exposure tone map (apply\n"
            "                     only, as in the demo), the same with the statistics pass (counting on), and the\n"
            "                     copy, interleaved for --reps runs (default 30); prints medians and the ratios\n"
-           "                     stage/copy with bootstrap 95 %% intervals\n"
+           "                     stage/copy with bootstrap 95 %% intervals; and the yardsticks (floors of one pass\n"
+           "                     over the image: compute dispatch, read, stores to images and buffers, a fragment\n"
+           "                     pass writing colour attachments), interleaved with them\n"
            "Times are host wall clock around submit + wait of the tone-mapping passes only (stats,\n"
            "classification, global, local); on lavapipe the GPU is the CPU.  Local: the separable full-image\n"
            "passes.  Selective is also timed with no tile marked (its global part c_global), which gives the\n"
@@ -153,7 +155,20 @@ static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o
     return ok;
 }
 
-/* --vs-copy (issue "Speed", must-show 3): the tone-mapping stage at memory speed? */
+/* --vs-copy (issue "Speed", must-show 3): the tone-mapping stage at memory speed?  Series, interleaved
+ * rep by rep: the copy, the stage (exposure apply; statistics + apply) and the yardsticks
+ * (prw_tm_session_time_floor: what a pass over the image costs at least on this device). */
+enum { VS_COPY, VS_APPLY, VS_STATS, VS_FLOOR0, VS_COUNT = VS_FLOOR0 + PRW_TM_FLOOR_COUNT };
+
+static void print_vs(const char *label, const double *t, const double *tc, size_t n, uint64_t seed)
+{
+    prw_stats_ratio r;
+    printf("  %-36s %7.2f ms", label, median_of(t, n));
+    if (prw_stats_bootstrap_median_ratio(tc, n, t, n, true, 2000, seed, &r))
+        printf("  x%6.2f copy (95 %% bootstrap interval %.2f .. %.2f)", r.ratio, r.lo, r.hi);
+    printf("\n");
+}
+
 static int run_vs_copy(const tmb_opts *o)
 {
     prw_error e = {{0}};
@@ -164,7 +179,8 @@ static int run_vs_copy(const tmb_opts *o)
     prw_image hdr = {0};
     int rc = 1;
     size_t n = (size_t)o->reps;
-    double *tc = prw_calloc(n, sizeof *tc), *ta = prw_calloc(n, sizeof *ta), *tsa = prw_calloc(n, sizeof *tsa);
+    double *t[VS_COUNT];
+    for (int i = 0; i < VS_COUNT; i++) t[i] = prw_calloc(n, sizeof *t[i]);
     prw_display disp;
     if (!prw_display_resolve(o->display ? o->display : "srgb", &disp, &e)) goto done;
     if (!prw_app_load_scene(NULL, &scene, &e) || !prw_app_create_gpu(false, &gpu, &e)) goto done;
@@ -180,24 +196,25 @@ static int run_vs_copy(const tmb_opts *o)
         goto done;
     printf("prw tmbench --vs-copy: %ux%u RGBA16F (the demo, camera main), display %s, %zu interleaved runs, device %s\n",
            o->w, o->h, disp.name, n, prw_gpu_device_name(gpu));
-    double warm;
-    if (!prw_tm_session_time_copy(s, &warm, &e) || !prw_tm_session_run(s, v.ev100, &warm, NULL, NULL, NULL, &e) ||
-        !prw_renderer_set_tonemap(r, &disp, &exs, &e) || !prw_tm_session_run(s, v.ev100, &warm, NULL, NULL, NULL, &e))
-        goto done; /* warm-up: pipelines built, pages touched */
-    for (size_t k = 0; k < n; k++)
-        if (!prw_tm_session_time_copy(s, &tc[k], &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
-            !prw_tm_session_run(s, v.ev100, &ta[k], NULL, NULL, NULL, &e) ||
+    /* rep -1: warm-up (pipelines built, pages touched) */
+    for (long k = -1; k < (long)n; k++) {
+        double w, *dst[VS_COUNT];
+        for (int i = 0; i < VS_COUNT; i++) dst[i] = k < 0 ? &w : &t[i][k];
+        if (!prw_tm_session_time_copy(s, dst[VS_COPY], &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
+            !prw_tm_session_run(s, v.ev100, dst[VS_APPLY], NULL, NULL, NULL, &e) ||
             !prw_renderer_set_tonemap(r, &disp, &exs, &e) ||
-            !prw_tm_session_run(s, v.ev100, &tsa[k], NULL, NULL, NULL, &e))
+            !prw_tm_session_run(s, v.ev100, dst[VS_STATS], NULL, NULL, NULL, &e))
             goto done;
-    prw_stats_ratio ra, rs;
-    printf("copy %.2f ms, tone map (apply) %.2f ms, tone map (statistics + apply) %.2f ms (medians)\n",
-           median_of(tc, n), median_of(ta, n), median_of(tsa, n));
-    if (prw_stats_bootstrap_median_ratio(tc, n, ta, n, true, 2000, 12347, &ra) &&
-        prw_stats_bootstrap_median_ratio(tc, n, tsa, n, true, 2000, 12348, &rs))
-        printf("tone map / copy: apply x%.2f (95 %% bootstrap interval %.2f .. %.2f), statistics + apply x%.2f "
-               "(%.2f .. %.2f)\n",
-               ra.ratio, ra.lo, ra.hi, rs.ratio, rs.lo, rs.hi);
+        for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++)
+            if (!prw_tm_session_time_floor(s, (prw_tm_floor)f, dst[VS_FLOOR0 + f], &e)) goto done;
+    }
+    printf("medians; ratios to the copy (paired by rep) with bootstrap 95 %% intervals:\n");
+    print_vs("copy (vkCmdCopyImage, RGBA16F)", t[VS_COPY], t[VS_COPY], n, 12340);
+    print_vs("tone map: exposure apply", t[VS_APPLY], t[VS_COPY], n, 12347);
+    print_vs("tone map: statistics + apply", t[VS_STATS], t[VS_COPY], n, 12348);
+    printf(" yardsticks (floors of one pass over the image):\n");
+    for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++)
+        print_vs(prw_tm_floor_name((prw_tm_floor)f), t[VS_FLOOR0 + f], t[VS_COPY], n, 12350 + (uint64_t)f);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "prw tmbench: error: %s\n", e.msg);
@@ -206,9 +223,7 @@ done:
     prw_renderer_destroy(r);
     prw_scene_destroy(scene);
     prw_gpu_destroy(gpu);
-    free(tc);
-    free(ta);
-    free(tsa);
+    for (int i = 0; i < VS_COUNT; i++) free(t[i]);
     return rc;
 }
 

@@ -596,12 +596,119 @@ struct prw_tm_session {
     prw_gpu_image copy; /* prw_tm_session_time_copy's destination (made on first use) */
     prw_desc_pool *pool; /* the session's own: its set goes with it (the renderer's pool only grows) */
     VkDescriptorSet set;
+    /* the yardsticks (prw_tm_session_time_floor), made on first use */
+    VkDescriptorSetLayout floor_set_layout;
+    VkPipelineLayout floor_layout;
+    VkDescriptorSet floor_set;
+    prw_buffer floor_buf; /* one uint per pixel */
+    VkPipeline floor_pipe[PRW_TM_FLOOR_COUNT];
 };
+
+static const char *const floor_names[PRW_TM_FLOOR_COUNT] = {
+    "cs dispatch only", "cs read only", "cs -> rgba8 image", "cs -> rgba32f image", "cs -> rgba8 buffer",
+    "cs read + stats reduction", "fs -> rgba8 attachment", "fs -> rgba8 + rgba32f attachments"};
+
+const char *prw_tm_floor_name(prw_tm_floor k) { return (unsigned)k < PRW_TM_FLOOR_COUNT ? floor_names[k] : "?"; }
+
+static void floor_destroy(prw_tm_session *s)
+{
+    VkDevice dev = prw_gpu_device(s->r->gpu);
+    for (int i = 0; i < PRW_TM_FLOOR_COUNT; i++)
+        if (s->floor_pipe[i]) vkDestroyPipeline(dev, s->floor_pipe[i], NULL);
+    if (s->floor_layout) vkDestroyPipelineLayout(dev, s->floor_layout, NULL);
+    if (s->floor_set_layout) vkDestroyDescriptorSetLayout(dev, s->floor_set_layout, NULL);
+    prw_buffer_destroy(s->r->gpu, &s->floor_buf);
+}
+
+static bool floor_ensure(prw_tm_session *s, prw_tm_floor k, prw_error *e)
+{
+    prw_gpu *gpu = s->r->gpu;
+    if (!s->floor_layout) {
+        VkShaderStageFlags st = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+        VkDescriptorSetLayoutBinding b[4] = {
+            {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, st, NULL},
+            {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, st, NULL},
+            {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, st, NULL},
+            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, st, NULL},
+        };
+        if (!prw_desc_layout_create(gpu, b, 4, &s->floor_set_layout, e) ||
+            !prw_pipeline_layout_create(gpu, &s->floor_set_layout, 1, sizeof(tm_pc), &s->floor_layout, e) ||
+            !prw_buffer_create(gpu, (VkDeviceSize)s->w * s->h * 4 + 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               PRW_MEM_GPU, &s->floor_buf, e) ||
+            !prw_desc_alloc(gpu, s->pool, s->floor_set_layout, &s->floor_set, e))
+            return false;
+        prw_desc_write_image(gpu, s->floor_set, 0, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, s->in.view,
+                             prw_gpu_sampler(gpu, PRW_SAMPLER_NEAREST_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        prw_desc_write_image(gpu, s->floor_set, 1, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, s->ldr.view, VK_NULL_HANDLE,
+                             VK_IMAGE_LAYOUT_GENERAL);
+        prw_desc_write_image(gpu, s->floor_set, 2, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, s->sig.view, VK_NULL_HANDLE,
+                             VK_IMAGE_LAYOUT_GENERAL);
+        prw_desc_write_buffer(gpu, s->floor_set, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &s->floor_buf, 0, 0);
+    }
+    if (s->floor_pipe[k]) return true;
+    if (k < PRW_TM_FLOOR_FS_RGBA8) {
+        uint32_t mode = (uint32_t)k;
+        return prw_pipeline_compute_spec(gpu, prw_shader_tonemap_floor_comp(), s->floor_layout, &mode, 1,
+                                         &s->floor_pipe[k], e);
+    }
+    bool two = k == PRW_TM_FLOOR_FS_BOTH;
+    prw_graphics_desc d = {.vs = prw_shader_tonemap_fs_vert(),
+                           .fs = two ? prw_shader_tonemap_floor2_frag() : prw_shader_tonemap_floor_frag(),
+                           .layout = s->floor_layout,
+                           .color_formats = {VK_FORMAT_R8G8B8A8_UNORM, SIG_FORMAT},
+                           .color_count = two ? 2 : 1};
+    return prw_pipeline_graphics(gpu, &d, &s->floor_pipe[k], e);
+}
+
+bool prw_tm_session_time_floor(prw_tm_session *s, prw_tm_floor k, double *ms, prw_error *e)
+{
+    if ((unsigned)k >= PRW_TM_FLOOR_COUNT) return prw_fail(e, "tonemap: yardstick %d unknown", (int)k);
+    prw_gpu *gpu = s->r->gpu;
+    VkCommandBuffer cmd;
+    if (!floor_ensure(s, k, e) || !prw_cmd_begin(gpu, &cmd, e)) return false;
+    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    tm_pc pc = {s->w, s->h, 0, 0};
+    if (k < PRW_TM_FLOOR_FS_RGBA8) {
+        prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
+        prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->floor_pipe[k]);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->floor_layout, 0, 1, &s->floor_set, 0, NULL);
+        vkCmdPushConstants(cmd, s->floor_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        vkCmdDispatch(cmd, (s->w + 15) / 16, (s->h + 15) / 16, 1);
+    } else {
+        prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        VkRenderingAttachmentInfo at[2];
+        prw_gpu_image *img[2] = {&s->ldr, &s->sig};
+        for (int i = 0; i < 2; i++)
+            at[i] = (VkRenderingAttachmentInfo){.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+                                                .imageView = img[i]->view,
+                                                .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                                .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                                                .storeOp = VK_ATTACHMENT_STORE_OP_STORE};
+        VkRenderingInfo ri = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                              .renderArea = {{0, 0}, {s->w, s->h}},
+                              .layerCount = 1,
+                              .colorAttachmentCount = k == PRW_TM_FLOOR_FS_BOTH ? 2 : 1,
+                              .pColorAttachments = at};
+        vkCmdBeginRendering(cmd, &ri);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s->floor_pipe[k]);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s->floor_layout, 0, 1, &s->floor_set, 0, NULL);
+        prw_cmd_viewport(cmd, s->w, s->h);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        vkCmdEndRendering(cmd);
+    }
+    double t0 = prw_now();
+    if (!prw_cmd_submit_wait(gpu, cmd, e)) return false;
+    *ms = 1e3 * (prw_now() - t0);
+    return true;
+}
 
 
 void prw_tm_session_destroy(prw_tm_session *s)
 {
     if (!s) return;
+    floor_destroy(s);
     prw_image_destroy(s->r->gpu, &s->in);
     prw_image_destroy(s->r->gpu, &s->copy);
     prw_image_destroy(s->r->gpu, &s->ldr);
@@ -651,9 +758,11 @@ static bool session_create(prw_renderer *r, const prw_image *hdr, bool half, prw
         for (size_t i = 0; i < (size_t)w * h * 4; i++) h16[i] = half_bits(hdr->rgba[i]);
     }
     prw_image_desc dldr = {.width = w, .height = h, .format = VK_FORMAT_R8G8B8A8_UNORM,
-                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT};
     prw_image_desc dsig = {.width = w, .height = h, .format = SIG_FORMAT,
-                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT};
     bool ok = prw_image_create(r->gpu, &din, &s->in, e) && prw_image_create(r->gpu, &dldr, &s->ldr, e) &&
               prw_image_create(r->gpu, &dsig, &s->sig, e) &&
               prw_image_upload(r->gpu, &s->in, 0, half ? (const void *)h16 : (const void *)hdr->rgba,
