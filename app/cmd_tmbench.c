@@ -208,6 +208,14 @@ static int run_vs_copy(const tmb_opts *o)
         for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++)
             if (!prw_tm_session_time_floor(s, (prw_tm_floor)f, dst[VS_FLOOR0 + f], &e)) goto done;
     }
+    prw_stats_ratio ra, rs;
+    printf("copy %.2f ms, tone map (apply) %.2f ms, tone map (statistics + apply) %.2f ms (medians)\n",
+           median_of(t[VS_COPY], n), median_of(t[VS_APPLY], n), median_of(t[VS_STATS], n));
+    if (prw_stats_bootstrap_median_ratio(t[VS_COPY], n, t[VS_APPLY], n, true, 2000, 12347, &ra) &&
+        prw_stats_bootstrap_median_ratio(t[VS_COPY], n, t[VS_STATS], n, true, 2000, 12348, &rs))
+        printf("tone map / copy: apply x%.2f (95 %% bootstrap interval %.2f .. %.2f), statistics + apply x%.2f "
+               "(%.2f .. %.2f)\n",
+               ra.ratio, ra.lo, ra.hi, rs.ratio, rs.lo, rs.hi);
     printf("medians; ratios to the copy (paired by rep) with bootstrap 95 %% intervals:\n");
     print_vs("copy (vkCmdCopyImage, RGBA16F)", t[VS_COPY], t[VS_COPY], n, 12340);
     print_vs("tone map: exposure apply", t[VS_APPLY], t[VS_COPY], n, 12347);

@@ -35,10 +35,13 @@ layout(constant_id = 0) const int TM_SC_OP = -1;
 layout(constant_id = 1) const int TM_SC_EOTF = -1;
 layout(constant_id = 2) const int TM_SC_OVERLAY = -1;
 layout(constant_id = 3) const int TM_SC_COUNT = -1;
+// 4: the apply writes the float signal too (0: only the RGBA8 image; nobody reads the signal)
+layout(constant_id = 4) const int TM_SC_SIGNAL = 1;
 int tm_mode_op() { return TM_SC_OP >= 0 ? TM_SC_OP : P.mode.x; }
 int tm_mode_eotf() { return TM_SC_EOTF >= 0 ? TM_SC_EOTF : P.mode.y; }
 bool tm_mode_overlay() { return TM_SC_OVERLAY >= 0 ? TM_SC_OVERLAY != 0 : P.mode.z != 0; }
 bool tm_mode_count() { return TM_SC_COUNT >= 0 ? TM_SC_COUNT != 0 : P.mode.w != 0; }
+bool tm_mode_signal() { return TM_SC_SIGNAL != 0; }
 
 const float WHITE_HEADROOM = 1.05; // PRW_TM_WHITE_HEADROOM (engine/render/prw_tonemap.h)
 const int OP_EXPOSURE = 0, OP_REINHARD = 1, OP_NEUTRAL = 2, OP_ADAPTIVE = 3, OP_ABSOLUTE = 4;

@@ -27,7 +27,7 @@ void main()
     if (FLOOR_MODE == 0) return;
     uvec2 p = gl_GlobalInvocationID.xy;
     bool inside = p.x < pc.width && p.y < pc.height;
-    if (FLOOR_MODE == 5) {
+    if (FLOOR_MODE >= 5) {
         float y = 0.0, l = 0.0, n = 0.0;
         if (inside) {
             vec3 c = texelFetch(src, ivec2(p), 0).rgb;
@@ -36,6 +36,19 @@ void main()
             n = 1.0;
         }
         vec3 r = vec3(subgroupAdd(l), subgroupMax(y), subgroupAdd(n));
+        if (FLOOR_MODE == 6) { // no barrier: one partial per subgroup into the buffer
+            uint g = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_NumSubgroups + gl_SubgroupID;
+            if (subgroupElect() && 4u * g + 2u < pc.width * pc.height) {
+                ob.px[4u * g] = floatBitsToUint(r.x);
+                ob.px[4u * g + 1u] = floatBitsToUint(r.y);
+                ob.px[4u * g + 2u] = floatBitsToUint(r.z);
+            }
+            return;
+        }
+        if (FLOOR_MODE == 7) { // log only, no reduction
+            if (l < -1e30) ob.px[0] = 1u;
+            return;
+        }
         if (subgroupElect()) s_part[gl_SubgroupID] = vec4(r, 0.0);
         barrier();
         if (gl_LocalInvocationIndex == 0u) {

@@ -1,6 +1,7 @@
 /* pass_tonemap — display-aware tone mapping as two graph passes (the work is in tonemap_gpu.c):
  *   "tm_stats" (once for all views: log-average and largest luminance, classification counters and,
- *              for the selective operator, block gradients; only when the settings use them);
+ *              for the selective operator, block gradients; only for operators that key on them: the
+ *              others get statistics and counts, when wanted, from "tonemap" itself, tonemap_gpu.c);
  *   "tonemap"  (every view: operator -> gamut mapping -> inverse display model into the display signal
  *              "signal" (RGBA32F) and "ldr" (RGBA8), both exported).
  * Both read "hdr", or "hdr_glare" when the glare stage runs (pass_glare.c).
@@ -31,7 +32,8 @@ static void stats_setup(prw_setup *s)
 static bool stats_needed(const prw_pass_ctx *c, const char **why)
 {
     if (!c->frame->view_count) return (*why = "no views"), false;
-    if (!prw_tm_gpu_stats_needed(c->env->tm)) return (*why = "the tone map uses no frame statistics"), false;
+    if (!prw_tm_gpu_stats_needed(c->env->tm))
+        return (*why = "the operator keys on no frame statistics (counts and statistics, if wanted, come from the apply)"), false;
     return true;
 }
 

@@ -1,10 +1,13 @@
 /* tonemap_gpu — display-aware tone mapping on the GPU (issue 6; tonemap_gpu.h): the state and the
  * recording of the two graph passes (pass_tonemap.c), of tone-mapping sessions and the public
  * tone-mapping calls of prw_render.h.  The passes:
- *   "tm_stats" (once for all views: partials per 64 x 64 region and view -> one reduction: log-average
- *              and largest luminance, and zeroed classification counters); needed when the operator
- *              uses frame statistics (reinhard, adaptive, local, selective) or pixels are classified
- *              (absolute, overlay, report).  Selective: the same pass also classifies
+ *   "tm_stats" (once for all views: a partial per invocation (16 pixels of a 64 x 64 region) and view
+ *              -> one reduction: log-average and largest luminance, and zeroed classification
+ *              counters); runs when the operator keys on frame statistics (reinhard, adaptive, local,
+ *              selective).  The other operators, when statistics or counts are wanted (absolute,
+ *              overlay, report, adaptation), get them from the apply pass itself: tonemap_fused.comp
+ *              tone-maps and sums in one pass over the image, then the same reduction runs.
+ *              Selective: the stats pass also classifies
  *              (tonemap_classify.comp: the Sobel of the log luminance it already computes gives each
  *              16 x 16 block's largest gradient), so the classification is not a pass of its own;
  *   "tonemap"  (per view: operator -> gamut mapping -> inverse display model; writes the signal V as
@@ -61,9 +64,13 @@ struct prw_tm_gpu {
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
     VkPipeline stats_pipe, reduce_pipe, classify_pipe, compact_pipe, local_pipe;
-    /* the apply pass specialised on the UBO's mode (op, eotf, overlay, count): built on first use */
-    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2];
+    /* the apply pass specialised on the UBO's mode (op, eotf, overlay, count), on whether it writes the
+     * float signal, and fused with the statistics or not: built on first use */
+    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2][2][2];
     VkPipeline apply_pipe; /* this frame's, one of apply_spec (ensure_apply) */
+    bool fused;            /* this frame's apply computes the statistics too (tonemap_fused.comp) */
+    bool write_signal;     /* the apply writes the float signal */
+    uint32_t slot_cap;     /* partial slots of the statistics (the counts' partials follow them) */
     /* separable local: set 1 = the scratch image (layers: L, horizontal, 9 levels), made on first use */
     VkDescriptorSetLayout sep_set_layout;
     VkPipelineLayout sep_layout;
@@ -125,8 +132,18 @@ static bool tm_counts(const prw_tonemap_settings *s)
 }
 
 static uint32_t tiles_for(uint32_t w, uint32_t h) { return ((w + TILE - 1) / TILE) * ((h + TILE - 1) / TILE); }
-/* workgroups (partial slots) of the stats pass: 64 x 64 pixel regions (tonemap_stats.glsl) */
+/* workgroups of the stats pass: 64 x 64 pixel regions (tonemap_stats.glsl), 256 partial slots each */
 static uint32_t stats_groups(uint32_t w, uint32_t h) { return ((w + 63) / 64) * ((h + 63) / 64); }
+static uint32_t stats_slots(uint32_t w, uint32_t h) { return stats_groups(w, h) * 256; }
+
+/* Statistics or pixel counts wanted beyond what the operator itself keys on. */
+static bool stats_wanted(const prw_tonemap_settings *s)
+{
+    return tm_counts(s) || (s->adapt && s->op != PRW_TM_ABSOLUTE);
+}
+/* The statistics are computed by the apply pass itself (tonemap_fused.comp): wanted, and the operator
+ * does not need them before it maps a pixel. */
+static bool fused_stats(const prw_tonemap_settings *s) { return !op_needs_stats(s->op) && stats_wanted(s); }
 
 static void fill_ubo(const prw_tm_params *p, bool count, tm_ubo *u)
 {
@@ -178,6 +195,7 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
     prw_display_builtin("srgb", &tm->display);
     tm->dt_next = -1;
     tm->prof_limit = -1;
+    tm->write_signal = true;
     tm->settings.op = (unsigned)op < PRW_TM_OP_COUNT ? op : PRW_TM_EXPOSURE;
     VkDescriptorSetLayoutBinding b[6] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
@@ -212,7 +230,8 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
         return false;
     memset(tm->tiles.mapped, 0, (size_t)(tm->tile_stride * max_views));
     tm->tiles_per_view = tiles_for(width, height);
-    VkDeviceSize stats_size = sizeof(tm_stats_hdr) + (VkDeviceSize)tm->tiles_per_view * max_views * 16;
+    tm->slot_cap = stats_slots(width, height) * max_views;
+    VkDeviceSize stats_size = sizeof(tm_stats_hdr) + (VkDeviceSize)tm->slot_cap * 2 * 16;
     if (!prw_buffer_create(gpu, sizeof(tm_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD, &tm->params,
                            e) ||
         !prw_buffer_create(gpu, stats_size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_READBACK, &tm->stats, e))
@@ -244,7 +263,7 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
                            tm->local_pipe, tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
     for (int i = 0; i < 8; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
-    VkPipeline *spec = &tm->apply_spec[0][0][0][0];
+    VkPipeline *spec = &tm->apply_spec[0][0][0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_spec / sizeof *spec; i++)
         if (spec[i]) vkDestroyPipeline(dev, spec[i], NULL);
     if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
@@ -297,7 +316,7 @@ static void record_stats(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
         tm_dispatch(tm, cmd, (w[v] + 63) / 64, (h[v] + 63) / 64, 1);
-        base += stats_groups(w[v], h[v]);
+        base += stats_slots(w[v], h[v]);
     }
     compute_barrier(t, CS, RW, CS, RW);
     tb(tm, "reduce");
@@ -381,9 +400,11 @@ static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
     uint32_t op = (uint32_t)u->mode[0], eotf = (uint32_t)u->mode[1], ov = u->mode[2] != 0, cnt = u->mode[3] != 0;
     if (op >= PRW_TM_OP_COUNT || eotf > PRW_EOTF_PQ)
         return prw_fail(e, "render: tone map: operator %u / encoding %u unknown", op, eotf);
-    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt];
-    uint32_t spec[4] = {op, eotf, ov, cnt};
-    if (!*p && !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_apply_comp(), tm->layout, spec, 4, p, e))
+    uint32_t sig = tm->write_signal, fu = tm->fused;
+    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt][sig][fu];
+    uint32_t spec[5] = {op, eotf, ov, cnt, sig};
+    if (!*p && !prw_pipeline_compute_spec(tm->gpu, fu ? prw_shader_tonemap_fused_comp() : prw_shader_tonemap_apply_comp(),
+                                          tm->layout, spec, 5, p, e))
         return prw_fail_wrap(e, "render: tone map");
     tm->apply_pipe = *p;
     return true;
@@ -394,8 +415,10 @@ static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
 {
     VkCommandBuffer cmd = t->cmd;
     prw_tm_op op = tm->settings.op;
+    uint32_t base = 0; /* fused: the view's first partial slot */
+    if (tm->fused && !t->c) compute_barrier(t, CS | VK_PIPELINE_STAGE_2_HOST_BIT, RW | VK_ACCESS_2_HOST_READ_BIT, CS, RW);
     for (uint32_t v = 0; v < count; v++) {
-        tm_pc pc = {w[v], h[v], 0, 0};
+        tm_pc pc = {w[v], h[v], base, tm->slot_cap};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
         if (op == PRW_TM_LOCAL && !tm->settings.local_tiled) {
@@ -416,11 +439,27 @@ static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
             compute_barrier(t, CS, RW, CS | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                             RW | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
         }
+        if (tm->fused) { /* 64 x 64 regions, statistics and counts into partial slots */
+            tb(tm, "stats+apply");
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
+            tm_dispatch(tm, cmd, (w[v] + 63) / 64, (h[v] + 63) / 64, 1);
+            base += stats_slots(w[v], h[v]);
+            continue;
+        }
         tb(tm, "apply");
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
         tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
         compute_barrier(t, CS, RW, CS, RW);
         if (op == PRW_TM_SELECTIVE) record_local_sep(tm, t, sets[v], w[v], h[v], tile_off[v]); /* pixels disjoint from apply's */
+    }
+    if (tm->fused) { /* the frame's statistics and counts from every view's partials */
+        compute_barrier(t, CS, RW, CS, RW);
+        tb(tm, "reduce");
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->reduce_pipe);
+        tm_pc pc = {tm->counted ? 1u : 0u, 0, tm->slot_cap, base};
+        vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        tm_dispatch(tm, cmd, 1, 1, 1);
+        compute_barrier(t, CS, RW, CS, RW);
     }
     if (count) tm->last_tile_off = tile_off[count - 1];
     /* the stats and tile buffers are read by the host after the frame (in a graph: its export barrier) */
@@ -467,11 +506,7 @@ bool prw_tm_gpu_adaptation(const prw_tm_gpu *tm, double *la)
     return tm->la_valid;
 }
 
-bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm)
-{
-    return op_needs_stats(tm->settings.op) || tm_counts(&tm->settings) ||
-           (tm->settings.adapt && tm->settings.op != PRW_TM_ABSOLUTE);
-}
+bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm) { return op_needs_stats(tm->settings.op); }
 
 void prw_tm_gpu_record_stats(prw_tm_gpu *tm, const prw_pass_ctx *c)
 {
@@ -490,8 +525,9 @@ bool prw_tm_gpu_record_apply(prw_tm_gpu *tm, const prw_pass_ctx *c, bool stats_r
     if (!ensure_sep(tm, tm->width, tm->height, e)) return false;
     adapt_frame(tm);
     upload_params(tm, c->frame->views[0].ev100, true); /* both eyes share one exposure and La (DESIGN.md §6) */
-    tm->prev_stats = stats_ran;
-    if (!stats_ran) tm->counted = false;
+    tm->fused = fused_stats(&tm->settings);
+    tm->prev_stats = stats_ran || tm->fused;
+    if (!stats_ran && !tm->fused) tm->counted = false;
     if (!tm->counted) { /* keep the UBO consistent with the graph: no counting without the stats pass */
         tm_ubo *u = tm->params.mapped;
         u->mode[3] = 0;
@@ -606,7 +642,7 @@ struct prw_tm_session {
 
 static const char *const floor_names[PRW_TM_FLOOR_COUNT] = {
     "cs dispatch only", "cs read only", "cs -> rgba8 image", "cs -> rgba32f image", "cs -> rgba8 buffer",
-    "cs read + stats reduction", "fs -> rgba8 attachment", "fs -> rgba8 + rgba32f attachments"};
+    "cs read + stats reduction", "cs stats, no barrier", "cs read + log", "fs -> rgba8 attachment", "fs -> rgba8 + rgba32f attachments"};
 
 const char *prw_tm_floor_name(prw_tm_floor k) { return (unsigned)k < PRW_TM_FLOOR_COUNT ? floor_names[k] : "?"; }
 
@@ -742,7 +778,7 @@ static bool session_create(prw_renderer *r, const prw_image *hdr, bool half, prw
     prw_tm_gpu *tm = r->tm;
     uint32_t w = (uint32_t)hdr->width, h = (uint32_t)hdr->height;
     *out = NULL;
-    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views ||
+    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views || stats_slots(w, h) > tm->slot_cap ||
         tile_bytes(w, h) > tm->tile_stride * r->desc.max_views)
         return prw_fail(e, "tonemap: %ux%u image larger than the renderer's stats buffer allows", w, h);
     prw_tm_session *s = prw_calloc(1, sizeof *s);
@@ -823,6 +859,7 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     upload_params(tm, ev100, false);
     tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
     bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
+    tm->fused = !op_needs_stats(tm->settings.op) && tm_counts(&tm->settings);
     if (!need) {
         tm->counted = false;
         ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
@@ -834,7 +871,7 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
     VkDeviceSize off = 0;
     tm_rec t = {cmd, NULL};
-    if (need) record_stats(tm, &t, &s->set, &s->w, &s->h, 1);
+    if (need && !tm->fused) record_stats(tm, &t, &s->set, &s->w, &s->h, 1);
     record_apply(tm, &t, &s->set, &s->w, &s->h, &off, 1);
     double t0 = prw_now();
     if (!prw_cmd_submit_wait(r->gpu, cmd, e)) return false;

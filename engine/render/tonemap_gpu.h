@@ -26,7 +26,9 @@ VkBuffer prw_tm_gpu_stats_buffer(const prw_tm_gpu *tm);
 VkBuffer prw_tm_gpu_tiles_buffer(const prw_tm_gpu *tm);
 /* The adapted luminance of the last frame (false, *la = 0, when adaptation is off or has no value yet). */
 bool prw_tm_gpu_adaptation(const prw_tm_gpu *tm, double *la);
-/* Whether the current settings use frame statistics or pixel counts (the "tm_stats" pass). */
+/* Whether the "tm_stats" pass runs before the apply: the operator keys on the frame's statistics.
+ * Otherwise, when the statistics or pixel counts are wanted (report, overlay, absolute, adaptation),
+ * the "tonemap" pass computes them itself in the same pass over the image (tonemap_fused.comp). */
 bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm);
 /* The frame's statistics over every view of c->frame (inputs sampled, outputs: the stats buffer). */
 void prw_tm_gpu_record_stats(prw_tm_gpu *tm, const prw_pass_ctx *c);
