@@ -85,6 +85,9 @@ typedef struct prw_render_desc {
                                                copied (needs kissfft) */
     const prw_render_debug *debug; /* NULL: none; copied at create (its passes / exports arrays are not: they
                                       must outlive the renderer) */
+    bool display_signal; /* keep the float display signal of every view for prw_renderer_read_signal (HDR10
+                            PNGs, display-referred EXRs, metrics on the signal); otherwise the tone mapping
+                            writes it only when a pass reads it (HMD composition) and the 8-bit image alone */
 } prw_render_desc;
 
 typedef struct prw_pass_stat {

@@ -71,6 +71,10 @@ struct prw_tm_gpu {
     bool fused;            /* this frame's apply computes the statistics too (tonemap_fused.comp) */
     bool write_signal;     /* the apply writes the float signal */
     uint32_t slot_cap;     /* partial slots of the statistics (the counts' partials follow them) */
+    /* without the float signal (write_signal false): the local passes' variants that skip its stores,
+     * and a 1 x 1 image bound in its place (made on first use) */
+    VkPipeline sep_final_nosig, local_nosig;
+    prw_gpu_image dummy_sig;
     /* separable local: set 1 = the scratch image (layers: L, horizontal, 9 levels), made on first use */
     VkDescriptorSetLayout sep_set_layout;
     VkPipelineLayout sep_layout;
@@ -242,10 +246,35 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
     return true;
 }
 
-void prw_tm_gpu_bind_view(prw_tm_gpu *tm, uint32_t v, prw_gpu_image *hdr, prw_gpu_image *ldr, prw_gpu_image *signal)
+bool prw_tm_gpu_bind_view(prw_tm_gpu *tm, uint32_t v, prw_gpu_image *hdr, prw_gpu_image *ldr, prw_gpu_image *signal,
+                          prw_error *e)
 {
     tm->signal[v] = signal;
-    write_set(tm, tm->sets[v], hdr->view, ldr->view, signal->view, v * tm->tile_stride, tm->tile_stride);
+    if (!signal && !tm->dummy_sig.image) { /* a storage image for the binding the shaders then never write */
+        prw_image_desc d = {.width = 1, .height = 1, .format = SIG_FORMAT, .usage = VK_IMAGE_USAGE_STORAGE_BIT};
+        VkCommandBuffer cmd;
+        if (!prw_image_create(tm->gpu, &d, &tm->dummy_sig, e) || !prw_cmd_begin(tm->gpu, &cmd, e)) return false;
+        prw_cmd_transition(cmd, &tm->dummy_sig, VK_IMAGE_LAYOUT_GENERAL);
+        if (!prw_cmd_submit_wait(tm->gpu, cmd, e)) return false;
+    }
+    write_set(tm, tm->sets[v], hdr->view, ldr->view, signal ? signal->view : tm->dummy_sig.view, v * tm->tile_stride,
+              tm->tile_stride);
+    return true;
+}
+
+/* The local passes' pipelines without the signal's stores (spec constant 4 = 0; 0-3 read the UBO). */
+static bool ensure_nosig(prw_tm_gpu *tm, prw_error *e)
+{
+    if (tm->write_signal || (tm->settings.op != PRW_TM_LOCAL && tm->settings.op != PRW_TM_SELECTIVE)) return true;
+    uint32_t spec[5] = {UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX, 0};
+    if (!tm->sep_final_nosig &&
+        !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_sep_final_comp(), tm->sep_layout, spec, 5,
+                                   &tm->sep_final_nosig, e))
+        return false;
+    if (!tm->local_nosig &&
+        !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_local_comp(), tm->layout, spec, 5, &tm->local_nosig, e))
+        return false;
+    return true;
 }
 
 VkBuffer prw_tm_gpu_stats_buffer(const prw_tm_gpu *tm) { return tm->stats.buffer; }
@@ -259,6 +288,9 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
     prw_buffer_destroy(tm->gpu, &tm->stats);
     prw_buffer_destroy(tm->gpu, &tm->tiles);
     prw_image_destroy(tm->gpu, &tm->sep_img);
+    prw_image_destroy(tm->gpu, &tm->dummy_sig);
+    if (tm->sep_final_nosig) vkDestroyPipeline(dev, tm->sep_final_nosig, NULL);
+    if (tm->local_nosig) vkDestroyPipeline(dev, tm->local_nosig, NULL);
     VkPipeline pipes[8] = {tm->stats_pipe, tm->reduce_pipe,  tm->classify_pipe, tm->compact_pipe,
                            tm->local_pipe, tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
     for (int i = 0; i < 8; i++)
@@ -387,7 +419,7 @@ static void record_local_sep(prw_tm_gpu *tm, const tm_rec *t, VkDescriptorSet se
         }
     compute_barrier(t, CS, RW, CS, RW);
     tb(tm, "sep_final");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_final_pipe);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->write_signal ? tm->sep_final_pipe : tm->sep_final_nosig);
     vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
     sep_dispatch(tm, cmd, tile_off, gx, gy, 0);
     compute_barrier(t, CS, RW, CS, RW);
@@ -427,7 +459,7 @@ static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
         }
         if (op == PRW_TM_LOCAL) {
             tb(tm, "local_tiled");
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->local_pipe);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->write_signal ? tm->local_pipe : tm->local_nosig);
             tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
             compute_barrier(t, CS, RW, CS, RW);
             continue;
@@ -526,13 +558,14 @@ bool prw_tm_gpu_record_apply(prw_tm_gpu *tm, const prw_pass_ctx *c, bool stats_r
     adapt_frame(tm);
     upload_params(tm, c->frame->views[0].ev100, true); /* both eyes share one exposure and La (DESIGN.md §6) */
     tm->fused = fused_stats(&tm->settings);
+    tm->write_signal = tm->signal[0] != NULL; /* the graph keeps it for every view or for none */
     tm->prev_stats = stats_ran || tm->fused;
     if (!stats_ran && !tm->fused) tm->counted = false;
     if (!tm->counted) { /* keep the UBO consistent with the graph: no counting without the stats pass */
         tm_ubo *u = tm->params.mapped;
         u->mode[3] = 0;
     }
-    if (!ensure_apply(tm, e)) return false;
+    if (!ensure_apply(tm, e) || !ensure_nosig(tm, e)) return false;
     uint32_t w[PRW_MAX_VIEWS], h[PRW_MAX_VIEWS];
     VkDeviceSize off[PRW_MAX_VIEWS];
     for (uint32_t vi = 0; vi < c->frame->view_count; vi++) {
@@ -578,7 +611,8 @@ bool prw_renderer_read_signal(prw_renderer *r, uint32_t v, prw_image *out, prw_e
     if (v >= r->desc.max_views) return prw_fail(e, "render: no view %u", v);
     if (!prw_image_alloc(out, (int)r->desc.width, (int)r->desc.height, e)) return false;
     if (!r->tm->signal[v] || !prw_image_readback(r->gpu, r->tm->signal[v], out->rgba, e)) {
-        if (!r->tm->signal[v]) prw_fail(e, "render: view %u has no display signal", v);
+        if (!r->tm->signal[v])
+            prw_fail(e, "render: view %u has no display signal (renderer created without display_signal)", v);
         prw_image_free(out);
         return false;
     }
@@ -860,11 +894,12 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
     bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
     tm->fused = !op_needs_stats(tm->settings.op) && tm_counts(&tm->settings);
+    tm->write_signal = signal != NULL; /* the session's RGBA8 image alone otherwise, as in a frame */
     if (!need) {
         tm->counted = false;
         ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
     }
-    if (!ensure_apply(tm, e) || !prw_cmd_begin(r->gpu, &cmd, e)) return false;
+    if (!ensure_apply(tm, e) || !ensure_nosig(tm, e) || !prw_cmd_begin(r->gpu, &cmd, e)) return false;
     tm->prof_count = 0;
     prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
