@@ -7,6 +7,7 @@
 // statistics at pc.base + i and the counts (below, above, out of gamut, pixels) at pc.total + pc.base
 // + i, summed by tonemap_reduce.comp.  Specialisation constants as tonemap_apply.comp.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = 16, local_size_y = 16) in;
 #include "tonemap_common.glsl"
 #include "tonemap_apply.glsl"
@@ -17,9 +18,9 @@ void main()
     ivec2 size = ivec2(int(pc.width), int(pc.height));
     float s = 0.0, m = 0.0, n = 0.0;
     uint cb = 0u, ca = 0u, cg = 0u;
-    for (int j = 0; j < 4; j++)
-        for (int i = 0; i < 4; i++) {
-            ivec2 q = org + lp + 16 * ivec2(i, j);
+    // not unrolled: 16 copies of the tone map make the JIT code larger than the instruction cache
+    [[dont_unroll]] for (int it = 0; it < 16; it++) {
+            ivec2 q = org + lp + 16 * ivec2(it & 3, it >> 2);
             if (any(greaterThanEqual(q, size))) continue;
             uint flags = 0u;
             float y;
