@@ -57,8 +57,11 @@ const prw_pass prw_pass_tm_stats = {
 static void tonemap_setup(prw_setup *s)
 {
     import_buffers(s);
-    prw_image_decl ldr = {.format = VK_FORMAT_R8G8B8A8_UNORM, .size = PRW_SIZE_VIEW};
-    prw_image_decl sig = {.format = VK_FORMAT_R32G32B32A32_SFLOAT, .size = PRW_SIZE_VIEW};
+    /* written as storage images, or as colour attachments by the fragment-shader apply (tonemap_gpu.c) */
+    prw_image_decl ldr = {.format = VK_FORMAT_R8G8B8A8_UNORM, .size = PRW_SIZE_VIEW,
+                          .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT};
+    prw_image_decl sig = {.format = VK_FORMAT_R32G32B32A32_SFLOAT, .size = PRW_SIZE_VIEW,
+                          .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT};
     prw_setup_image(s, "ldr", &ldr);
     prw_setup_image(s, "signal", &sig);
     prw_setup_optional(s, "signal");

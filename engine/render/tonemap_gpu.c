@@ -69,6 +69,9 @@ struct prw_tm_gpu {
     VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2][2][2];
     VkPipeline apply_pipe; /* this frame's, one of apply_spec (ensure_apply) */
     bool fused;            /* this frame's apply computes the statistics too (tonemap_fused.comp) */
+    bool use_fs;           /* this frame's apply is the fragment pass (tonemap_apply.frag): no counts, no statistics */
+    VkPipeline apply_fs[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2]; /* by operator, encoding, with the signal */
+    prw_gpu_image *ldr[PRW_MAX_VIEWS]; /* graph images (pass_tonemap.c binds them) */
     bool write_signal;     /* the apply writes the float signal */
     uint32_t slot_cap;     /* partial slots of the statistics (the counts' partials follow them) */
     /* without the float signal (write_signal false): the local passes' variants that skip its stores,
@@ -201,13 +204,14 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
     tm->prof_limit = -1;
     tm->write_signal = true;
     tm->settings.op = (unsigned)op < PRW_TM_OP_COUNT ? op : PRW_TM_EXPOSURE;
+    const VkShaderStageFlags cf = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_FRAGMENT_BIT; /* tonemap_apply.frag */
     VkDescriptorSetLayoutBinding b[6] = {
-        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cf, NULL},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cf, NULL},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cf, NULL},
+        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cf, NULL},
+        {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, cf, NULL},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cf, NULL},
     };
     if (!prw_desc_layout_create(gpu, b, 6, &tm->set_layout, e) ||
         !prw_pipeline_layout_create(gpu, &tm->set_layout, 1, sizeof(tm_pc), &tm->layout, e) ||
@@ -250,6 +254,7 @@ bool prw_tm_gpu_bind_view(prw_tm_gpu *tm, uint32_t v, prw_gpu_image *hdr, prw_gp
                           prw_error *e)
 {
     tm->signal[v] = signal;
+    tm->ldr[v] = ldr;
     if (!signal && !tm->dummy_sig.image) { /* a storage image for the binding the shaders then never write */
         prw_image_desc d = {.width = 1, .height = 1, .format = SIG_FORMAT, .usage = VK_IMAGE_USAGE_STORAGE_BIT};
         VkCommandBuffer cmd;
@@ -298,6 +303,9 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
     VkPipeline *spec = &tm->apply_spec[0][0][0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_spec / sizeof *spec; i++)
         if (spec[i]) vkDestroyPipeline(dev, spec[i], NULL);
+    VkPipeline *fsp = &tm->apply_fs[0][0][0];
+    for (size_t i = 0; i < sizeof tm->apply_fs / sizeof *fsp; i++)
+        if (fsp[i]) vkDestroyPipeline(dev, fsp[i], NULL);
     if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
     if (tm->sep_set_layout) vkDestroyDescriptorSetLayout(dev, tm->sep_set_layout, NULL);
     if (tm->layout) vkDestroyPipelineLayout(dev, tm->layout, NULL);
@@ -433,6 +441,22 @@ static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
     if (op >= PRW_TM_OP_COUNT || eotf > PRW_EOTF_PQ)
         return prw_fail(e, "render: tone map: operator %u / encoding %u unknown", op, eotf);
     uint32_t sig = tm->write_signal, fu = tm->fused;
+    /* nothing counted and no statistics with it: the fragment pass (colour attachments) */
+    tm->use_fs = !fu && !cnt && !ov && (op == PRW_TM_EXPOSURE || op == PRW_TM_REINHARD || op == PRW_TM_NEUTRAL ||
+                                        op == PRW_TM_ADAPTIVE);
+    if (tm->use_fs) {
+        VkPipeline *f = &tm->apply_fs[op][eotf][sig];
+        prw_graphics_desc d = {.vs = prw_shader_tonemap_fs_vert(),
+                               .fs = sig ? prw_shader_tonemap_apply_sig_frag() : prw_shader_tonemap_apply_frag(),
+                               .fs_spec = {op, eotf, 0, 0, sig},
+                               .fs_spec_count = 5,
+                               .layout = tm->layout,
+                               .color_formats = {VK_FORMAT_R8G8B8A8_UNORM, SIG_FORMAT},
+                               .color_count = sig ? 2 : 1};
+        if (!*f && !prw_pipeline_graphics(tm->gpu, &d, f, e)) return prw_fail_wrap(e, "render: tone map");
+        tm->apply_pipe = *f;
+        return true;
+    }
     VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt][sig][fu];
     uint32_t spec[5] = {op, eotf, ov, cnt, sig};
     if (!*p && !prw_pipeline_compute_spec(tm->gpu, fu ? prw_shader_tonemap_fused_comp() : prw_shader_tonemap_apply_comp(),
@@ -442,14 +466,63 @@ static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
     return true;
 }
 
+static void tm_transition(const tm_rec *t, prw_gpu_image *img, VkImageLayout layout)
+{
+    if (t->c) prw_pass_transition(t->c, img, layout);
+    else prw_cmd_transition(t->cmd, img, layout);
+}
+
+/* The fragment-shader apply of one view into ldr (and sig when not NULL), which are in GENERAL before
+ * and after (the pass declares them as storage images). */
+static void record_apply_fs(prw_tm_gpu *tm, const tm_rec *t, VkDescriptorSet set, uint32_t w, uint32_t h,
+                            prw_gpu_image *ldr, prw_gpu_image *sig)
+{
+    VkCommandBuffer cmd = t->cmd;
+    prw_gpu_image *img[2] = {ldr, sig};
+    uint32_t n = sig ? 2 : 1;
+    for (uint32_t i = 0; i < n; i++) tm_transition(t, img[i], VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    /* the statistics (reinhard, adaptive) were written by a compute pass */
+    compute_barrier(t, CS, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    VkRenderingAttachmentInfo at[2];
+    for (uint32_t i = 0; i < n; i++)
+        at[i] = (VkRenderingAttachmentInfo){.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+                                            .imageView = img[i]->view,
+                                            .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                                            .storeOp = VK_ATTACHMENT_STORE_OP_STORE};
+    VkRenderingInfo ri = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                          .renderArea = {{0, 0}, {w, h}},
+                          .layerCount = 1,
+                          .colorAttachmentCount = n,
+                          .pColorAttachments = at};
+    if (t->c) prw_pass_begin_rendering(t->c, &ri);
+    else vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, tm->apply_pipe);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, tm->layout, 0, 1, &set, 0, NULL);
+    tm_pc pc = {w, h, 0, 0};
+    vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+    prw_cmd_viewport(cmd, w, h);
+    if (tm_on(tm)) vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (t->c) prw_pass_end_rendering(t->c);
+    else vkCmdEndRendering(cmd);
+    for (uint32_t i = 0; i < n; i++) tm_transition(t, img[i], VK_IMAGE_LAYOUT_GENERAL);
+}
+
 static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet *sets, const uint32_t *w,
-                         const uint32_t *h, const VkDeviceSize *tile_off, uint32_t count)
+                         const uint32_t *h, const VkDeviceSize *tile_off, prw_gpu_image *const *ldr,
+                         prw_gpu_image *const *sig, uint32_t count)
 {
     VkCommandBuffer cmd = t->cmd;
     prw_tm_op op = tm->settings.op;
     uint32_t base = 0; /* fused: the view's first partial slot */
     if (tm->fused && !t->c) compute_barrier(t, CS | VK_PIPELINE_STAGE_2_HOST_BIT, RW | VK_ACCESS_2_HOST_READ_BIT, CS, RW);
     for (uint32_t v = 0; v < count; v++) {
+        if (tm->use_fs) {
+            tb(tm, "apply_fs");
+            record_apply_fs(tm, t, sets[v], w[v], h[v], ldr[v], tm->write_signal ? sig[v] : NULL);
+            continue;
+        }
         tm_pc pc = {w[v], h[v], base, tm->slot_cap};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
@@ -575,7 +648,7 @@ bool prw_tm_gpu_record_apply(prw_tm_gpu *tm, const prw_pass_ctx *c, bool stats_r
     }
     tm->prof_count = 0;
     tm_rec t = {c->cmd, c};
-    record_apply(tm, &t, tm->sets, w, h, off, c->frame->view_count);
+    record_apply(tm, &t, tm->sets, w, h, off, tm->ldr, tm->signal, c->frame->view_count);
     return true;
 }
 
@@ -907,7 +980,8 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     VkDeviceSize off = 0;
     tm_rec t = {cmd, NULL};
     if (need && !tm->fused) record_stats(tm, &t, &s->set, &s->w, &s->h, 1);
-    record_apply(tm, &t, &s->set, &s->w, &s->h, &off, 1);
+    prw_gpu_image *ldr = &s->ldr, *sig = &s->sig;
+    record_apply(tm, &t, &s->set, &s->w, &s->h, &off, &ldr, &sig, 1);
     double t0 = prw_now();
     if (!prw_cmd_submit_wait(r->gpu, cmd, e)) return false;
     if (ms) *ms = 1e3 * (prw_now() - t0);
