@@ -33,7 +33,8 @@ static void tmbench_usage(void)
            "  --profile          also print per-pass GPU times (timestamps) of one run per operator and image\n"
            "  --vs-copy          instead: the tone-mapping stage against a vkCmdCopyImage of the same image\n"
            "                     (the demo's first frame as RGBA16F, default 1280x720): the exposure tone map (apply\n"
-           "                     only, as in the demo), the same with the statistics pass (counting on), and the\n"
+           "                     only, as in the demo), the same with the statistics (counting on: computed in the\n"
+           "                     apply pass itself), Reinhard (a statistics pass before the apply), and the\n"
            "                     copy, interleaved for --reps runs (default 30); prints medians and the ratios\n"
            "                     stage/copy with bootstrap 95 %% intervals; and the yardsticks (floors of one pass\n"
            "                     over the image: compute dispatch, read, stores to images and buffers, a fragment\n"
@@ -159,7 +160,7 @@ static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o
 /* --vs-copy (issue "Speed", must-show 3): the tone-mapping stage at memory speed?  Series, interleaved
  * rep by rep: the copy, the stage (exposure apply; statistics + apply) and the yardsticks
  * (prw_tm_session_time_floor: what a pass over the image costs at least on this device). */
-enum { VS_COPY, VS_APPLY, VS_STATS, VS_FLOOR0, VS_COUNT = VS_FLOOR0 + PRW_TM_FLOOR_COUNT };
+enum { VS_COPY, VS_APPLY, VS_STATS, VS_REIN, VS_FLOOR0, VS_COUNT = VS_FLOOR0 + PRW_TM_FLOOR_COUNT };
 
 /* CPU time of the process (every lavapipe thread), ms: less sensitive to other processes' load than
  * the wall clock, which the must-show ratio uses. */
@@ -197,7 +198,8 @@ static int run_vs_copy(const tmb_opts *o)
     prw_render_desc rd = {.width = o->w, .height = o->h, .max_views = 1, .quality = prw_quality_default()};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_view v;
-    prw_tonemap_settings ex = {.op = PRW_TM_EXPOSURE}, exs = {.op = PRW_TM_EXPOSURE, .report = true};
+    prw_tonemap_settings ex = {.op = PRW_TM_EXPOSURE}, exs = {.op = PRW_TM_EXPOSURE, .report = true},
+                         rein = {.op = PRW_TM_REINHARD};
     int cam = prw_scene_find_camera(scene, "main");
     if (cam < 0) cam = 0;
     if (!prw_view_from_camera(scene, cam, o->w, o->h, &v, &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
@@ -221,6 +223,10 @@ static int run_vs_copy(const tmb_opts *o)
         c0 = cpu_ms();
         if (!prw_tm_session_run(s, v.ev100, dst[VS_STATS], NULL, NULL, NULL, &e)) goto done;
         *dc[VS_STATS] = cpu_ms() - c0;
+        if (!prw_renderer_set_tonemap(r, &disp, &rein, &e)) goto done;
+        c0 = cpu_ms();
+        if (!prw_tm_session_run(s, v.ev100, dst[VS_REIN], NULL, NULL, NULL, &e)) goto done;
+        *dc[VS_REIN] = cpu_ms() - c0;
         for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++) {
             c0 = cpu_ms();
             if (!prw_tm_session_time_floor(s, (prw_tm_floor)f, dst[VS_FLOOR0 + f], &e)) goto done;
@@ -240,6 +246,7 @@ static int run_vs_copy(const tmb_opts *o)
     print_vs("copy (vkCmdCopyImage, RGBA16F)", t[VS_COPY], cpu[VS_COPY], t[VS_COPY], n, 12340);
     print_vs("tone map: exposure apply", t[VS_APPLY], cpu[VS_APPLY], t[VS_COPY], n, 12347);
     print_vs("tone map: statistics + apply", t[VS_STATS], cpu[VS_STATS], t[VS_COPY], n, 12348);
+    print_vs("tone map: reinhard (stats + apply)", t[VS_REIN], cpu[VS_REIN], t[VS_COPY], n, 12349);
     printf(" yardsticks (floors of one pass over the image):\n");
     for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++)
         print_vs(prw_tm_floor_name((prw_tm_floor)f), t[VS_FLOOR0 + f], cpu[VS_FLOOR0 + f], t[VS_COPY], n,
