@@ -66,11 +66,11 @@ struct prw_tm_gpu {
     VkPipeline stats_pipe, reduce_pipe, classify_pipe, compact_pipe, local_pipe;
     /* the apply pass specialised on the UBO's mode (op, eotf, overlay, count), on whether it writes the
      * float signal, and fused with the statistics or not: built on first use */
-    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2][2][2];
+    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2][2][2][2]; /* ..., identity primaries */
     VkPipeline apply_pipe; /* this frame's, one of apply_spec (ensure_apply) */
     bool fused;            /* this frame's apply computes the statistics too (tonemap_fused.comp) */
     bool use_fs;           /* this frame's apply is the fragment pass (tonemap_apply.frag): no counts, no statistics */
-    VkPipeline apply_fs[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2]; /* by operator, encoding, with the signal */
+    VkPipeline apply_fs[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2]; /* operator, encoding, signal, identity */
     prw_gpu_image *ldr[PRW_MAX_VIEWS]; /* graph images (pass_tonemap.c binds them) */
     bool write_signal;     /* the apply writes the float signal */
     uint32_t slot_cap;     /* partial slots of the statistics (the counts' partials follow them) */
@@ -300,10 +300,10 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
                            tm->local_pipe, tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
     for (int i = 0; i < 8; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
-    VkPipeline *spec = &tm->apply_spec[0][0][0][0][0][0];
+    VkPipeline *spec = &tm->apply_spec[0][0][0][0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_spec / sizeof *spec; i++)
         if (spec[i]) vkDestroyPipeline(dev, spec[i], NULL);
-    VkPipeline *fsp = &tm->apply_fs[0][0][0];
+    VkPipeline *fsp = &tm->apply_fs[0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_fs / sizeof *fsp; i++)
         if (fsp[i]) vkDestroyPipeline(dev, fsp[i], NULL);
     if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
@@ -441,15 +441,18 @@ static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
     if (op >= PRW_TM_OP_COUNT || eotf > PRW_EOTF_PQ)
         return prw_fail(e, "render: tone map: operator %u / encoding %u unknown", op, eotf);
     uint32_t sig = tm->write_signal, fu = tm->fused;
+    uint32_t id = 1; /* the UBO's display matrix is exactly the identity (Rec.709 displays) */
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) id &= u->m[r][c] == (r == c ? 1.0f : 0.0f);
     /* nothing counted and no statistics with it: the fragment pass (colour attachments) */
     tm->use_fs = !fu && !cnt && !ov && (op == PRW_TM_EXPOSURE || op == PRW_TM_REINHARD || op == PRW_TM_NEUTRAL ||
                                         op == PRW_TM_ADAPTIVE);
     if (tm->use_fs) {
-        VkPipeline *f = &tm->apply_fs[op][eotf][sig];
+        VkPipeline *f = &tm->apply_fs[op][eotf][sig][id];
         prw_graphics_desc d = {.vs = prw_shader_tonemap_fs_vert(),
                                .fs = sig ? prw_shader_tonemap_apply_sig_frag() : prw_shader_tonemap_apply_frag(),
-                               .fs_spec = {op, eotf, 0, 0, sig},
-                               .fs_spec_count = 5,
+                               .fs_spec = {op, eotf, 0, 0, sig, id},
+                               .fs_spec_count = 6,
                                .layout = tm->layout,
                                .color_formats = {VK_FORMAT_R8G8B8A8_UNORM, SIG_FORMAT},
                                .color_count = sig ? 2 : 1};
@@ -457,10 +460,10 @@ static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
         tm->apply_pipe = *f;
         return true;
     }
-    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt][sig][fu];
-    uint32_t spec[5] = {op, eotf, ov, cnt, sig};
+    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt][sig][fu][id];
+    uint32_t spec[6] = {op, eotf, ov, cnt, sig, id};
     if (!*p && !prw_pipeline_compute_spec(tm->gpu, fu ? prw_shader_tonemap_fused_comp() : prw_shader_tonemap_apply_comp(),
-                                          tm->layout, spec, 5, p, e))
+                                          tm->layout, spec, 6, p, e))
         return prw_fail_wrap(e, "render: tone map");
     tm->apply_pipe = *p;
     return true;
