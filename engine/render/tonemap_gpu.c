@@ -11,7 +11,12 @@
  *              (tonemap_classify.comp: the Sobel of the log luminance it already computes gives each
  *              16 x 16 block's largest gradient), so the classification is not a pass of its own;
  *   "tonemap"  (per view: operator -> gamut mapping -> inverse display model; writes the signal V as
- *              RGBA32F before quantisation and as RGBA8 for PNGs and presenting).
+ *              RGBA8 for PNGs and presenting and, when the graph keeps it, as RGBA32F before
+ *              quantisation).  Global operators with nothing counted and no statistics computed with
+ *              them: a full-screen fragment pass (tonemap_apply.frag; on lavapipe colour attachments
+ *              are written by vectorised format code, compute imageStores lane by lane), the images
+ *              switched to colour-attachment layout and back inside the pass; with counts or fused
+ *              statistics: tonemap_fused.comp; selective's global part: tonemap_apply.comp.
  *            local: instead of tonemap_apply.comp, full-image separable passes (tonemap_sep_lum.comp:
  *            scaled luminance; tonemap_sep_blur.comp: 9 levels x horizontal + vertical into layers of a
  *            scratch r32f array; tonemap_sep_final.comp: scale selection, Ld, encoding), or with
@@ -24,7 +29,9 @@
  *            the vertical pass and the final step on the needed blocks only).
  * Profiling (prw_tm_session_profile): the dispatches are recorded through tm_dispatch*, which leave out
  * every scope from prof_limit on, so a scope's time is the difference of two runs' wall times.
- * The C reference is tonemap_ops.c; shaders/tonemap_*.comp mirror it. */
+ * The pipelines are specialised (operator, encoding, overlay, counting, float signal, identity display
+ * matrix): on lavapipe every branch of a shader costs whether taken or not.
+ * The C reference is tonemap_ops.c; shaders/tonemap_*.comp / .frag mirror it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
