@@ -176,8 +176,10 @@ static int prw_render_job_run(const render_job *job)
     prw_display disp;
     if (!prw_display_resolve(job->display ? job->display : "srgb", &disp, &e)) goto done;
     prw_glare_settings gs = {.n = 512, .ppd = disp.ppd > 0 ? disp.ppd : 40.0};
+    bool hdr10 = disp.eotf == PRW_EOTF_PQ && disp.primaries == PRW_PRIMARIES_REC2020; /* as write_display_files */
     prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,
-                          .timestamps = job->pass_times, .glare = job->glare ? &gs : NULL};
+                          .timestamps = job->pass_times, .glare = job->glare ? &gs : NULL,
+                          .display_signal = hdr10 || job->display_exr};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap, .overlay = job->tm_overlay,
                                 .sel_threshold = job->tm_threshold, .sel_tile = (uint32_t)job->tm_tile};

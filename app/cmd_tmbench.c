@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "app.h"
 #include "prw_demo.h"
@@ -32,9 +33,12 @@ static void tmbench_usage(void)
            "  --profile          also print per-pass GPU times (timestamps) of one run per operator and image\n"
            "  --vs-copy          instead: the tone-mapping stage against a vkCmdCopyImage of the same image\n"
            "                     (the demo's first frame as RGBA16F, default 1280x720): the exposure tone map (apply\n"
-           "                     only, as in the demo), the same with the statistics pass (counting on), and the\n"
+           "                     only, as in the demo), the same with the statistics (counting on: computed in the\n"
+           "                     apply pass itself), Reinhard (a statistics pass before the apply), and the\n"
            "                     copy, interleaved for --reps runs (default 30); prints medians and the ratios\n"
-           "                     stage/copy with bootstrap 95 %% intervals\n"
+           "                     stage/copy with bootstrap 95 %% intervals; and the yardsticks (floors of one pass\n"
+           "                     over the image: compute dispatch, read, stores to images and buffers, a fragment\n"
+           "                     pass writing colour attachments), interleaved with them\n"
            "Times are host wall clock around submit + wait of the tone-mapping passes only (stats,\n"
            "classification, global, local); on lavapipe the GPU is the CPU.  Local: the separable full-image\n"
            "passes.  Selective is also timed with no tile marked (its global part c_global), which gives the\n"
@@ -153,7 +157,29 @@ static bool bench_image(prw_renderer *r, const prw_display *d, const tmb_opts *o
     return ok;
 }
 
-/* --vs-copy (issue "Speed", must-show 3): the tone-mapping stage at memory speed? */
+/* --vs-copy (issue "Speed", must-show 3): the tone-mapping stage at memory speed?  Series, interleaved
+ * rep by rep: the copy, the stage (exposure apply; statistics + apply) and the yardsticks
+ * (prw_tm_session_time_floor: what a pass over the image costs at least on this device). */
+enum { VS_COPY, VS_APPLY, VS_STATS, VS_REIN, VS_FLOOR0, VS_COUNT = VS_FLOOR0 + PRW_TM_FLOOR_COUNT };
+
+/* CPU time of the process (every lavapipe thread), ms: less sensitive to other processes' load than
+ * the wall clock, which the must-show ratio uses. */
+static double cpu_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
+}
+
+static void print_vs(const char *label, const double *t, const double *cpu, const double *tc, size_t n, uint64_t seed)
+{
+    prw_stats_ratio r;
+    printf("  %-36s %7.2f ms (cpu %7.2f ms)", label, median_of(t, n), median_of(cpu, n));
+    if (prw_stats_bootstrap_median_ratio(tc, n, t, n, true, 2000, seed, &r))
+        printf("  x%6.2f copy (95 %% bootstrap interval %.2f .. %.2f)", r.ratio, r.lo, r.hi);
+    printf("\n");
+}
+
 static int run_vs_copy(const tmb_opts *o)
 {
     prw_error e = {{0}};
@@ -164,14 +190,16 @@ static int run_vs_copy(const tmb_opts *o)
     prw_image hdr = {0};
     int rc = 1;
     size_t n = (size_t)o->reps;
-    double *tc = prw_calloc(n, sizeof *tc), *ta = prw_calloc(n, sizeof *ta), *tsa = prw_calloc(n, sizeof *tsa);
+    double *t[VS_COUNT], *cpu[VS_COUNT];
+    for (int i = 0; i < VS_COUNT; i++) t[i] = prw_calloc(n, sizeof *t[i]), cpu[i] = prw_calloc(n, sizeof *cpu[i]);
     prw_display disp;
     if (!prw_display_resolve(o->display ? o->display : "srgb", &disp, &e)) goto done;
     if (!prw_app_load_scene(NULL, &scene, &e) || !prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_render_desc rd = {.width = o->w, .height = o->h, .max_views = 1, .quality = prw_quality_default()};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_view v;
-    prw_tonemap_settings ex = {.op = PRW_TM_EXPOSURE}, exs = {.op = PRW_TM_EXPOSURE, .report = true};
+    prw_tonemap_settings ex = {.op = PRW_TM_EXPOSURE}, exs = {.op = PRW_TM_EXPOSURE, .report = true},
+                         rein = {.op = PRW_TM_REINHARD};
     int cam = prw_scene_find_camera(scene, "main");
     if (cam < 0) cam = 0;
     if (!prw_view_from_camera(scene, cam, o->w, o->h, &v, &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
@@ -180,24 +208,49 @@ static int run_vs_copy(const tmb_opts *o)
         goto done;
     printf("prw tmbench --vs-copy: %ux%u RGBA16F (the demo, camera main), display %s, %zu interleaved runs, device %s\n",
            o->w, o->h, disp.name, n, prw_gpu_device_name(gpu));
-    double warm;
-    if (!prw_tm_session_time_copy(s, &warm, &e) || !prw_tm_session_run(s, v.ev100, &warm, NULL, NULL, NULL, &e) ||
-        !prw_renderer_set_tonemap(r, &disp, &exs, &e) || !prw_tm_session_run(s, v.ev100, &warm, NULL, NULL, NULL, &e))
-        goto done; /* warm-up: pipelines built, pages touched */
-    for (size_t k = 0; k < n; k++)
-        if (!prw_tm_session_time_copy(s, &tc[k], &e) || !prw_renderer_set_tonemap(r, &disp, &ex, &e) ||
-            !prw_tm_session_run(s, v.ev100, &ta[k], NULL, NULL, NULL, &e) ||
-            !prw_renderer_set_tonemap(r, &disp, &exs, &e) ||
-            !prw_tm_session_run(s, v.ev100, &tsa[k], NULL, NULL, NULL, &e))
-            goto done;
+    /* rep -1: warm-up (pipelines built, pages touched) */
+    for (long k = -1; k < (long)n; k++) {
+        double w, wc, *dst[VS_COUNT], *dc[VS_COUNT], c0;
+        for (int i = 0; i < VS_COUNT; i++) dst[i] = k < 0 ? &w : &t[i][k], dc[i] = k < 0 ? &wc : &cpu[i][k];
+        c0 = cpu_ms();
+        if (!prw_tm_session_time_copy(s, dst[VS_COPY], &e)) goto done;
+        *dc[VS_COPY] = cpu_ms() - c0;
+        if (!prw_renderer_set_tonemap(r, &disp, &ex, &e)) goto done;
+        c0 = cpu_ms();
+        if (!prw_tm_session_run(s, v.ev100, dst[VS_APPLY], NULL, NULL, NULL, &e)) goto done;
+        *dc[VS_APPLY] = cpu_ms() - c0;
+        if (!prw_renderer_set_tonemap(r, &disp, &exs, &e)) goto done;
+        c0 = cpu_ms();
+        if (!prw_tm_session_run(s, v.ev100, dst[VS_STATS], NULL, NULL, NULL, &e)) goto done;
+        *dc[VS_STATS] = cpu_ms() - c0;
+        if (!prw_renderer_set_tonemap(r, &disp, &rein, &e)) goto done;
+        c0 = cpu_ms();
+        if (!prw_tm_session_run(s, v.ev100, dst[VS_REIN], NULL, NULL, NULL, &e)) goto done;
+        *dc[VS_REIN] = cpu_ms() - c0;
+        for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++) {
+            c0 = cpu_ms();
+            if (!prw_tm_session_time_floor(s, (prw_tm_floor)f, dst[VS_FLOOR0 + f], &e)) goto done;
+            *dc[VS_FLOOR0 + f] = cpu_ms() - c0;
+        }
+    }
     prw_stats_ratio ra, rs;
     printf("copy %.2f ms, tone map (apply) %.2f ms, tone map (statistics + apply) %.2f ms (medians)\n",
-           median_of(tc, n), median_of(ta, n), median_of(tsa, n));
-    if (prw_stats_bootstrap_median_ratio(tc, n, ta, n, true, 2000, 12347, &ra) &&
-        prw_stats_bootstrap_median_ratio(tc, n, tsa, n, true, 2000, 12348, &rs))
+           median_of(t[VS_COPY], n), median_of(t[VS_APPLY], n), median_of(t[VS_STATS], n));
+    if (prw_stats_bootstrap_median_ratio(t[VS_COPY], n, t[VS_APPLY], n, true, 2000, 12347, &ra) &&
+        prw_stats_bootstrap_median_ratio(t[VS_COPY], n, t[VS_STATS], n, true, 2000, 12348, &rs))
         printf("tone map / copy: apply x%.2f (95 %% bootstrap interval %.2f .. %.2f), statistics + apply x%.2f "
                "(%.2f .. %.2f)\n",
                ra.ratio, ra.lo, ra.hi, rs.ratio, rs.lo, rs.hi);
+    printf("medians of the wall time (and of the process CPU time around the call, all threads); wall-time ratios "
+           "to the copy (paired by rep) with bootstrap 95 %% intervals:\n");
+    print_vs("copy (vkCmdCopyImage, RGBA16F)", t[VS_COPY], cpu[VS_COPY], t[VS_COPY], n, 12340);
+    print_vs("tone map: exposure apply", t[VS_APPLY], cpu[VS_APPLY], t[VS_COPY], n, 12347);
+    print_vs("tone map: statistics + apply", t[VS_STATS], cpu[VS_STATS], t[VS_COPY], n, 12348);
+    print_vs("tone map: reinhard (stats + apply)", t[VS_REIN], cpu[VS_REIN], t[VS_COPY], n, 12349);
+    printf(" yardsticks (floors of one pass over the image):\n");
+    for (int f = 0; f < PRW_TM_FLOOR_COUNT; f++)
+        print_vs(prw_tm_floor_name((prw_tm_floor)f), t[VS_FLOOR0 + f], cpu[VS_FLOOR0 + f], t[VS_COPY], n,
+                 12350 + (uint64_t)f);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "prw tmbench: error: %s\n", e.msg);
@@ -206,9 +259,7 @@ done:
     prw_renderer_destroy(r);
     prw_scene_destroy(scene);
     prw_gpu_destroy(gpu);
-    free(tc);
-    free(ta);
-    free(tsa);
+    for (int i = 0; i < VS_COUNT; i++) free(t[i]), free(cpu[i]);
     return rc;
 }
 

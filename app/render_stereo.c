@@ -103,7 +103,7 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     const char *vb = job->q.stereo_reuse && !job->views_backend ? "loop" : job->views_backend;
     if (!prw_views_backend_resolve(gpu, vb, &backend, &e)) goto done;
     prw_render_desc rd = {.width = st.eye_w, .height = st.eye_h, .quality = job->q, .max_views = 2,
-                          .views_backend = backend, .compose = &st.compose};
+                          .views_backend = backend, .compose = &st.compose, .display_signal = true};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_display disp;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap};

@@ -35,10 +35,16 @@ layout(constant_id = 0) const int TM_SC_OP = -1;
 layout(constant_id = 1) const int TM_SC_EOTF = -1;
 layout(constant_id = 2) const int TM_SC_OVERLAY = -1;
 layout(constant_id = 3) const int TM_SC_COUNT = -1;
+// 4: the apply writes the float signal too (0: only the RGBA8 image; nobody reads the signal)
+layout(constant_id = 4) const int TM_SC_SIGNAL = 1;
+// 5: the display primaries are the working space's (P.m0-m2 the identity): no matrix (d = r exactly,
+// as the identity's dot products give), and the compiler sees the gamut test's range
+layout(constant_id = 5) const int TM_SC_IDENTITY = 0;
 int tm_mode_op() { return TM_SC_OP >= 0 ? TM_SC_OP : P.mode.x; }
 int tm_mode_eotf() { return TM_SC_EOTF >= 0 ? TM_SC_EOTF : P.mode.y; }
 bool tm_mode_overlay() { return TM_SC_OVERLAY >= 0 ? TM_SC_OVERLAY != 0 : P.mode.z != 0; }
 bool tm_mode_count() { return TM_SC_COUNT >= 0 ? TM_SC_COUNT != 0 : P.mode.w != 0; }
+bool tm_mode_signal() { return TM_SC_SIGNAL != 0; }
 
 const float WHITE_HEADROOM = 1.05; // PRW_TM_WHITE_HEADROOM (engine/render/prw_tonemap.h)
 const int OP_EXPOSURE = 0, OP_REINHARD = 1, OP_NEUTRAL = 2, OP_ADAPTIVE = 3, OP_ABSOLUTE = 4;
@@ -105,19 +111,18 @@ vec3 pbr_neutral(vec3 c)
 vec3 tm_finish(vec3 r, float ry, inout uint flags)
 {
     ry = clamp(ry, 0.0, 1.0);
-    vec3 d = vec3(dot(P.m0.xyz, r), dot(P.m1.xyz, r), dot(P.m2.xyz, r));
+    vec3 d = TM_SC_IDENTITY != 0 ? r : vec3(dot(P.m0.xyz, r), dot(P.m1.xyz, r), dot(P.m2.xyz, r));
     float tt = 1.0, lim_val = 0.0;
     int lim = -1; // the limiting channel lands exactly on its bound (see tonemap_ops.c)
     for (int i = 0; i < 3; i++) {
-        if (d[i] > 1.0 + GAMUT_EPS && (1.0 - ry) / (d[i] - ry) < tt) {
-            tt = (1.0 - ry) / (d[i] - ry);
+        // above 1 and below 0 exclude each other: one division per channel, the same quotient as
+        // tonemap_ops.c's (lavapipe runs both sides of every branch, so each division counts)
+        bool hi = d[i] > 1.0 + GAMUT_EPS, lo = d[i] < -GAMUT_EPS;
+        float t = (hi ? 1.0 - ry : ry) / (hi ? d[i] - ry : ry - d[i]);
+        if ((hi || lo) && t < tt) {
+            tt = t;
             lim = i;
-            lim_val = 1.0;
-        }
-        if (d[i] < -GAMUT_EPS && ry / (ry - d[i]) < tt) {
-            tt = ry / (ry - d[i]);
-            lim = i;
-            lim_val = 0.0;
+            lim_val = hi ? 1.0 : 0.0;
         }
     }
     if (tt < 1.0) flags |= F_GAMUT;

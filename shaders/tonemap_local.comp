@@ -85,7 +85,7 @@ void main()
         }
         vec3 c = san3(texelFetch(src, p, 0).rgb);
         vec3 v = tm_ratio(c, ld, flags);
-        imageStore(sig, p, vec4(v, 1.0));
+        if (tm_mode_signal()) imageStore(sig, p, vec4(v, 1.0));
         imageStore(ldr, p, vec4(v, 1.0));
         if (P.mode.w != 0) {
             if ((flags & F_BELOW) != 0u) atomicAdd(s_cnt[0], 1u);

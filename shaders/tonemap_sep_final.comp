@@ -38,7 +38,7 @@ void main()
             ld = w * ld + (1.0 - w) * (Lc / (1.0 + Lc));
         }
         vec3 o = tm_ratio(c, ld, flags);
-        imageStore(sig, p, vec4(o, 1.0));
+        if (tm_mode_signal()) imageStore(sig, p, vec4(o, 1.0));
         imageStore(ldr, p, vec4(o, 1.0));
         if (count) {
             if ((flags & F_BELOW) != 0u) atomicAdd(s_cnt[0], 1u);

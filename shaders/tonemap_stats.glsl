@@ -1,8 +1,8 @@
 // Tone-mapping statistics, stage 1 (pass_tonemap.c "tm_stats"), shared by tonemap_stats.comp and,
 // with TM_CLASSIFY, tonemap_classify.comp (selective): one workgroup of 16 x 16 invocations per
-// 64 x 64 region of one view (each invocation sums 16 pixels, so the shared-memory reduction and its
-// barriers run once per 4096 pixels): the sum of ln(delta + Y) (Reinhard et al. 2002, eq. 1, delta
-// guards against log 0), the largest Y and the pixel count into one partial slot.  Input sanitised
+// 64 x 64 region of one view: each invocation sums 16 pixels, the sum of ln(delta + Y) (Reinhard et
+// al. 2002, eq. 1, delta guards against log 0), the largest Y and the pixel count, into its own
+// partial slot (256 per workgroup).  Input sanitised
 // like tonemap_ops.c: NaN and negative -> 0, above 1e12 cd/m^2 (and +Inf) -> 1e12.
 // TM_CLASSIFY: the same ln(delta + Y) of the region and a 1-pixel clamp-to-edge halo stay in shared
 // memory, and the 3 x 3 Sobel of log10(delta + Y) = ln(delta + Y) / ln 10 gives each 16 x 16 block's
@@ -10,9 +10,6 @@
 // marks the tiles (mirror of prw_tm_classify, tonemap_ops.c).  The classification costs one more
 // barrier and the halo's logs, not a pass of its own over the image.
 const int REG = 64;
-shared float s_sum[256];
-shared float s_max[256];
-shared float s_n[256];
 #ifdef TM_CLASSIFY
 const int SIDE = REG + 2;
 shared float s_lg[SIDE * SIDE];
@@ -68,22 +65,11 @@ void main()
             n += 1.0;
         }
 #endif
-    s_sum[t] = s;
-    s_max[t] = m;
-    s_n[t] = n;
-    barrier();
-    for (uint k = 128u; k > 0u; k >>= 1) {
-        if (t < k) {
-            s_sum[t] += s_sum[t + k];
-            s_max[t] = max(s_max[t], s_max[t + k]);
-            s_n[t] += s_n[t + k];
-        }
-        barrier();
-    }
-    if (t == 0u)
-        st.partial[pc.base + gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] =
-            vec4(s_sum[0], s_max[0], s_n[0], 0.0);
+    // one partial per invocation (16 pixels), summed by tonemap_reduce.comp: no shared-memory tree
+    // (on lavapipe every barrier switches all of the workgroup's coroutines)
+    st.partial[pc.base + (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + t] = vec4(s, m, n, 0.0);
 #ifdef TM_CLASSIFY
+    barrier(); // every block's atomicMax done
     if (t < 16u) {
         uvec2 b = gl_WorkGroupID.xy * 4u + uvec2(t % 4u, t / 4u);
         if (b.x < tm_blocks_x() && b.y < tm_blocks_y())

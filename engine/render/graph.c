@@ -439,6 +439,7 @@ static bool build(prw_graph *g, const prw_pass *const *table, const char *const 
         graph_res *r = &g->res[ri];
         if (r->is_buffer || !r->declared || r->dropped || r->creator < 0 || !g->passes[r->creator].in_graph) continue;
         if (r->exported) r->usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+        r->usage |= r->decl.usage;
         if (r->decl.transient && !(r->usage & ~(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
                                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)))
             r->usage |= VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT;

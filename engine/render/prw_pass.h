@@ -81,6 +81,9 @@ typedef struct prw_image_decl {
     bool transient;         /* content never needed after the pass (MSAA colour) */
     bool clear_at_create;   /* cleared once at allocation (colour 0 / depth 0) and left SHADER_READ_ONLY,
                                so readers see defined content even when the writer never runs */
+    VkImageUsageFlags usage; /* added to the declared uses' usages: a pass that writes the image in one of
+                                two ways (tone mapping: storage or colour attachment) declares the common
+                                one as its use and changes the layout itself for the other */
 } prw_image_decl;
 
 /* Uses of a resource by a pass; each maps to a layout, pipeline stages and accesses. */

@@ -85,6 +85,9 @@ typedef struct prw_render_desc {
                                                copied (needs kissfft) */
     const prw_render_debug *debug; /* NULL: none; copied at create (its passes / exports arrays are not: they
                                       must outlive the renderer) */
+    bool display_signal; /* keep the float display signal of every view for prw_renderer_read_signal (HDR10
+                            PNGs, display-referred EXRs, metrics on the signal); otherwise the tone mapping
+                            writes it only when a pass reads it (HMD composition) and the 8-bit image alone */
 } prw_render_desc;
 
 typedef struct prw_pass_stat {
@@ -178,6 +181,26 @@ bool prw_tm_session_create_half(prw_renderer *r, const prw_image *hdr, prw_tm_se
 /* The yardstick of "memory speed": the wall time of a vkCmdCopyImage of the session's input image to
  * another of the same format and size, timed as prw_tm_session_run times its passes. */
 bool prw_tm_session_time_copy(prw_tm_session *s, double *ms, prw_error *e);
+/* The floors of a pass over the image on this device, timed the same way (the yardsticks of prw tmbench
+ * --vs-copy): compute passes with 16 x 16 workgroups (the dispatch alone; reading every pixel; a
+ * texelFetch -> imageStore into the session's RGBA8 or RGBA32F image or packed RGBA8 into a storage
+ * buffer; reading + the statistics' per-workgroup reduction) and full-screen fragment passes
+ * (texelFetch -> the RGBA8 colour attachment, or RGBA8 + RGBA32F). */
+typedef enum prw_tm_floor {
+    PRW_TM_FLOOR_CS_EMPTY,
+    PRW_TM_FLOOR_CS_READ,
+    PRW_TM_FLOOR_CS_RGBA8,
+    PRW_TM_FLOOR_CS_RGBA32F,
+    PRW_TM_FLOOR_CS_BUFFER8,
+    PRW_TM_FLOOR_CS_STATS,
+    PRW_TM_FLOOR_CS_STATS_NB,
+    PRW_TM_FLOOR_CS_LOG,
+    PRW_TM_FLOOR_FS_RGBA8,
+    PRW_TM_FLOOR_FS_BOTH,
+    PRW_TM_FLOOR_COUNT
+} prw_tm_floor;
+bool prw_tm_session_time_floor(prw_tm_session *s, prw_tm_floor k, double *ms, prw_error *e);
+const char *prw_tm_floor_name(prw_tm_floor k);
 /* Profiling (prw tmbench --profile): wall time per pass ("stats", "classify", "blur3h", ...) of the
  * current settings, as differences of runs recording only the first k passes (best of `reps` runs
  * each; GPU timestamps do not time lavapipe's compute dispatches).  base_ms: the run with no pass. */

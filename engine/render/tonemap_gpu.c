@@ -1,14 +1,22 @@
 /* tonemap_gpu — display-aware tone mapping on the GPU (issue 6; tonemap_gpu.h): the state and the
  * recording of the two graph passes (pass_tonemap.c), of tone-mapping sessions and the public
  * tone-mapping calls of prw_render.h.  The passes:
- *   "tm_stats" (once for all views: partials per 64 x 64 region and view -> one reduction: log-average
- *              and largest luminance, and zeroed classification counters); needed when the operator
- *              uses frame statistics (reinhard, adaptive, local, selective) or pixels are classified
- *              (absolute, overlay, report).  Selective: the same pass also classifies
+ *   "tm_stats" (once for all views: a partial per invocation (16 pixels of a 64 x 64 region) and view
+ *              -> one reduction: log-average and largest luminance, and zeroed classification
+ *              counters); runs when the operator keys on frame statistics (reinhard, adaptive, local,
+ *              selective).  The other operators, when statistics or counts are wanted (absolute,
+ *              overlay, report, adaptation), get them from the apply pass itself: tonemap_fused.comp
+ *              tone-maps and sums in one pass over the image, then the same reduction runs.
+ *              Selective: the stats pass also classifies
  *              (tonemap_classify.comp: the Sobel of the log luminance it already computes gives each
  *              16 x 16 block's largest gradient), so the classification is not a pass of its own;
  *   "tonemap"  (per view: operator -> gamut mapping -> inverse display model; writes the signal V as
- *              RGBA32F before quantisation and as RGBA8 for PNGs and presenting).
+ *              RGBA8 for PNGs and presenting and, when the graph keeps it, as RGBA32F before
+ *              quantisation).  Global operators with nothing counted and no statistics computed with
+ *              them: a full-screen fragment pass (tonemap_apply.frag; on lavapipe colour attachments
+ *              are written by vectorised format code, compute imageStores lane by lane), the images
+ *              switched to colour-attachment layout and back inside the pass; with counts or fused
+ *              statistics: tonemap_fused.comp; selective's global part: tonemap_apply.comp.
  *            local: instead of tonemap_apply.comp, full-image separable passes (tonemap_sep_lum.comp:
  *            scaled luminance; tonemap_sep_blur.comp: 9 levels x horizontal + vertical into layers of a
  *            scratch r32f array; tonemap_sep_final.comp: scale selection, Ld, encoding), or with
@@ -21,7 +29,9 @@
  *            the vertical pass and the final step on the needed blocks only).
  * Profiling (prw_tm_session_profile): the dispatches are recorded through tm_dispatch*, which leave out
  * every scope from prof_limit on, so a scope's time is the difference of two runs' wall times.
- * The C reference is tonemap_ops.c; shaders/tonemap_*.comp mirror it. */
+ * The pipelines are specialised (operator, encoding, overlay, counting, float signal, identity display
+ * matrix): on lavapipe every branch of a shader costs whether taken or not.
+ * The C reference is tonemap_ops.c; shaders/tonemap_*.comp / .frag mirror it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,9 +71,20 @@ struct prw_tm_gpu {
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
     VkPipeline stats_pipe, reduce_pipe, classify_pipe, compact_pipe, local_pipe;
-    /* the apply pass specialised on the UBO's mode (op, eotf, overlay, count): built on first use */
-    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2];
+    /* the apply pass specialised on the UBO's mode (op, eotf, overlay, count), on whether it writes the
+     * float signal, and fused with the statistics or not: built on first use */
+    VkPipeline apply_spec[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2][2][2][2]; /* ..., identity primaries */
     VkPipeline apply_pipe; /* this frame's, one of apply_spec (ensure_apply) */
+    bool fused;            /* this frame's apply computes the statistics too (tonemap_fused.comp) */
+    bool use_fs;           /* this frame's apply is the fragment pass (tonemap_apply.frag): no counts, no statistics */
+    VkPipeline apply_fs[PRW_TM_OP_COUNT][PRW_EOTF_PQ + 1][2][2]; /* operator, encoding, signal, identity */
+    prw_gpu_image *ldr[PRW_MAX_VIEWS]; /* graph images (pass_tonemap.c binds them) */
+    bool write_signal;     /* the apply writes the float signal */
+    uint32_t slot_cap;     /* partial slots of the statistics (the counts' partials follow them) */
+    /* without the float signal (write_signal false): the local passes' variants that skip its stores,
+     * and a 1 x 1 image bound in its place (made on first use) */
+    VkPipeline sep_final_nosig, local_nosig;
+    prw_gpu_image dummy_sig;
     /* separable local: set 1 = the scratch image (layers: L, horizontal, 9 levels), made on first use */
     VkDescriptorSetLayout sep_set_layout;
     VkPipelineLayout sep_layout;
@@ -125,8 +146,18 @@ static bool tm_counts(const prw_tonemap_settings *s)
 }
 
 static uint32_t tiles_for(uint32_t w, uint32_t h) { return ((w + TILE - 1) / TILE) * ((h + TILE - 1) / TILE); }
-/* workgroups (partial slots) of the stats pass: 64 x 64 pixel regions (tonemap_stats.glsl) */
+/* workgroups of the stats pass: 64 x 64 pixel regions (tonemap_stats.glsl), 256 partial slots each */
 static uint32_t stats_groups(uint32_t w, uint32_t h) { return ((w + 63) / 64) * ((h + 63) / 64); }
+static uint32_t stats_slots(uint32_t w, uint32_t h) { return stats_groups(w, h) * 256; }
+
+/* Statistics or pixel counts wanted beyond what the operator itself keys on. */
+static bool stats_wanted(const prw_tonemap_settings *s)
+{
+    return tm_counts(s) || (s->adapt && s->op != PRW_TM_ABSOLUTE);
+}
+/* The statistics are computed by the apply pass itself (tonemap_fused.comp): wanted, and the operator
+ * does not need them before it maps a pixel. */
+static bool fused_stats(const prw_tonemap_settings *s) { return !op_needs_stats(s->op) && stats_wanted(s); }
 
 static void fill_ubo(const prw_tm_params *p, bool count, tm_ubo *u)
 {
@@ -178,14 +209,16 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
     prw_display_builtin("srgb", &tm->display);
     tm->dt_next = -1;
     tm->prof_limit = -1;
+    tm->write_signal = true;
     tm->settings.op = (unsigned)op < PRW_TM_OP_COUNT ? op : PRW_TM_EXPOSURE;
+    const VkShaderStageFlags cf = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_FRAGMENT_BIT; /* tonemap_apply.frag */
     VkDescriptorSetLayoutBinding b[6] = {
-        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cf, NULL},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cf, NULL},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cf, NULL},
+        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cf, NULL},
+        {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, cf, NULL},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cf, NULL},
     };
     if (!prw_desc_layout_create(gpu, b, 6, &tm->set_layout, e) ||
         !prw_pipeline_layout_create(gpu, &tm->set_layout, 1, sizeof(tm_pc), &tm->layout, e) ||
@@ -212,7 +245,8 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
         return false;
     memset(tm->tiles.mapped, 0, (size_t)(tm->tile_stride * max_views));
     tm->tiles_per_view = tiles_for(width, height);
-    VkDeviceSize stats_size = sizeof(tm_stats_hdr) + (VkDeviceSize)tm->tiles_per_view * max_views * 16;
+    tm->slot_cap = stats_slots(width, height) * max_views;
+    VkDeviceSize stats_size = sizeof(tm_stats_hdr) + (VkDeviceSize)tm->slot_cap * 2 * 16;
     if (!prw_buffer_create(gpu, sizeof(tm_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD, &tm->params,
                            e) ||
         !prw_buffer_create(gpu, stats_size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_READBACK, &tm->stats, e))
@@ -223,10 +257,36 @@ bool prw_tm_gpu_create(prw_gpu *gpu, prw_desc_pool *pool, uint32_t width, uint32
     return true;
 }
 
-void prw_tm_gpu_bind_view(prw_tm_gpu *tm, uint32_t v, prw_gpu_image *hdr, prw_gpu_image *ldr, prw_gpu_image *signal)
+bool prw_tm_gpu_bind_view(prw_tm_gpu *tm, uint32_t v, prw_gpu_image *hdr, prw_gpu_image *ldr, prw_gpu_image *signal,
+                          prw_error *e)
 {
     tm->signal[v] = signal;
-    write_set(tm, tm->sets[v], hdr->view, ldr->view, signal->view, v * tm->tile_stride, tm->tile_stride);
+    tm->ldr[v] = ldr;
+    if (!signal && !tm->dummy_sig.image) { /* a storage image for the binding the shaders then never write */
+        prw_image_desc d = {.width = 1, .height = 1, .format = SIG_FORMAT, .usage = VK_IMAGE_USAGE_STORAGE_BIT};
+        VkCommandBuffer cmd;
+        if (!prw_image_create(tm->gpu, &d, &tm->dummy_sig, e) || !prw_cmd_begin(tm->gpu, &cmd, e)) return false;
+        prw_cmd_transition(cmd, &tm->dummy_sig, VK_IMAGE_LAYOUT_GENERAL);
+        if (!prw_cmd_submit_wait(tm->gpu, cmd, e)) return false;
+    }
+    write_set(tm, tm->sets[v], hdr->view, ldr->view, signal ? signal->view : tm->dummy_sig.view, v * tm->tile_stride,
+              tm->tile_stride);
+    return true;
+}
+
+/* The local passes' pipelines without the signal's stores (spec constant 4 = 0; 0-3 read the UBO). */
+static bool ensure_nosig(prw_tm_gpu *tm, prw_error *e)
+{
+    if (tm->write_signal || (tm->settings.op != PRW_TM_LOCAL && tm->settings.op != PRW_TM_SELECTIVE)) return true;
+    uint32_t spec[5] = {UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX, 0};
+    if (!tm->sep_final_nosig &&
+        !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_sep_final_comp(), tm->sep_layout, spec, 5,
+                                   &tm->sep_final_nosig, e))
+        return false;
+    if (!tm->local_nosig &&
+        !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_local_comp(), tm->layout, spec, 5, &tm->local_nosig, e))
+        return false;
+    return true;
 }
 
 VkBuffer prw_tm_gpu_stats_buffer(const prw_tm_gpu *tm) { return tm->stats.buffer; }
@@ -240,13 +300,19 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
     prw_buffer_destroy(tm->gpu, &tm->stats);
     prw_buffer_destroy(tm->gpu, &tm->tiles);
     prw_image_destroy(tm->gpu, &tm->sep_img);
+    prw_image_destroy(tm->gpu, &tm->dummy_sig);
+    if (tm->sep_final_nosig) vkDestroyPipeline(dev, tm->sep_final_nosig, NULL);
+    if (tm->local_nosig) vkDestroyPipeline(dev, tm->local_nosig, NULL);
     VkPipeline pipes[8] = {tm->stats_pipe, tm->reduce_pipe,  tm->classify_pipe, tm->compact_pipe,
                            tm->local_pipe, tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
     for (int i = 0; i < 8; i++)
         if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
-    VkPipeline *spec = &tm->apply_spec[0][0][0][0];
+    VkPipeline *spec = &tm->apply_spec[0][0][0][0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_spec / sizeof *spec; i++)
         if (spec[i]) vkDestroyPipeline(dev, spec[i], NULL);
+    VkPipeline *fsp = &tm->apply_fs[0][0][0][0];
+    for (size_t i = 0; i < sizeof tm->apply_fs / sizeof *fsp; i++)
+        if (fsp[i]) vkDestroyPipeline(dev, fsp[i], NULL);
     if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
     if (tm->sep_set_layout) vkDestroyDescriptorSetLayout(dev, tm->sep_set_layout, NULL);
     if (tm->layout) vkDestroyPipelineLayout(dev, tm->layout, NULL);
@@ -297,7 +363,7 @@ static void record_stats(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
         tm_dispatch(tm, cmd, (w[v] + 63) / 64, (h[v] + 63) / 64, 1);
-        base += stats_groups(w[v], h[v]);
+        base += stats_slots(w[v], h[v]);
     }
     compute_barrier(t, CS, RW, CS, RW);
     tb(tm, "reduce");
@@ -368,7 +434,7 @@ static void record_local_sep(prw_tm_gpu *tm, const tm_rec *t, VkDescriptorSet se
         }
     compute_barrier(t, CS, RW, CS, RW);
     tb(tm, "sep_final");
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->sep_final_pipe);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->write_signal ? tm->sep_final_pipe : tm->sep_final_nosig);
     vkCmdPushConstants(cmd, tm->sep_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
     sep_dispatch(tm, cmd, tile_off, gx, gy, 0);
     compute_barrier(t, CS, RW, CS, RW);
@@ -381,21 +447,93 @@ static bool ensure_apply(prw_tm_gpu *tm, prw_error *e)
     uint32_t op = (uint32_t)u->mode[0], eotf = (uint32_t)u->mode[1], ov = u->mode[2] != 0, cnt = u->mode[3] != 0;
     if (op >= PRW_TM_OP_COUNT || eotf > PRW_EOTF_PQ)
         return prw_fail(e, "render: tone map: operator %u / encoding %u unknown", op, eotf);
-    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt];
-    uint32_t spec[4] = {op, eotf, ov, cnt};
-    if (!*p && !prw_pipeline_compute_spec(tm->gpu, prw_shader_tonemap_apply_comp(), tm->layout, spec, 4, p, e))
+    uint32_t sig = tm->write_signal, fu = tm->fused;
+    uint32_t id = 1; /* the UBO's display matrix is exactly the identity (Rec.709 displays) */
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) id &= u->m[r][c] == (r == c ? 1.0f : 0.0f);
+    /* nothing counted and no statistics with it: the fragment pass (colour attachments) */
+    tm->use_fs = !fu && !cnt && !ov && (op == PRW_TM_EXPOSURE || op == PRW_TM_REINHARD || op == PRW_TM_NEUTRAL ||
+                                        op == PRW_TM_ADAPTIVE);
+    if (tm->use_fs) {
+        VkPipeline *f = &tm->apply_fs[op][eotf][sig][id];
+        prw_graphics_desc d = {.vs = prw_shader_tonemap_fs_vert(),
+                               .fs = sig ? prw_shader_tonemap_apply_sig_frag() : prw_shader_tonemap_apply_frag(),
+                               .fs_spec = {op, eotf, 0, 0, sig, id},
+                               .fs_spec_count = 6,
+                               .layout = tm->layout,
+                               .color_formats = {VK_FORMAT_R8G8B8A8_UNORM, SIG_FORMAT},
+                               .color_count = sig ? 2 : 1};
+        if (!*f && !prw_pipeline_graphics(tm->gpu, &d, f, e)) return prw_fail_wrap(e, "render: tone map");
+        tm->apply_pipe = *f;
+        return true;
+    }
+    VkPipeline *p = &tm->apply_spec[op][eotf][ov][cnt][sig][fu][id];
+    uint32_t spec[6] = {op, eotf, ov, cnt, sig, id};
+    if (!*p && !prw_pipeline_compute_spec(tm->gpu, fu ? prw_shader_tonemap_fused_comp() : prw_shader_tonemap_apply_comp(),
+                                          tm->layout, spec, 6, p, e))
         return prw_fail_wrap(e, "render: tone map");
     tm->apply_pipe = *p;
     return true;
 }
 
+static void tm_transition(const tm_rec *t, prw_gpu_image *img, VkImageLayout layout)
+{
+    if (t->c) prw_pass_transition(t->c, img, layout);
+    else prw_cmd_transition(t->cmd, img, layout);
+}
+
+/* The fragment-shader apply of one view into ldr (and sig when not NULL), which are in GENERAL before
+ * and after (the pass declares them as storage images). */
+static void record_apply_fs(prw_tm_gpu *tm, const tm_rec *t, VkDescriptorSet set, uint32_t w, uint32_t h,
+                            prw_gpu_image *ldr, prw_gpu_image *sig)
+{
+    VkCommandBuffer cmd = t->cmd;
+    prw_gpu_image *img[2] = {ldr, sig};
+    uint32_t n = sig ? 2 : 1;
+    for (uint32_t i = 0; i < n; i++) tm_transition(t, img[i], VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    /* the statistics (reinhard, adaptive) were written by a compute pass */
+    compute_barrier(t, CS, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    VkRenderingAttachmentInfo at[2];
+    for (uint32_t i = 0; i < n; i++)
+        at[i] = (VkRenderingAttachmentInfo){.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+                                            .imageView = img[i]->view,
+                                            .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                                            .storeOp = VK_ATTACHMENT_STORE_OP_STORE};
+    VkRenderingInfo ri = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                          .renderArea = {{0, 0}, {w, h}},
+                          .layerCount = 1,
+                          .colorAttachmentCount = n,
+                          .pColorAttachments = at};
+    if (t->c) prw_pass_begin_rendering(t->c, &ri);
+    else vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, tm->apply_pipe);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, tm->layout, 0, 1, &set, 0, NULL);
+    tm_pc pc = {w, h, 0, 0};
+    vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+    prw_cmd_viewport(cmd, w, h);
+    if (tm_on(tm)) vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (t->c) prw_pass_end_rendering(t->c);
+    else vkCmdEndRendering(cmd);
+    for (uint32_t i = 0; i < n; i++) tm_transition(t, img[i], VK_IMAGE_LAYOUT_GENERAL);
+}
+
 static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet *sets, const uint32_t *w,
-                         const uint32_t *h, const VkDeviceSize *tile_off, uint32_t count)
+                         const uint32_t *h, const VkDeviceSize *tile_off, prw_gpu_image *const *ldr,
+                         prw_gpu_image *const *sig, uint32_t count)
 {
     VkCommandBuffer cmd = t->cmd;
     prw_tm_op op = tm->settings.op;
+    uint32_t base = 0; /* fused: the view's first partial slot */
+    if (tm->fused && !t->c) compute_barrier(t, CS | VK_PIPELINE_STAGE_2_HOST_BIT, RW | VK_ACCESS_2_HOST_READ_BIT, CS, RW);
     for (uint32_t v = 0; v < count; v++) {
-        tm_pc pc = {w[v], h[v], 0, 0};
+        if (tm->use_fs) {
+            tb(tm, "apply_fs");
+            record_apply_fs(tm, t, sets[v], w[v], h[v], ldr[v], tm->write_signal ? sig[v] : NULL);
+            continue;
+        }
+        tm_pc pc = {w[v], h[v], base, tm->slot_cap};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->layout, 0, 1, &sets[v], 0, NULL);
         vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
         if (op == PRW_TM_LOCAL && !tm->settings.local_tiled) {
@@ -404,7 +542,7 @@ static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
         }
         if (op == PRW_TM_LOCAL) {
             tb(tm, "local_tiled");
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->local_pipe);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->write_signal ? tm->local_pipe : tm->local_nosig);
             tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
             compute_barrier(t, CS, RW, CS, RW);
             continue;
@@ -416,11 +554,27 @@ static void record_apply(prw_tm_gpu *tm, const tm_rec *t, const VkDescriptorSet 
             compute_barrier(t, CS, RW, CS | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                             RW | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
         }
+        if (tm->fused) { /* 64 x 64 regions, statistics and counts into partial slots */
+            tb(tm, "stats+apply");
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
+            tm_dispatch(tm, cmd, (w[v] + 63) / 64, (h[v] + 63) / 64, 1);
+            base += stats_slots(w[v], h[v]);
+            continue;
+        }
         tb(tm, "apply");
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->apply_pipe);
         tm_dispatch(tm, cmd, (w[v] + 15) / 16, (h[v] + 15) / 16, 1);
         compute_barrier(t, CS, RW, CS, RW);
         if (op == PRW_TM_SELECTIVE) record_local_sep(tm, t, sets[v], w[v], h[v], tile_off[v]); /* pixels disjoint from apply's */
+    }
+    if (tm->fused) { /* the frame's statistics and counts from every view's partials */
+        compute_barrier(t, CS, RW, CS, RW);
+        tb(tm, "reduce");
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, tm->reduce_pipe);
+        tm_pc pc = {tm->counted ? 1u : 0u, 0, tm->slot_cap, base};
+        vkCmdPushConstants(cmd, tm->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        tm_dispatch(tm, cmd, 1, 1, 1);
+        compute_barrier(t, CS, RW, CS, RW);
     }
     if (count) tm->last_tile_off = tile_off[count - 1];
     /* the stats and tile buffers are read by the host after the frame (in a graph: its export barrier) */
@@ -467,11 +621,7 @@ bool prw_tm_gpu_adaptation(const prw_tm_gpu *tm, double *la)
     return tm->la_valid;
 }
 
-bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm)
-{
-    return op_needs_stats(tm->settings.op) || tm_counts(&tm->settings) ||
-           (tm->settings.adapt && tm->settings.op != PRW_TM_ABSOLUTE);
-}
+bool prw_tm_gpu_stats_needed(const prw_tm_gpu *tm) { return op_needs_stats(tm->settings.op); }
 
 void prw_tm_gpu_record_stats(prw_tm_gpu *tm, const prw_pass_ctx *c)
 {
@@ -490,13 +640,15 @@ bool prw_tm_gpu_record_apply(prw_tm_gpu *tm, const prw_pass_ctx *c, bool stats_r
     if (!ensure_sep(tm, tm->width, tm->height, e)) return false;
     adapt_frame(tm);
     upload_params(tm, c->frame->views[0].ev100, true); /* both eyes share one exposure and La (DESIGN.md §6) */
-    tm->prev_stats = stats_ran;
-    if (!stats_ran) tm->counted = false;
+    tm->fused = fused_stats(&tm->settings);
+    tm->write_signal = tm->signal[0] != NULL; /* the graph keeps it for every view or for none */
+    tm->prev_stats = stats_ran || tm->fused;
+    if (!stats_ran && !tm->fused) tm->counted = false;
     if (!tm->counted) { /* keep the UBO consistent with the graph: no counting without the stats pass */
         tm_ubo *u = tm->params.mapped;
         u->mode[3] = 0;
     }
-    if (!ensure_apply(tm, e)) return false;
+    if (!ensure_apply(tm, e) || !ensure_nosig(tm, e)) return false;
     uint32_t w[PRW_MAX_VIEWS], h[PRW_MAX_VIEWS];
     VkDeviceSize off[PRW_MAX_VIEWS];
     for (uint32_t vi = 0; vi < c->frame->view_count; vi++) {
@@ -506,7 +658,7 @@ bool prw_tm_gpu_record_apply(prw_tm_gpu *tm, const prw_pass_ctx *c, bool stats_r
     }
     tm->prof_count = 0;
     tm_rec t = {c->cmd, c};
-    record_apply(tm, &t, tm->sets, w, h, off, c->frame->view_count);
+    record_apply(tm, &t, tm->sets, w, h, off, tm->ldr, tm->signal, c->frame->view_count);
     return true;
 }
 
@@ -542,7 +694,8 @@ bool prw_renderer_read_signal(prw_renderer *r, uint32_t v, prw_image *out, prw_e
     if (v >= r->desc.max_views) return prw_fail(e, "render: no view %u", v);
     if (!prw_image_alloc(out, (int)r->desc.width, (int)r->desc.height, e)) return false;
     if (!r->tm->signal[v] || !prw_image_readback(r->gpu, r->tm->signal[v], out->rgba, e)) {
-        if (!r->tm->signal[v]) prw_fail(e, "render: view %u has no display signal", v);
+        if (!r->tm->signal[v])
+            prw_fail(e, "render: view %u has no display signal (renderer created without display_signal)", v);
         prw_image_free(out);
         return false;
     }
@@ -596,12 +749,119 @@ struct prw_tm_session {
     prw_gpu_image copy; /* prw_tm_session_time_copy's destination (made on first use) */
     prw_desc_pool *pool; /* the session's own: its set goes with it (the renderer's pool only grows) */
     VkDescriptorSet set;
+    /* the yardsticks (prw_tm_session_time_floor), made on first use */
+    VkDescriptorSetLayout floor_set_layout;
+    VkPipelineLayout floor_layout;
+    VkDescriptorSet floor_set;
+    prw_buffer floor_buf; /* one uint per pixel */
+    VkPipeline floor_pipe[PRW_TM_FLOOR_COUNT];
 };
+
+static const char *const floor_names[PRW_TM_FLOOR_COUNT] = {
+    "cs dispatch only", "cs read only", "cs -> rgba8 image", "cs -> rgba32f image", "cs -> rgba8 buffer",
+    "cs read + stats reduction", "cs stats, no barrier", "cs read + log", "fs -> rgba8 attachment", "fs -> rgba8 + rgba32f attachments"};
+
+const char *prw_tm_floor_name(prw_tm_floor k) { return (unsigned)k < PRW_TM_FLOOR_COUNT ? floor_names[k] : "?"; }
+
+static void floor_destroy(prw_tm_session *s)
+{
+    VkDevice dev = prw_gpu_device(s->r->gpu);
+    for (int i = 0; i < PRW_TM_FLOOR_COUNT; i++)
+        if (s->floor_pipe[i]) vkDestroyPipeline(dev, s->floor_pipe[i], NULL);
+    if (s->floor_layout) vkDestroyPipelineLayout(dev, s->floor_layout, NULL);
+    if (s->floor_set_layout) vkDestroyDescriptorSetLayout(dev, s->floor_set_layout, NULL);
+    prw_buffer_destroy(s->r->gpu, &s->floor_buf);
+}
+
+static bool floor_ensure(prw_tm_session *s, prw_tm_floor k, prw_error *e)
+{
+    prw_gpu *gpu = s->r->gpu;
+    if (!s->floor_layout) {
+        VkShaderStageFlags st = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+        VkDescriptorSetLayoutBinding b[4] = {
+            {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, st, NULL},
+            {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, st, NULL},
+            {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, st, NULL},
+            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, st, NULL},
+        };
+        if (!prw_desc_layout_create(gpu, b, 4, &s->floor_set_layout, e) ||
+            !prw_pipeline_layout_create(gpu, &s->floor_set_layout, 1, sizeof(tm_pc), &s->floor_layout, e) ||
+            !prw_buffer_create(gpu, (VkDeviceSize)s->w * s->h * 4 + 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               PRW_MEM_GPU, &s->floor_buf, e) ||
+            !prw_desc_alloc(gpu, s->pool, s->floor_set_layout, &s->floor_set, e))
+            return false;
+        prw_desc_write_image(gpu, s->floor_set, 0, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, s->in.view,
+                             prw_gpu_sampler(gpu, PRW_SAMPLER_NEAREST_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        prw_desc_write_image(gpu, s->floor_set, 1, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, s->ldr.view, VK_NULL_HANDLE,
+                             VK_IMAGE_LAYOUT_GENERAL);
+        prw_desc_write_image(gpu, s->floor_set, 2, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, s->sig.view, VK_NULL_HANDLE,
+                             VK_IMAGE_LAYOUT_GENERAL);
+        prw_desc_write_buffer(gpu, s->floor_set, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &s->floor_buf, 0, 0);
+    }
+    if (s->floor_pipe[k]) return true;
+    if (k < PRW_TM_FLOOR_FS_RGBA8) {
+        uint32_t mode = (uint32_t)k;
+        return prw_pipeline_compute_spec(gpu, prw_shader_tonemap_floor_comp(), s->floor_layout, &mode, 1,
+                                         &s->floor_pipe[k], e);
+    }
+    bool two = k == PRW_TM_FLOOR_FS_BOTH;
+    prw_graphics_desc d = {.vs = prw_shader_tonemap_fs_vert(),
+                           .fs = two ? prw_shader_tonemap_floor2_frag() : prw_shader_tonemap_floor_frag(),
+                           .layout = s->floor_layout,
+                           .color_formats = {VK_FORMAT_R8G8B8A8_UNORM, SIG_FORMAT},
+                           .color_count = two ? 2 : 1};
+    return prw_pipeline_graphics(gpu, &d, &s->floor_pipe[k], e);
+}
+
+bool prw_tm_session_time_floor(prw_tm_session *s, prw_tm_floor k, double *ms, prw_error *e)
+{
+    if ((unsigned)k >= PRW_TM_FLOOR_COUNT) return prw_fail(e, "tonemap: yardstick %d unknown", (int)k);
+    prw_gpu *gpu = s->r->gpu;
+    VkCommandBuffer cmd;
+    if (!floor_ensure(s, k, e) || !prw_cmd_begin(gpu, &cmd, e)) return false;
+    prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    tm_pc pc = {s->w, s->h, 0, 0};
+    if (k < PRW_TM_FLOOR_FS_RGBA8) {
+        prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
+        prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->floor_pipe[k]);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->floor_layout, 0, 1, &s->floor_set, 0, NULL);
+        vkCmdPushConstants(cmd, s->floor_layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        vkCmdDispatch(cmd, (s->w + 15) / 16, (s->h + 15) / 16, 1);
+    } else {
+        prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        VkRenderingAttachmentInfo at[2];
+        prw_gpu_image *img[2] = {&s->ldr, &s->sig};
+        for (int i = 0; i < 2; i++)
+            at[i] = (VkRenderingAttachmentInfo){.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+                                                .imageView = img[i]->view,
+                                                .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                                .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                                                .storeOp = VK_ATTACHMENT_STORE_OP_STORE};
+        VkRenderingInfo ri = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                              .renderArea = {{0, 0}, {s->w, s->h}},
+                              .layerCount = 1,
+                              .colorAttachmentCount = k == PRW_TM_FLOOR_FS_BOTH ? 2 : 1,
+                              .pColorAttachments = at};
+        vkCmdBeginRendering(cmd, &ri);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s->floor_pipe[k]);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s->floor_layout, 0, 1, &s->floor_set, 0, NULL);
+        prw_cmd_viewport(cmd, s->w, s->h);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        vkCmdEndRendering(cmd);
+    }
+    double t0 = prw_now();
+    if (!prw_cmd_submit_wait(gpu, cmd, e)) return false;
+    *ms = 1e3 * (prw_now() - t0);
+    return true;
+}
 
 
 void prw_tm_session_destroy(prw_tm_session *s)
 {
     if (!s) return;
+    floor_destroy(s);
     prw_image_destroy(s->r->gpu, &s->in);
     prw_image_destroy(s->r->gpu, &s->copy);
     prw_image_destroy(s->r->gpu, &s->ldr);
@@ -635,7 +895,7 @@ static bool session_create(prw_renderer *r, const prw_image *hdr, bool half, prw
     prw_tm_gpu *tm = r->tm;
     uint32_t w = (uint32_t)hdr->width, h = (uint32_t)hdr->height;
     *out = NULL;
-    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views ||
+    if (tiles_for(w, h) > tm->tiles_per_view * r->desc.max_views || stats_slots(w, h) > tm->slot_cap ||
         tile_bytes(w, h) > tm->tile_stride * r->desc.max_views)
         return prw_fail(e, "tonemap: %ux%u image larger than the renderer's stats buffer allows", w, h);
     prw_tm_session *s = prw_calloc(1, sizeof *s);
@@ -651,9 +911,11 @@ static bool session_create(prw_renderer *r, const prw_image *hdr, bool half, prw
         for (size_t i = 0; i < (size_t)w * h * 4; i++) h16[i] = half_bits(hdr->rgba[i]);
     }
     prw_image_desc dldr = {.width = w, .height = h, .format = VK_FORMAT_R8G8B8A8_UNORM,
-                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT};
     prw_image_desc dsig = {.width = w, .height = h, .format = SIG_FORMAT,
-                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+                           .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT};
     bool ok = prw_image_create(r->gpu, &din, &s->in, e) && prw_image_create(r->gpu, &dldr, &s->ldr, e) &&
               prw_image_create(r->gpu, &dsig, &s->sig, e) &&
               prw_image_upload(r->gpu, &s->in, 0, half ? (const void *)h16 : (const void *)hdr->rgba,
@@ -714,19 +976,22 @@ bool prw_tm_session_run(prw_tm_session *s, double ev100, double *ms, prw_image *
     upload_params(tm, ev100, false);
     tm->prev_stats = false; /* the stats buffer now holds this image's, not the last frame's */
     bool need = op_needs_stats(tm->settings.op) || tm_counts(&tm->settings);
+    tm->fused = !op_needs_stats(tm->settings.op) && tm_counts(&tm->settings);
+    tm->write_signal = signal != NULL; /* the session's RGBA8 image alone otherwise, as in a frame */
     if (!need) {
         tm->counted = false;
         ((tm_ubo *)tm->params.mapped)->mode[3] = 0;
     }
-    if (!ensure_apply(tm, e) || !prw_cmd_begin(r->gpu, &cmd, e)) return false;
+    if (!ensure_apply(tm, e) || !ensure_nosig(tm, e) || !prw_cmd_begin(r->gpu, &cmd, e)) return false;
     tm->prof_count = 0;
     prw_cmd_transition(cmd, &s->in, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_cmd_transition(cmd, &s->ldr, VK_IMAGE_LAYOUT_GENERAL);
     prw_cmd_transition(cmd, &s->sig, VK_IMAGE_LAYOUT_GENERAL);
     VkDeviceSize off = 0;
     tm_rec t = {cmd, NULL};
-    if (need) record_stats(tm, &t, &s->set, &s->w, &s->h, 1);
-    record_apply(tm, &t, &s->set, &s->w, &s->h, &off, 1);
+    if (need && !tm->fused) record_stats(tm, &t, &s->set, &s->w, &s->h, 1);
+    prw_gpu_image *ldr = &s->ldr, *sig = &s->sig;
+    record_apply(tm, &t, &s->set, &s->w, &s->h, &off, &ldr, &sig, 1);
     double t0 = prw_now();
     if (!prw_cmd_submit_wait(r->gpu, cmd, e)) return false;
     if (ms) *ms = 1e3 * (prw_now() - t0);

@@ -87,7 +87,8 @@ static void test_renderer(void)
     prw_scene *scene = prw_scene_create();
     prw_renderer *r = NULL;
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
-    prw_render_desc rd = {.width = 64, .height = 48,   .max_views = 2, .quality = prw_quality_default()};
+    prw_render_desc rd = {.width = 64, .height = 48,   .max_views = 2, .quality = prw_quality_default(),
+                          .display_signal = true};
     rd.quality.msaa = 1;
     rd.quality.shadow_size = 256;
     CHECK_OK(prw_gpu_create(&gd, &gpu, &e) && prw_demo_build(scene, prw_v3(0, 0, 0), &e) &&

@@ -1,7 +1,8 @@
 /* GPU tone mapping against the C reference (must-show 1 of issue 6), on lavapipe with the validation
  * layer: per operator and display profile, the display-encoded float signal before quantisation
  * differs from prw_tm_apply by at most 1e-4; the renderer's passes (demo scene, demo path) likewise;
- * extremes stay finite; the pass graph skips the statistics pass when nothing needs it. */
+ * extremes stay finite; the pass graph skips the statistics pass when nothing needs it; without
+ * display_signal the 8-bit image is the same. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -25,7 +26,8 @@ static bool up(void)
     prw_error e;
     prw_gpu_desc d = {.device_index = -1, .validation = true};
     g_scene = prw_scene_create();
-    prw_render_desc rd = {.width = 64, .height = 48,   .max_views = 2, .quality = prw_quality_default()};
+    prw_render_desc rd = {.width = 64, .height = 48,   .max_views = 2, .quality = prw_quality_default(),
+                          .display_signal = true};
     rd.quality.msaa = 1;
     rd.quality.shadow_size = 256;
     if (!prw_gpu_create(&d, &g_gpu, &e) || !prw_demo_build(g_scene, prw_v3(0, 0, 0), &e) ||
@@ -172,8 +174,10 @@ static void test_renderer(void)
             bool stats_ran = false;
             for (uint32_t i = 0; i < st.pass_count; i++)
                 if (strcmp(st.passes[i].name, "tm_stats") == 0) stats_ran = !st.passes[i].skipped;
-            bool want = op == PRW_TM_REINHARD || op == PRW_TM_ADAPTIVE || op == PRW_TM_ABSOLUTE || op == PRW_TM_NEUTRAL ||
-                        op == PRW_TM_LOCAL || op == PRW_TM_SELECTIVE;
+            /* the pass runs for the operators that key on the statistics; absolute and a report (neutral
+             * here) get them and the counts from the apply pass itself (tonemap_fused.comp) */
+            bool want = op == PRW_TM_REINHARD || op == PRW_TM_ADAPTIVE || op == PRW_TM_LOCAL || op == PRW_TM_SELECTIVE;
+            bool fused = op == PRW_TM_ABSOLUTE || op == PRW_TM_NEUTRAL;
             CHECK_MSG(stats_ran == want, "%s: tm_stats %s", prw_tm_op_name((prw_tm_op)op), stats_ran ? "ran" : "skipped");
             /* C reference over both views' HDR (one statistics state) */
             prw_image hdr[2] = {{0}}, sig[2] = {{0}}, both = {0};
@@ -204,7 +208,12 @@ static void test_renderer(void)
             bool counted = prw_renderer_tonemap_report(g_r, &gst, &rep);
             CHECK(counted == (op == PRW_TM_ABSOLUTE || op == PRW_TM_NEUTRAL));
             if (counted) CHECK(rep.pixels == 2 * 64 * 48);
-            if (stats_ran) CHECK(gst.count == 2 * 64 * 48 && fabs(gst.log_avg - cst.log_avg) <= 1e-4 * cst.log_avg);
+            if (stats_ran || fused)
+                CHECK_MSG(gst.count == 2 * 64 * 48 && fabs(gst.log_avg - cst.log_avg) <= 1e-4 * cst.log_avg &&
+                              fabs(gst.max_lum - cst.max_lum) <= 1e-6 * cst.max_lum,
+                          "%s: two-view statistics GPU %.6g %.6g %llu, C %.6g %.6g %llu", prw_tm_op_name((prw_tm_op)op),
+                          gst.log_avg, gst.max_lum, (unsigned long long)gst.count, cst.log_avg, cst.max_lum,
+                          (unsigned long long)cst.count);
             /* the 8-bit image is the quantised signal */
             uint8_t ldr[64 * 48 * 4];
             CHECK_OK(prw_renderer_read_ldr(g_r, 0, ldr, &e), &e);
@@ -279,6 +288,53 @@ static void test_demo_path(void)
     set_tm("srgb", PRW_TM_EXPOSURE, &d, false);
 }
 
+/* A renderer without display_signal: the graph drops the float signal and the passes write the 8-bit
+ * image alone (the shaders' no-signal variants); that image and the counts equal those of the renderer
+ * that keeps the signal, for every path (apply, fused statistics, separable local, selective), and
+ * reading the signal is a clear error. */
+static void test_no_signal(void)
+{
+    if (!up()) return;
+    prw_error e;
+    prw_renderer *r2 = NULL;
+    prw_render_desc rd = {.width = 64, .height = 48, .max_views = 2, .quality = prw_quality_default()};
+    rd.quality.msaa = 1;
+    rd.quality.shadow_size = 256;
+    CHECK_OK(prw_renderer_create(g_gpu, g_scene, &rd, &r2, &e), &e);
+    if (!r2) return;
+    prw_view v[2];
+    CHECK_OK(prw_view_from_camera(g_scene, prw_scene_find_camera(g_scene, "main"), 64, 48, &v[0], &e), &e);
+    v[1] = v[0];
+    v[1].eye.x += 0.063;
+    v[1].view.m[12] -= 0.063;
+    const char *profs[] = {"srgb", "hdr10-1000"};
+    for (size_t pi = 0; pi < PRW_ARRAY_LEN(profs); pi++)
+        for (int op = 0; op < PRW_TM_OP_COUNT; op++) {
+            prw_display d;
+            prw_display_builtin(profs[pi], &d);
+            prw_tonemap_settings s = {.op = (prw_tm_op)op, .report = op == PRW_TM_NEUTRAL || op == PRW_TM_EXPOSURE};
+            uint8_t a[2][64 * 48 * 4], b[2][64 * 48 * 4];
+            CHECK_OK(prw_renderer_set_tonemap(g_r, &d, &s, &e) && prw_renderer_set_tonemap(r2, &d, &s, &e) &&
+                         prw_renderer_render(g_r, v, 2, NULL, &e) && prw_renderer_render(r2, v, 2, NULL, &e) &&
+                         prw_renderer_read_ldr(g_r, 0, a[0], &e) && prw_renderer_read_ldr(g_r, 1, a[1], &e) &&
+                         prw_renderer_read_ldr(r2, 0, b[0], &e) && prw_renderer_read_ldr(r2, 1, b[1], &e),
+                     &e);
+            CHECK_MSG(memcmp(a, b, sizeof a) == 0, "%s %s: the 8-bit images differ without the signal", profs[pi],
+                      prw_tm_op_name((prw_tm_op)op));
+            prw_tm_stats sa, sb;
+            prw_tm_report ra, rb;
+            bool ca = prw_renderer_tonemap_report(g_r, &sa, &ra), cb = prw_renderer_tonemap_report(r2, &sb, &rb);
+            CHECK_MSG(ca == cb && (!ca || (ra.pixels == rb.pixels && ra.below_black == rb.below_black &&
+                                           ra.above_peak == rb.above_peak && ra.out_of_gamut == rb.out_of_gamut)),
+                      "%s %s: counts differ without the signal", profs[pi], prw_tm_op_name((prw_tm_op)op));
+        }
+    prw_image sig = {0};
+    CHECK(!prw_renderer_read_signal(r2, 0, &sig, &e) && strstr(e.msg, "display_signal"));
+    prw_renderer_destroy(r2);
+    prw_display d;
+    set_tm("srgb", PRW_TM_EXPOSURE, &d, false);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -286,6 +342,7 @@ int main(int argc, char **argv)
         {"extremes", test_extremes},
         {"renderer", test_renderer},
         {"demo_path", test_demo_path},
+        {"no_signal", test_no_signal},
     };
     int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
     prw_renderer_destroy(g_r);
