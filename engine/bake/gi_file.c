@@ -259,6 +259,13 @@ bool prw_gi_decode(const void *data, size_t size, const char *name, prw_gi_bake 
     r.at = 8;
     uint32_t ver = r32(&r), hdr = r32(&r);
     if (ver != GI_VERSION || hdr != GI_HDR) return prw_fail(e, "%s: version %u / header size %u (expected %u / %u)", name, ver, hdr, GI_VERSION, GI_HDR);
+    bool zeros = true, hex = true;
+    for (int i = 0; i < 32; i++) {
+        uint8_t ch = r.p[r.at + i];
+        zeros = zeros && ch == 0;
+        hex = hex && ((ch >= '0' && ch <= '9') || (ch >= 'a' && ch <= 'f'));
+    }
+    if (!zeros && !hex) return prw_fail(e, "%s: header: the cache key is not 32 lowercase hex digits", name);
     if (key) {
         memcpy(key, r.p + r.at, 32);
         key[32] = 0;
@@ -267,8 +274,8 @@ bool prw_gi_decode(const void *data, size_t size, const char *name, prw_gi_bake 
     uint64_t tb = r64(&r);
     double texel;
     memcpy(&texel, &tb, 8);
-    uint32_t samples = r32(&r), na = r32(&r), ni = r32(&r);
-    (void)r32(&r);
+    uint32_t samples = r32(&r), na = r32(&r), ni = r32(&r), reserved = r32(&r);
+    if (reserved != 0) return prw_fail(e, "%s: header: reserved field is %u (must be 0)", name, reserved);
     if (!(isfinite(texel) && texel > 0)) return prw_fail(e, "%s: header: texel size is not a positive number", name);
     if (samples < 1 || samples > 65536) return prw_fail(e, "%s: header: samples %u outside 1..65536", name, samples);
     if (na > PRW_GI_MAX_ATLASES) return prw_fail(e, "%s: header: %u atlases (at most %d)", name, na, PRW_GI_MAX_ATLASES);
