@@ -3,7 +3,7 @@
  *    looked up at random interior points of every chart agrees with an independent gather at the
  *    same point (prw_ref_trace_rays, uniform-hemisphere rays x 2 pi cos, mindepth:1, another seed)
  *    within noise (|diff| <= 4 sigma + 2 % for interpolation) at >= 98 % of the points, and the
- *    means agree within 3 %;
+ *    means agree within 3 % (6 % in light mode);
  *  - borders: the same at points 0.25 texel inside every chart border edge (the must-show-4 seam
  *    check at the data level: a lookup there reads the chart's own texels and its dilation);
  *  - formula: on gi-room (glossy floor, specular > 0), prw_gi_radiance of the looked-up E at the
@@ -214,23 +214,24 @@ static void test_gather(void)
     prw_ref_renderer *r = NULL;
     CHECK_OK(prw_ref_create(s, prw_v3(0, 1.25, 0), 0, &r, &e), &e);
     cmp_stats st = {0};
-    int per = prw_test_scale(6, 3), M = prw_test_scale(2048, 4);
+    int M = prw_test_scale(2048, 4);
     for (uint32_t i = 0; i < b->instance_count; i++) {
         if (b->inst[i].mode != PRW_GI_ATLAS) continue;
         uint32_t nt = b->inst[i].triangle_count;
         for (uint32_t t = 0; t < nt; t++)
-            for (int k = 0; k < per / 2 + 1; k++) {
-                double u = 0.1 + 0.8 * urand(), v = 0.1 + 0.8 * urand();
-                if (u + v > 0.9) u = 0.9 - u * 0.5, v = 0.9 - v * 0.5 - u * 0.0;
-                if (u + v > 0.9) continue;
+            for (int k = 0; k < 3; k++) {
+                double u, v;
+                do {
+                    u = 0.1 + 0.8 * urand(), v = 0.1 + 0.8 * urand();
+                } while (u + v > 0.9);
                 compare_point(r, b, s, i, t, u, v, M, &st);
             }
     }
     printf("gather: %d points, %d beyond 4 sigma + 2 %% (worst z %.2f); mean bake %.4f reference %.4f (ratio %.4f)\n",
            st.n, st.bad, st.worst_z, st.sum_b / (3 * st.n), st.sum_r / (3 * st.n), st.sum_b / st.sum_r);
-    CHECK(st.n >= 40);
+    CHECK(st.n >= 60);
     CHECK(st.bad <= st.n / 50);
-    CHECK(fabs(st.sum_b / st.sum_r - 1) <= 0.03);
+    CHECK(fabs(st.sum_b / st.sum_r - 1) <= (prw_test_light() ? 0.06 : 0.03));
     prw_ref_destroy(r);
     prw_gi_bake_destroy(b);
     prw_scene_destroy(s);
@@ -308,7 +309,7 @@ static void test_borders(void)
            edges, st.n, st.bad, st.worst_z, st.sum_b / (3 * st.n), st.sum_r / (3 * st.n), st.sum_b / st.sum_r);
     CHECK(edges >= 24 * 2);
     CHECK(st.bad <= st.n / 50);
-    CHECK(fabs(st.sum_b / st.sum_r - 1) <= 0.03);
+    CHECK(fabs(st.sum_b / st.sum_r - 1) <= (prw_test_light() ? 0.06 : 0.03));
     prw_ref_destroy(r);
     prw_gi_bake_destroy(b);
     prw_scene_destroy(s);
