@@ -256,6 +256,52 @@ static void make_charts(const winst *w, uint32_t ii, double texel, chart **chart
     free(deg);
 }
 
+/* The mesh's own light-map layout (glTF TEXCOORD_1) as one chart: uv1 scaled to the texel size by
+ * the ratio of world to uv1 area, 2 texels of padding around its bounding box.  false (nothing
+ * added) without uvs1 or with a degenerate layout (zero uv1 area, non-finite uvs). */
+static bool chart_uv1(const winst *w, uint32_t ii, double texel, chart **charts, uint32_t *count, uint32_t *cap)
+{
+    const prw_mesh *m = w->m;
+    if (!m->uvs1) return false;
+    uint32_t nt = m->index_count / 3;
+    double uv_area = 0, world_area = 0, umin = INFINITY, vmin = INFINITY, umax = -INFINITY, vmax = -INFINITY;
+    for (uint32_t t = 0; t < nt; t++) {
+        const uint32_t *ix = m->indices + 3 * t;
+        const float *a = m->uvs1 + 2 * ix[0], *b = m->uvs1 + 2 * ix[1], *c = m->uvs1 + 2 * ix[2];
+        uv_area += 0.5 * fabs((double)(b[0] - a[0]) * (c[1] - a[1]) - (double)(c[0] - a[0]) * (b[1] - a[1]));
+        world_area += w->area[t];
+        for (int k = 0; k < 3; k++) {
+            const float *q = m->uvs1 + 2 * ix[k];
+            umin = fmin(umin, q[0]), umax = fmax(umax, q[0]), vmin = fmin(vmin, q[1]), vmax = fmax(vmax, q[1]);
+        }
+    }
+    if (!(uv_area > 1e-12 && world_area > 0 && isfinite(umin + umax + vmin + vmax))) return false;
+    double k = sqrt(world_area / uv_area) / texel; /* texels per uv1 unit */
+    if (!(k * (umax - umin) < 1e7 && k * (vmax - vmin) < 1e7)) return false;
+    if (*count == *cap) {
+        *cap = *cap ? 2 * *cap : 64;
+        *charts = realloc(*charts, sizeof **charts * *cap);
+        if (!*charts) abort();
+    }
+    chart *ch = &(*charts)[(*count)++];
+    memset(ch, 0, sizeof *ch);
+    ch->inst = ii;
+    ch->tri_count = nt;
+    ch->tris = prw_calloc(nt + 1, sizeof(uint32_t));
+    ch->xy = prw_calloc((size_t)nt * 6 + 1, sizeof(double));
+    for (uint32_t t = 0; t < nt; t++) {
+        ch->tris[t] = t;
+        for (int c = 0; c < 3; c++) {
+            const float *q = m->uvs1 + 2 * m->indices[3 * t + c];
+            ch->xy[6 * t + 2 * c] = (q[0] - umin) * k + PRW_GI_PAD;
+            ch->xy[6 * t + 2 * c + 1] = (q[1] - vmin) * k + PRW_GI_PAD;
+        }
+    }
+    ch->w = (uint32_t)ceil(fmax((umax - umin) * k, 1e-9)) + 2 * PRW_GI_PAD;
+    ch->h = (uint32_t)ceil(fmax((vmax - vmin) * k, 1e-9)) + 2 * PRW_GI_PAD;
+    return true;
+}
+
 static const chart *g_sort_charts; /* qsort context (single-threaded build) */
 static int cmp_chart_h(const void *x, const void *y)
 {
@@ -427,7 +473,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
         if (!b->inst[i].mode) continue;
         double a = 0;
         for (uint32_t t = 0; t < wi[i].m->index_count / 3; t++) a += wi[i].area[t];
-        if (sqrt(a / wi[i].m->vertex_count) <= t0) b->inst[i].mode = PRW_GI_VERTEX;
+        if (!wi[i].m->uvs1 && sqrt(a / wi[i].m->vertex_count) <= t0) b->inst[i].mode = PRW_GI_VERTEX;
         else area_atlas += a;
     }
     double texel = area_atlas > 0 ? sqrt(area_atlas) / o.radiosity_size : t0;
@@ -437,7 +483,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
     chart *charts = NULL;
     uint32_t nch = 0, cap = 0;
     for (uint32_t i = 0; i < ni; i++)
-        if (b->inst[i].mode == PRW_GI_ATLAS) make_charts(&wi[i], i, texel, &charts, &nch, &cap);
+        if (b->inst[i].mode == PRW_GI_ATLAS && !chart_uv1(&wi[i], i, texel, &charts, &nch, &cap))
+            make_charts(&wi[i], i, texel, &charts, &nch, &cap);
     b->charts = nch;
     /* shelf packing */
     uint32_t *order = prw_calloc((size_t)nch + 1, sizeof *order);

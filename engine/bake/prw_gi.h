@@ -27,14 +27,19 @@
  *    mode NONE: not baked (no diffuse lobe: metallic >= 1 or a black base colour; emissive-only);
  *    mode ATLAS: flat charts in an atlas, uv = 6 floats per triangle (the corners' light-map uv,
  *    normalised to the atlas: texel (i, j) is centred at ((i + 0.5) / width, (j + 0.5) / height));
- *    mode VERTEX: meshes dense enough (sqrt(world area / vertices) <= texel size: the spheres), one RGB
+ *    mode VERTEX: meshes without TEXCOORD_1 dense enough (sqrt(world area / vertices) <= the texel size
+ *    computed over every baked mesh: the spheres), one RGB
  *    per mesh vertex, interpolated with the triangle's barycentrics.
- *  - Charts (gi_chart.c): triangles welded by position, grouped by connectivity and normal (within
- *    ~2.6 degrees of the chart's first triangle), projected on the plane of that normal, texel size
+ *  - Charts (gi_build.c): a mesh with TEXCOORD_1 (prw_mesh.uvs1, non-degenerate) is one chart: its
+ *    uv1 layout scaled by sqrt(world area / uv1 area) / t texels per uv unit (overlapping uv1
+ *    triangles are not detected: the first one rasterised owns a texel; islands of the layout are
+ *    dilated into each other's gaps, so the author's padding is what separates them).  Other meshes
+ *    are unwrapped: triangles welded by position, grouped by connectivity and normal (within
+ *    ~2.6 degrees of the chart's first triangle), projected on the plane of that normal.  Texel size
  *    t, 2 texels of padding each side; shelf-packed (tallest first) into atlases PRW_GI_ATLAS_W wide
- *    and at most as high, at most PRW_GI_MAX_ATLASES.  TEXCOORD_1 is not used yet (every mesh is
- *    unwrapped); curved meshes coarser than the texel size get one chart per facet (correct, wasteful);
- *    NURBS models are not baked (instance list holds meshes only).
+ *    and at most as high, at most PRW_GI_MAX_ATLASES.  Curved meshes coarser than the texel size
+ *    and without TEXCOORD_1 get one chart per facet (correct, wasteful); NURBS models are not baked
+ *    (the instance list holds meshes only).
  *  - Texel size t = sqrt(A / radiosity_size^2), A = the world area of the ATLAS-mode triangles:
  *    the quality knob radiosity_size ("radiosity texture size, texels a side") keeps its meaning as
  *    the side of the total light-map budget (about radiosity_size^2 sampled texels).

@@ -9,6 +9,8 @@
  *  - formula: on gi-room (glossy floor, specular > 0), prw_gi_radiance of the looked-up E at the
  *    first hit of camera rays agrees with the reference's indirect-diffuse-last along the same rays
  *    (per pixel within 4 sigma + 5 %, the mean within 2.5 %);
+ *  - texcoord1: a mesh with TEXCOORD_1 keeps its layout (an affine map of uv1) and agrees with the
+ *    reference;
  *  - cache: a second run hits the cache; a changed light or radiosity_size changes the key, a
  *    changed camera does not; the file round-trips and a damaged or truncated one is refused. */
 #define _POSIX_C_SOURCE 200809L
@@ -486,6 +488,84 @@ static void test_formula(void)
     prw_scene_destroy(s);
 }
 
+/* A mesh with TEXCOORD_1 is baked in its own layout: a floor quad over the room's floor whose uv1
+ * is rotated by 90 degrees and scaled; the light-map uv of every corner is one affine map of its
+ * uv1 (a uniform scale plus an offset), and the bake agrees with the reference there. */
+static void test_texcoord1(void)
+{
+    prw_scene *s = box_room(60, prw_v3(1.5, 1.5, 1.5));
+    prw_error e = {{0}};
+    int white = 0;
+    int node = prw_scene_add_quad(s, "floor1", prw_v3(0, 0.002, 0), prw_v3(0, 0, 1.9), prw_v3(1.9, 0, 0), white, &e);
+    CHECK(node >= 0);
+    if (node < 0) {
+        prw_scene_destroy(s);
+        return;
+    }
+    prw_mesh *m = &s->meshes[s->groups[s->nodes[node].mesh_group].first];
+    m->uvs1 = prw_calloc((size_t)m->vertex_count * 2, sizeof(float));
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        double x = m->positions[3 * v], z = m->positions[3 * v + 2];
+        m->uvs1[2 * v] = (float)(0.1 + 0.2 * (z + 1.9) / 3.8);
+        m->uvs1[2 * v + 1] = (float)(0.3 + 0.2 * (x + 1.9) / 3.8);
+    }
+    prw_scene_update(s);
+    prw_gi_options o = {.radiosity_size = 24, .samples = (uint32_t)prw_test_scale(512, 8), .seed = 1};
+    prw_gi_bake *b = NULL;
+    CHECK_OK(prw_gi_build(s, &o, NULL, NULL, &b, &e), &e);
+    uint32_t ii = UINT32_MAX;
+    for (uint32_t i = 0; i < b->instance_count; i++)
+        if (b->inst[i].node == (uint32_t)node) ii = i;
+    CHECK(ii != UINT32_MAX && b->inst[ii].mode == PRW_GI_ATLAS);
+    if (ii == UINT32_MAX || b->inst[ii].mode != PRW_GI_ATLAS) {
+        prw_gi_bake_destroy(b);
+        prw_scene_destroy(s);
+        return;
+    }
+    const prw_gi_instance *in = &b->inst[ii];
+    const prw_gi_atlas *A = &b->atlases[in->atlas];
+    /* affine: atlas texel coordinates = k * uv1 + offset, the same k for u and v */
+    const uint32_t *ix0 = m->indices;
+    double k = 0, ou = 0, ov = 0, worst = 0;
+    for (uint32_t t = 0; t < in->triangle_count; t++)
+        for (int c = 0; c < 3; c++) {
+            const float *q = m->uvs1 + 2 * m->indices[3 * t + c];
+            double x = in->uv[6 * t + 2 * c] * A->width, y = in->uv[6 * t + 2 * c + 1] * A->height;
+            if (t == 0 && c == 0) {
+                const float *q1 = m->uvs1 + 2 * ix0[1];
+                double x1 = in->uv[2] * A->width;
+                k = (x1 - x) / (q1[0] - q[0]);
+                if (!isfinite(k)) k = (in->uv[3] * A->height - y) / (q1[1] - q[1]);
+                ou = x - k * q[0], ov = y - k * q[1];
+            }
+            worst = fmax(worst, fmax(fabs(x - (k * q[0] + ou)), fabs(y - (k * q[1] + ov))));
+        }
+    /* k texels per uv1 unit: 3.8 m per 0.2 uv units, so k * texel = 19 */
+    printf("texcoord1: %.3f texels per uv1 unit (expected %.3f), worst affine residual %.2g texels\n", k,
+           3.8 / 0.2 / b->texel_size, worst);
+    CHECK(fabs(k * b->texel_size / 19.0 - 1) < 1e-4);
+    CHECK(worst < 1e-3);
+    prw_ref_renderer *r = NULL;
+    CHECK_OK(prw_ref_create(s, prw_v3(0, 1.25, 0), 0, &r, &e), &e);
+    cmp_stats st = {0};
+    int M = prw_test_scale(2048, 4);
+    for (int q = 0; q < 48; q++) {
+        double u, v;
+        do {
+            u = 0.05 + 0.9 * urand(), v = 0.05 + 0.9 * urand();
+        } while (u + v > 0.95);
+        compare_point(r, b, s, ii, (uint32_t)(q & 1), u, v, M, &st);
+    }
+    printf("texcoord1: %d points, %d beyond 4 sigma + 2 %% (worst z %.2f); ratio %.4f\n", st.n, st.bad, st.worst_z,
+           st.sum_b / st.sum_r);
+    CHECK(st.bad <= 1);
+    CHECK(st.n == 48);
+    CHECK(fabs(st.sum_b / st.sum_r - 1) <= (prw_test_light() ? 0.10 : 0.04));
+    prw_ref_destroy(r);
+    prw_gi_bake_destroy(b);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -493,6 +573,7 @@ int main(int argc, char **argv)
         {"borders", test_borders},
         {"formula", test_formula},
         {"cache", test_cache},
+        {"texcoord1", test_texcoord1},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
