@@ -5,7 +5,9 @@
 #include <string.h>
 
 #include <math.h>
+#include <spawn.h>
 #include <stdlib.h>
+#include <sys/wait.h>
 #include <time.h>
 
 #include "app.h"
@@ -72,6 +74,7 @@ static void gi_help(void)
 {
     printf("usage: prw bake SCENE --gi [--samples N] [--seed N] [--preset CONFIG] [--out FILE.gi] [--no-cache]\n"
            "       prw bake SCENE --gi --sweep [--samples-list A,B,..] [--ref-samples N] [--preset CONFIG] [--csv FILE]\n"
+           "            [--png FILE]\n"
            "  Bakes the indirect-diffuse light maps of SCENE (engine/bake/prw_gi.h): at every light-map texel\n"
            "  (flat charts of our own unwrapper, packed into atlases) and at the vertices of dense meshes, the\n"
            "  irradiance of light that scattered at least once (never direct light), gathered by the reference\n"
@@ -90,6 +93,7 @@ static void gi_help(void)
            "                     2048) and another seed at the same texels; nothing is cached\n"
            "  --samples-list L   the sweep's sample counts (default 16,32,64,128,256)\n"
            "  --csv FILE         the sweep's CSV (default: stdout)\n"
+           "  --png FILE         the sweep's plot (error against CPU seconds, log-log; needs --csv and gnuplot)\n"
            "%s",
            PRW_GI_DEFAULT_SAMPLES, prw_quality_args_help());
 }
@@ -131,6 +135,28 @@ static void gi_compare(const prw_gi_bake *a, const prw_gi_bake *ref, double *rel
     *rel_noise = n && m > 0 ? sqrt(v / n) / m : 0;
 }
 
+extern char **environ;
+
+/* The sweep's plot: relative RMS error against CPU seconds, log-log, through gnuplot (-e, no
+ * script file).  false when gnuplot is missing or fails. */
+static bool gi_plot(const char *csv, const char *png)
+{
+    char cmd[12288];
+    snprintf(cmd, sizeof cmd,
+             "set terminal png size 800,520; set output '%s'; set datafile separator ','; set logscale xy; "
+             "set grid; set key top right; set xlabel 'bake CPU seconds (all threads)'; "
+             "set ylabel 'relative RMS error per texel'; set title 'prw bake --gi: error against bake time'; "
+             "plot '%s' every ::1 using 3:4 with linespoints lw 2 pt 7 title 'error vs reference bake', "
+             "'' every ::1 using 3:5 with lines dt 2 title 'estimated noise (own variance)'",
+             png, csv);
+    char *argv[] = {"gnuplot", "-e", cmd, NULL};
+    pid_t pid;
+    if (posix_spawnp(&pid, "gnuplot", NULL, NULL, argv, environ) != 0) return false;
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0) return false;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
 /* CPU seconds of this process (every thread): the sweep's load-independent cost figure. */
 static double cpu_seconds(void)
 {
@@ -139,7 +165,8 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint32_t ref_samples, const char *csv)
+static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint32_t ref_samples, const char *csv,
+                    const char *png)
 {
     prw_error e = {{0}};
     uint32_t counts[16];
@@ -194,6 +221,10 @@ static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint
     }
     prw_gi_bake_destroy(ref);
     if (csv) fclose(f);
+    if (rc == 0 && png) {
+        if (gi_plot(csv, png)) fprintf(stderr, "prw bake: wrote %s\n", png);
+        else fprintf(stderr, "prw bake: warning: %s not written (gnuplot missing or failed; the CSV is complete)\n", png);
+    }
     return rc;
 }
 
@@ -228,6 +259,10 @@ static int bake_gi(prw_args *a)
     const char *out = bad ? NULL : prw_args_value(a, "out", &e, &bad);
     const char *list = bad ? NULL : prw_args_value(a, "samples-list", &e, &bad);
     const char *csv = bad ? NULL : prw_args_value(a, "csv", &e, &bad);
+    const char *png = bad ? NULL : prw_args_value(a, "png", &e, &bad);
+    if (!bad && png && !csv) bad = !prw_fail(&e, "--png needs --csv FILE (the plot reads it)");
+    if (!bad && png && (strchr(png, '\'') || strchr(csv, '\'')))
+        bad = !prw_fail(&e, "--png / --csv: a path with a single quote cannot be handed to gnuplot");
     bool sweep = prw_args_flag(a, "sweep");
     bool no_cache = prw_args_flag(a, "no-cache");
     if (!bad && !prw_args_finish(a, &e)) bad = true;
@@ -251,13 +286,14 @@ static int bake_gi(prw_args *a)
         return 1;
     }
     if (sweep) {
-        int rc = gi_sweep(s, o, list, ref_samples, csv);
+        int rc = gi_sweep(s, o, list, ref_samples, csv, png);
         prw_scene_destroy(s);
         return rc;
     }
     gi_bar bar = {0, false};
     prw_gi_bake *b = NULL;
     prw_gi_result r;
+    double cpu0 = cpu_seconds();
     if (!prw_gi_run(s, &o, no_cache, gi_progress, &bar, &b, &r, &e)) {
         fprintf(stderr, "prw bake: error: %s\n", e.msg);
         prw_scene_destroy(s);
@@ -283,9 +319,9 @@ static int bake_gi(prw_args *a)
         printf("%s\n", b->atlas_count ? ")" : "");
         printf("instances: %u in atlases, %u per vertex, %u not baked (no diffuse lobe)\n", modes[1], modes[2], modes[0]);
         if (r.built)
-            printf("built in %.2f s: %llu charts, %llu texels + %llu vertices gathered in %.2f s\n", r.seconds_total,
-                   (unsigned long long)b->charts, (unsigned long long)b->sampled_texels,
-                   (unsigned long long)b->sampled_vertices, b->seconds_gather);
+            printf("built in %.2f s (CPU %.2f s, %d threads): %llu charts, %llu texels + %llu vertices gathered in %.2f s\n",
+                   r.seconds_total, cpu_seconds() - cpu0, prw_threads_get(), (unsigned long long)b->charts,
+                   (unsigned long long)b->sampled_texels, (unsigned long long)b->sampled_vertices, b->seconds_gather);
         else
             printf("cache hit (nothing built), %.3f s\n", r.seconds_total);
         if (r.warning[0]) fprintf(stderr, "prw bake: warning: %s\n", r.warning);
