@@ -719,3 +719,65 @@ bool prw_gi_lookup(const prw_gi_bake *b, const prw_scene *s, uint32_t i, uint32_
     }
     return false;
 }
+
+/* ---- vertex split for drawing ---- */
+
+typedef struct corner_rec {
+    uint32_t v, ub, vb, corner;
+} corner_rec;
+
+static int cmp_corner(const void *x, const void *y)
+{
+    const corner_rec *a = x, *b = y;
+    if (a->v != b->v) return a->v < b->v ? -1 : 1;
+    if (a->ub != b->ub) return a->ub < b->ub ? -1 : 1;
+    if (a->vb != b->vb) return a->vb < b->vb ? -1 : 1;
+    return a->corner < b->corner ? -1 : a->corner > b->corner;
+}
+
+void prw_gi_split_free(prw_gi_split *sp)
+{
+    if (!sp) return;
+    free(sp->source);
+    free(sp->uv);
+    free(sp->indices);
+    memset(sp, 0, sizeof *sp);
+}
+
+bool prw_gi_split_vertices(const prw_gi_bake *b, const prw_scene *s, uint32_t i, prw_gi_split *out, prw_error *e)
+{
+    memset(out, 0, sizeof *out);
+    if (i >= b->instance_count || b->inst[i].mode != PRW_GI_ATLAS)
+        return prw_fail(e, "gi: instance %u has no light-map uvs (not an atlas instance)", i);
+    const prw_gi_instance *in = &b->inst[i];
+    if (in->mesh >= s->mesh_count || s->meshes[in->mesh].index_count / 3 != in->triangle_count)
+        return prw_fail(e, "gi: instance %u does not match the scene's mesh %u (another scene or a stale bake)", i,
+                        in->mesh);
+    const prw_mesh *m = &s->meshes[in->mesh];
+    uint32_t nc = in->triangle_count * 3;
+    corner_rec *cr = prw_calloc((size_t)nc + 1, sizeof *cr);
+    for (uint32_t c = 0; c < nc; c++) {
+        cr[c].v = m->indices[c];
+        memcpy(&cr[c].ub, &in->uv[2 * c], 4);
+        memcpy(&cr[c].vb, &in->uv[2 * c + 1], 4);
+        cr[c].corner = c;
+    }
+    qsort(cr, nc, sizeof *cr, cmp_corner);
+    out->index_count = nc;
+    out->indices = prw_calloc((size_t)nc + 1, sizeof(uint32_t));
+    out->source = prw_calloc((size_t)nc + 1, sizeof(uint32_t));
+    out->uv = prw_calloc((size_t)nc * 2 + 2, sizeof(float));
+    uint32_t nv = 0;
+    for (uint32_t c = 0; c < nc; c++) {
+        if (c == 0 || cmp_corner(&(corner_rec){cr[c].v, cr[c].ub, cr[c].vb, 0}, &(corner_rec){cr[c - 1].v, cr[c - 1].ub, cr[c - 1].vb, 0}) != 0) {
+            out->source[nv] = cr[c].v;
+            out->uv[2 * nv] = in->uv[2 * cr[c].corner];
+            out->uv[2 * nv + 1] = in->uv[2 * cr[c].corner + 1];
+            nv++;
+        }
+        out->indices[cr[c].corner] = nv - 1;
+    }
+    out->vertex_count = nv;
+    free(cr);
+    return true;
+}

@@ -139,6 +139,20 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *o, prw_gi_progress_f
 bool prw_gi_lookup(const prw_gi_bake *b, const prw_scene *s, uint32_t i, uint32_t tri, double b1, double b2,
                    double out[3]);
 
+/* The vertex buffer a renderer draws instance i with: the mesh's vertices split where its triangles
+ * give one vertex different light-map uvs (chart borders of a welded mesh), so per-vertex uvs
+ * reproduce the per-corner ones exactly.  source[k]: the mesh vertex new vertex k copies; uv: 2 per
+ * new vertex; indices: the mesh's index count, into the new vertices.  ATLAS instances only (an
+ * error otherwise, or when the scene's mesh does not match the bake). */
+typedef struct prw_gi_split {
+    uint32_t vertex_count, index_count;
+    uint32_t *source;
+    float *uv;
+    uint32_t *indices;
+} prw_gi_split;
+bool prw_gi_split_vertices(const prw_gi_bake *b, const prw_scene *s, uint32_t i, prw_gi_split *out, prw_error *e);
+void prw_gi_split_free(prw_gi_split *sp);
+
 /* Hash of what the bake depends on besides the options (not the cameras). */
 uint64_t prw_gi_content_hash(const prw_scene *s);
 void prw_gi_key(const prw_scene *s, const prw_gi_options *o, char key[33]);

@@ -11,6 +11,7 @@
  *    (per pixel within 4 sigma + 5 %, the mean within 2.5 %);
  *  - texcoord1: a mesh with TEXCOORD_1 keeps its layout (an affine map of uv1) and agrees with the
  *    reference;
+ *  - split: drawing light-map uvs per vertex splits a welded cube's 8 vertices into 24;
  *  - cache: a second run hits the cache; a changed light or radiosity_size changes the key, a
  *    changed camera does not; the file round-trips and a damaged or truncated one is refused. */
 #define _POSIX_C_SOURCE 200809L
@@ -566,6 +567,61 @@ static void test_texcoord1(void)
     prw_scene_destroy(s);
 }
 
+/* Vertex split: a welded cube (8 vertices) unwraps into 6 charts, so drawing it with light-map uvs
+ * needs 24 vertices; every corner's uv and position are reproduced exactly.  The box room's
+ * per-face meshes need no split. */
+static void test_split(void)
+{
+    prw_scene *s = box_room(60, prw_v3(1.5, 1.5, 1.5));
+    prw_error e = {{0}};
+    static const float P[8][3] = {{-0.3f, 0.2f, 1.0f}, {0.3f, 0.2f, 1.0f}, {0.3f, 0.8f, 1.0f}, {-0.3f, 0.8f, 1.0f},
+                                  {-0.3f, 0.2f, 1.6f}, {0.3f, 0.2f, 1.6f}, {0.3f, 0.8f, 1.6f}, {-0.3f, 0.8f, 1.6f}};
+    static const uint32_t I[36] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                   3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+    prw_mesh m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "welded cube");
+    m.vertex_count = 8, m.index_count = 36;
+    m.positions = (float *)P;
+    m.indices = (uint32_t *)I;
+    m.material = 1;
+    int mi = prw_scene_add_mesh(s, &m, &e);
+    CHECK(mi >= 0);
+    int g = prw_scene_add_group(s, "welded cube", (uint32_t)mi, 1);
+    prw_node n = prw_node_look_at("welded cube", prw_v3(0, 0, 0), prw_v3(0, 0, -1), prw_v3(0, 1, 0));
+    n.mesh_group = g;
+    int ni = prw_scene_add_node(s, &n);
+    prw_scene_update(s);
+    prw_gi_options o = {.radiosity_size = 64, .samples = 2, .seed = 1};
+    prw_gi_bake *b = NULL;
+    CHECK_OK(prw_gi_build(s, &o, NULL, NULL, &b, &e), &e);
+    int checked = 0;
+    for (uint32_t i = 0; i < b->instance_count; i++) {
+        if (b->inst[i].mode != PRW_GI_ATLAS) continue;
+        prw_gi_split sp;
+        CHECK_OK(prw_gi_split_vertices(b, s, i, &sp, &e), &e);
+        const prw_mesh *mm = &s->meshes[b->inst[i].mesh];
+        int bad = 0;
+        for (uint32_t c = 0; c < sp.index_count; c++) {
+            uint32_t k = sp.indices[c];
+            if (k >= sp.vertex_count || sp.source[k] != mm->indices[c] || sp.uv[2 * k] != b->inst[i].uv[2 * c] ||
+                sp.uv[2 * k + 1] != b->inst[i].uv[2 * c + 1])
+                bad++;
+        }
+        CHECK(bad == 0);
+        uint32_t expect = b->inst[i].node == (uint32_t)ni ? 24 : mm->vertex_count;
+        printf("split: mesh '%s': %u vertices -> %u (expected %u)\n", mm->name, mm->vertex_count, sp.vertex_count, expect);
+        CHECK(sp.vertex_count == expect);
+        checked++;
+        prw_gi_split_free(&sp);
+    }
+    CHECK(checked == 3);
+    prw_gi_split sp;
+    CHECK(!prw_gi_split_vertices(b, s, 999, &sp, &e) && strstr(e.msg, "999") != NULL);
+    prw_gi_bake_destroy(b);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -574,6 +630,7 @@ int main(int argc, char **argv)
         {"formula", test_formula},
         {"cache", test_cache},
         {"texcoord1", test_texcoord1},
+        {"split", test_split},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
