@@ -302,13 +302,17 @@ static bool chart_uv1(const winst *w, uint32_t ii, double texel, chart **charts,
     return true;
 }
 
-static const chart *g_sort_charts; /* qsort context (single-threaded build) */
+typedef struct chart_order {
+    uint32_t h, w, idx;
+} chart_order;
+
+/* Tallest first, then widest, then creation order: a deterministic shelf packing. */
 static int cmp_chart_h(const void *x, const void *y)
 {
-    const chart *a = &g_sort_charts[*(const uint32_t *)x], *b = &g_sort_charts[*(const uint32_t *)y];
+    const chart_order *a = x, *b = y;
     if (a->h != b->h) return a->h > b->h ? -1 : 1;
     if (a->w != b->w) return a->w > b->w ? -1 : 1;
-    return *(const uint32_t *)x < *(const uint32_t *)y ? -1 : 1;
+    return a->idx < b->idx ? -1 : a->idx > b->idx;
 }
 
 /* ---- the bake ---- */
@@ -487,15 +491,14 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             make_charts(&wi[i], i, texel, &charts, &nch, &cap);
     b->charts = nch;
     /* shelf packing */
-    uint32_t *order = prw_calloc((size_t)nch + 1, sizeof *order);
-    for (uint32_t i = 0; i < nch; i++) order[i] = i;
-    g_sort_charts = charts;
+    chart_order *order = prw_calloc((size_t)nch + 1, sizeof *order);
+    for (uint32_t i = 0; i < nch; i++) order[i] = (chart_order){charts[i].h, charts[i].w, i};
     qsort(order, nch, sizeof *order, cmp_chart_h);
     uint32_t atlas = 0, x = 0, y = 0, shelf = 0;
     uint32_t heights[PRW_GI_MAX_ATLASES] = {0};
     bool ok = true;
     for (uint32_t oi = 0; oi < nch && ok; oi++) {
-        chart *c = &charts[order[oi]];
+        chart *c = &charts[order[oi].idx];
         if (c->w > PRW_GI_ATLAS_W || c->h > PRW_GI_ATLAS_W) {
             ok = prw_fail(e, "%s: gi bake: a chart of mesh '%s' is %ux%u texels, more than the %ux%u atlas (texel size "
                              "%.4g m: lower radiosity_size)", s->source[0] ? s->source : "(scene)",
