@@ -86,10 +86,11 @@ static void gi_help(void)
            "options:\n"
            "  --samples N        gather rays per texel / vertex, 1..65536 (default %d)\n"
            "  --seed N           random-number seed (default 0)\n"
+           "  --filter-radius R  box filter over R texels within each chart after gathering, 0..8 (default 0: off)\n"
            "  --out FILE.gi      also write the light maps here (atomically)\n"
            "  --no-cache         neither read nor write the cache\n"
            "  --sweep            benchmark: error against bake time over sample counts (CSV: samples, seconds,\n"
-           "                     cpu_seconds, rel_rms_error, rel_noise); the error is against a bake with --ref-samples (default\n"
+           "                     cpu_seconds, rel_rms_error, rel_noise, filter_radius); the error is against a bake with --ref-samples (default\n"
            "                     2048) and another seed at the same texels; nothing is cached\n"
            "  --samples-list L   the sweep's sample counts (default 16,32,64,128,256)\n"
            "  --csv FILE         the sweep's CSV (default: stdout)\n"
@@ -190,6 +191,7 @@ static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint
     gi_bar bar = {0, false};
     prw_gi_options ro = o;
     ro.samples = ref_samples;
+    ro.filter_radius = 0; /* the reference is the unfiltered estimate */
     ro.seed = o.seed + 1000003;
     prw_gi_bake *ref = NULL;
     fprintf(stderr, "prw bake: sweep reference: %u samples per point\n", ref_samples);
@@ -201,7 +203,7 @@ static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint
     }
     fprintf(stderr, "prw bake: reference bake %.2f s (%llu texels + %llu vertices, texel %.4g m)\n", prw_now() - t0,
             (unsigned long long)ref->sampled_texels, (unsigned long long)ref->sampled_vertices, ref->texel_size);
-    fprintf(f, "samples,seconds,cpu_seconds,rel_rms_error,rel_noise\n");
+    fprintf(f, "samples,seconds,cpu_seconds,rel_rms_error,rel_noise,filter_radius\n");
     int rc = 0;
     for (int i = 0; i < nc; i++) {
         prw_gi_options so = o;
@@ -215,7 +217,7 @@ static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint
         }
         double secs = prw_now() - t1, cpu = cpu_seconds() - c1, err, noise;
         gi_compare(b, ref, &err, &noise);
-        fprintf(f, "%u,%.3f,%.3f,%.5f,%.5f\n", counts[i], secs, cpu, err, noise);
+        fprintf(f, "%u,%.3f,%.3f,%.5f,%.5f,%u\n", counts[i], secs, cpu, err, noise, o.filter_radius);
         fflush(f);
         prw_gi_bake_destroy(b);
     }
@@ -249,6 +251,10 @@ static int bake_gi(prw_args *a)
     }
     if (!bad && (v = prw_args_value(a, "seed", &e, &bad))) {
         if (prw_parse_int(v, "--seed", 0, 2147483647L, &n, &e)) o.seed = (uint64_t)n;
+        else bad = true;
+    }
+    if (!bad && (v = prw_args_value(a, "filter-radius", &e, &bad))) {
+        if (prw_parse_int(v, "--filter-radius", 0, 8, &n, &e)) o.filter_radius = (uint32_t)n;
         else bad = true;
     }
     uint32_t ref_samples = 2048;

@@ -436,9 +436,9 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
     prw_gi_options o = *opt;
     if (o.radiosity_size == 0) o.radiosity_size = PRW_GI_DEFAULT_RADIOSITY_SIZE;
     if (o.samples == 0) o.samples = PRW_GI_DEFAULT_SAMPLES;
-    if (o.samples > 65536 || o.radiosity_size > 16384)
-        return prw_fail(e, "gi bake: samples %u (1..65536) or radiosity_size %u (1..16384) out of range", o.samples,
-                        o.radiosity_size);
+    if (o.samples > 65536 || o.radiosity_size > 16384 || o.filter_radius > 8)
+        return prw_fail(e, "gi bake: samples %u (1..65536), radiosity_size %u (1..16384) or filter radius %u (0..8) out "
+                           "of range", o.samples, o.radiosity_size, o.filter_radius);
     /* instances */
     uint32_t ni = 0;
     for (uint32_t n = 0; n < s->node_count; n++)
@@ -641,6 +641,41 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
     }
     if (ok) ok = gather(s, &o, o.samples, pts, np, progress, user, &b->seconds_gather, e);
     free(pts);
+    /* optional box filter over the sampled texels of each chart */
+    for (uint32_t ci = 0; ci < nch && ok && o.filter_radius > 0; ci++) {
+        chart *c = &charts[ci];
+        prw_gi_atlas *A = &b->atlases[c->atlas];
+        size_t cn = (size_t)c->w * c->h;
+        float *src = prw_calloc(cn * 6 + 1, sizeof(float));
+        for (uint32_t ty = 0; ty < c->h; ty++)
+            for (uint32_t tx = 0; tx < c->w; tx++) {
+                size_t ti = (size_t)(c->y0 + ty) * A->width + c->x0 + tx, li = (size_t)ty * c->w + tx;
+                memcpy(src + 6 * li, A->rgb + 3 * ti, 3 * sizeof(float));
+                memcpy(src + 6 * li + 3, A->var + 3 * ti, 3 * sizeof(float));
+            }
+        int R = (int)o.filter_radius;
+        for (int ty = 0; ty < (int)c->h; ty++)
+            for (int tx = 0; tx < (int)c->w; tx++) {
+                size_t ti = (size_t)(c->y0 + ty) * A->width + c->x0 + tx;
+                if (A->state[ti] != 1) continue;
+                double sum[3] = {0, 0, 0}, var[3] = {0, 0, 0};
+                int n = 0;
+                for (int dy = -R; dy <= R; dy++)
+                    for (int dx = -R; dx <= R; dx++) {
+                        int x = tx + dx, y = ty + dy;
+                        if (x < 0 || y < 0 || x >= (int)c->w || y >= (int)c->h) continue;
+                        if (A->state[(size_t)(c->y0 + y) * A->width + c->x0 + x] != 1) continue;
+                        const float *q = src + 6 * ((size_t)y * c->w + x);
+                        for (int k2 = 0; k2 < 3; k2++) sum[k2] += q[k2], var[k2] += q[3 + k2];
+                        n++;
+                    }
+                for (int k2 = 0; k2 < 3; k2++) {
+                    A->rgb[3 * ti + k2] = (float)(sum[k2] / n);
+                    A->var[3 * ti + k2] = (float)(var[k2] / ((double)n * n));
+                }
+            }
+        free(src);
+    }
     /* dilation: per chart, breadth-first from its sampled texels over its rectangle (8-neighbours) */
     uint32_t *queue = NULL;
     size_t qcap = 0;

@@ -125,6 +125,7 @@ void prw_gi_key(const prw_scene *s, const prw_gi_options *o, char key[33])
     prw_cache_key_add_u64(&k, o->radiosity_size ? o->radiosity_size : PRW_GI_DEFAULT_RADIOSITY_SIZE);
     prw_cache_key_add_u64(&k, o->samples ? o->samples : PRW_GI_DEFAULT_SAMPLES);
     prw_cache_key_add_u64(&k, o->seed);
+    prw_cache_key_add_u64(&k, o->filter_radius);
     prw_cache_key_add_u64(&k, prw_ref_material_hash());
     prw_cache_key_add_u64(&k, prw_gi_content_hash(s));
     prw_cache_key_finish(&k, NULL, 0, key);

@@ -12,6 +12,7 @@
  *  - texcoord1: a mesh with TEXCOORD_1 keeps its layout (an affine map of uv1) and agrees with the
  *    reference;
  *  - split: drawing light-map uvs per vertex splits a welded cube's 8 vertices into 24;
+ *  - filter: filter_radius 1 is the 3x3 mean of the sampled texels of the chart (variance / ~7);
  *  - cache: a second run hits the cache; a changed light or radiosity_size changes the key, a
  *    changed camera does not; the file round-trips and a damaged or truncated one is refused. */
 #define _POSIX_C_SOURCE 200809L
@@ -622,6 +623,58 @@ static void test_split(void)
     prw_scene_destroy(s);
 }
 
+/* filter_radius 1: every sampled texel is the mean of the sampled texels of the 3x3 around it in the
+ * unfiltered bake of the same seed (charts are 4 texels apart, so the 3x3 stays in the chart), and
+ * the stored variance falls accordingly. */
+static void test_filter(void)
+{
+    prw_scene *s = box_room(60, prw_v3(1.5, 1.5, 1.5));
+    prw_error e = {{0}};
+    prw_gi_options o0 = {.radiosity_size = 24, .samples = 16, .seed = 3}, o1 = o0;
+    o1.filter_radius = 1;
+    prw_gi_bake *b0 = NULL, *b1 = NULL;
+    CHECK_OK(prw_gi_build(s, &o0, NULL, NULL, &b0, &e), &e);
+    CHECK_OK(prw_gi_build(s, &o1, NULL, NULL, &b1, &e), &e);
+    if (!b0 || !b1) {
+        prw_gi_bake_destroy(b0);
+        prw_gi_bake_destroy(b1);
+        prw_scene_destroy(s);
+        return;
+    }
+    int bad = 0, n = 0;
+    double v0 = 0, v1 = 0;
+    const prw_gi_atlas *A = &b0->atlases[0], *B = &b1->atlases[0];
+    for (int y = 0; y < (int)A->height; y++)
+        for (int x = 0; x < (int)A->width; x++) {
+            size_t ti = (size_t)y * A->width + x;
+            if (A->state[ti] != 1) continue;
+            CHECK(B->state[ti] == 1);
+            double sum[3] = {0, 0, 0};
+            int k = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= (int)A->width || yy >= (int)A->height) continue;
+                    size_t q = (size_t)yy * A->width + xx;
+                    if (A->state[q] != 1) continue;
+                    for (int c = 0; c < 3; c++) sum[c] += A->rgb[3 * q + c];
+                    k++;
+                }
+            for (int c = 0; c < 3; c++) {
+                if (fabs(B->rgb[3 * ti + c] - sum[c] / k) > 1e-5 * (1 + fabs(sum[c] / k))) bad++;
+                v0 += A->var[3 * ti + c], v1 += B->var[3 * ti + c];
+            }
+            n++;
+        }
+    printf("filter: %d sampled texels, %d channel values differ from the 3x3 mean; mean variance %.4g -> %.4g (%.2fx)\n",
+           n, bad, v0 / (3 * n), v1 / (3 * n), v0 / v1);
+    CHECK(n > 100 && bad == 0);
+    CHECK(v0 / v1 > 4);
+    prw_gi_bake_destroy(b0);
+    prw_gi_bake_destroy(b1);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -631,6 +684,7 @@ int main(int argc, char **argv)
         {"cache", test_cache},
         {"texcoord1", test_texcoord1},
         {"split", test_split},
+        {"filter", test_filter},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
