@@ -347,6 +347,26 @@ static void test_cache(void)
     CHECK(rb.cache_hit && !rb.built);
     CHECK_OK(prw_gi_run(light, &o, false, NULL, NULL, &c, &rc, &e), &e);
     CHECK(rc.built && !rc.cache_hit);
+    /* a damaged entry is reported and rebuilt over */
+    {
+        FILE *f = fopen(ra.cache_path, "r+b");
+        CHECK(f != NULL);
+        if (f) {
+            fseek(f, 100, SEEK_SET);
+            fputc(0x5a, f);
+            fclose(f);
+        }
+        prw_gi_bake *d = NULL;
+        prw_gi_result rd;
+        CHECK_OK(prw_gi_run(s, &o, false, NULL, NULL, &d, &rd, &e), &e);
+        printf("damaged entry: built %d, warning '%s'\n", rd.built, rd.warning);
+        CHECK(rd.built && rd.cache_written && strstr(rd.warning, "checksum") != NULL);
+        prw_gi_bake_destroy(d);
+        prw_gi_result re2;
+        CHECK_OK(prw_gi_run(s, &o, false, NULL, NULL, &d, &re2, &e), &e);
+        CHECK(re2.cache_hit && re2.warning[0] == 0);
+        prw_gi_bake_destroy(d);
+    }
     /* the cached copy is the bake */
     if (a && b) {
         CHECK(a->atlas_count == b->atlas_count && a->instance_count == b->instance_count);
