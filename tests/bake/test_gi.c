@@ -13,6 +13,7 @@
  *    reference;
  *  - split: drawing light-map uvs per vertex splits a welded cube's 8 vertices into 24;
  *  - filter: filter_radius 1 is the 3x3 mean of the sampled texels of the chart (variance / ~7);
+ *  - threads: 1 and 2 threads give the same file bytes;
  *  - cache: a second run hits the cache; a changed light or radiosity_size changes the key, a
  *    changed camera does not; the file round-trips and a damaged or truncated one is refused. */
 #define _POSIX_C_SOURCE 200809L
@@ -695,6 +696,31 @@ static void test_filter(void)
     prw_scene_destroy(s);
 }
 
+/* The bake is a pure function of (scene, options): 1 and 2 threads give the same bytes. */
+static void test_threads(void)
+{
+    prw_scene *s = box_room(60, prw_v3(1.5, 1.5, 1.5));
+    prw_error e = {{0}};
+    prw_gi_options o = {.radiosity_size = 24, .samples = 8, .seed = 4, .threads = 1};
+    prw_gi_bake *a = NULL, *b = NULL;
+    CHECK_OK(prw_gi_build(s, &o, NULL, NULL, &a, &e), &e);
+    o.threads = 2;
+    CHECK_OK(prw_gi_build(s, &o, NULL, NULL, &b, &e), &e);
+    uint8_t *da = NULL, *db = NULL;
+    size_t na = 0, nb = 0;
+    if (a && b) {
+        CHECK_OK(prw_gi_encode(a, "", &da, &na, &e), &e);
+        CHECK_OK(prw_gi_encode(b, "", &db, &nb, &e), &e);
+        CHECK(na == nb && na > 0 && memcmp(da, db, na) == 0);
+        printf("threads: 1 and 2 threads: %zu bytes, %s\n", na, na == nb && memcmp(da, db, na) == 0 ? "identical" : "DIFFER");
+    }
+    free(da);
+    free(db);
+    prw_gi_bake_destroy(a);
+    prw_gi_bake_destroy(b);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -705,6 +731,7 @@ int main(int argc, char **argv)
         {"texcoord1", test_texcoord1},
         {"split", test_split},
         {"filter", test_filter},
+        {"threads", test_threads},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
