@@ -90,8 +90,10 @@ static void gi_help(void)
            "  --out FILE.gi      also write the light maps here (atomically)\n"
            "  --no-cache         neither read nor write the cache\n"
            "  --sweep            benchmark: error against bake time over sample counts (CSV: samples, seconds,\n"
-           "                     cpu_seconds, rel_rms_error, rel_noise, filter_radius); the error is against a bake with --ref-samples (default\n"
-           "                     2048) and another seed at the same texels; nothing is cached\n"
+           "                     cpu_seconds, rel_rms_error, rel_noise, filter_radius; with --filter-radius R\n"
+           "                     the counts run unfiltered, then filtered); the error is against a bake with\n"
+           "                     --ref-samples (default 2048) and another seed at the same texels, unfiltered;\n"
+           "                     nothing is cached\n"
            "  --samples-list L   the sweep's sample counts (default 16,32,64,128,256)\n"
            "  --csv FILE         the sweep's CSV (default: stdout)\n"
            "  --png FILE         the sweep's plot (error against CPU seconds, log-log; needs --csv and gnuplot)\n"
@@ -147,8 +149,9 @@ static bool gi_plot(const char *csv, const char *png)
              "set terminal png size 800,520; set output '%s'; set datafile separator ','; set logscale xy; "
              "set grid; set key top right; set xlabel 'bake CPU seconds (all threads)'; "
              "set ylabel 'relative RMS error per texel'; set title 'prw bake --gi: error against bake time'; "
-             "plot '%s' every ::1 using 3:4 with linespoints lw 2 pt 7 title 'error vs reference bake', "
-             "'' every ::1 using 3:5 with lines dt 2 title 'estimated noise (own variance)'",
+             "plot '%s' every ::1 using 3:($6 == 0 ? $4 : 1/0) with linespoints lw 2 pt 7 title 'error vs reference bake', "
+             "'' every ::1 using 3:($6 == 0 ? $5 : 1/0) with lines dt 2 title 'estimated noise (own variance)', "
+             "'' every ::1 using 3:($6 > 0 ? $4 : 1/0) with linespoints lw 2 pt 5 title 'error, box filter (--filter-radius)'",
              png, csv);
     char *argv[] = {"gnuplot", "-e", cmd, NULL};
     pid_t pid;
@@ -205,9 +208,12 @@ static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint
             (unsigned long long)ref->sampled_texels, (unsigned long long)ref->sampled_vertices, ref->texel_size);
     fprintf(f, "samples,seconds,cpu_seconds,rel_rms_error,rel_noise,filter_radius\n");
     int rc = 0;
-    for (int i = 0; i < nc; i++) {
+    /* unfiltered rows, then (with --filter-radius R) the same counts filtered */
+    for (int k = 0; k < nc * (o.filter_radius ? 2 : 1) && rc == 0; k++) {
+        int i = k % nc;
         prw_gi_options so = o;
         so.samples = counts[i];
+        so.filter_radius = k < nc ? 0 : o.filter_radius;
         prw_gi_bake *b = NULL;
         double t1 = prw_now(), c1 = cpu_seconds();
         if (!prw_gi_build(s, &so, gi_progress, &bar, &b, &e)) {
@@ -217,7 +223,7 @@ static int gi_sweep(const prw_scene *s, prw_gi_options o, const char *list, uint
         }
         double secs = prw_now() - t1, cpu = cpu_seconds() - c1, err, noise;
         gi_compare(b, ref, &err, &noise);
-        fprintf(f, "%u,%.3f,%.3f,%.5f,%.5f,%u\n", counts[i], secs, cpu, err, noise, o.filter_radius);
+        fprintf(f, "%u,%.3f,%.3f,%.5f,%.5f,%u\n", counts[i], secs, cpu, err, noise, so.filter_radius);
         fflush(f);
         prw_gi_bake_destroy(b);
     }
