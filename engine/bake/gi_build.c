@@ -340,6 +340,7 @@ typedef struct gpoint {
     double p[3], n[3];
     const prw_material *mat;
     float *rgb, *var; /* where E and its variance go */
+    uint8_t *state;   /* the texel's state (NULL for vertices): set to 0 when the point is hidden */
 } gpoint;
 
 static double radical_inverse2(uint32_t i)
@@ -361,7 +362,7 @@ static uint64_t mix64(uint64_t x)
 }
 
 static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoint *pts, size_t np,
-                   prw_gi_progress_fn progress, void *user, double *seconds, prw_error *e)
+                   prw_gi_progress_fn progress, void *user, double *seconds, uint64_t *hidden, prw_error *e)
 {
     if (np == 0) return true;
     double lo[3] = {s->bounds_min.x, s->bounds_min.y, s->bounds_min.z};
@@ -401,6 +402,15 @@ static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoi
                               .filter = {PRW_REF_MIN_DEPTH, 1}, .camera = false, .threads = o->threads};
         ok = prw_ref_trace_rays(r, rays, (c1 - c0) * N, &d, res, NULL, NULL, e);
         for (size_t i = c0; i < c1 && ok; i++) {
+            /* a texel whose rays mostly start under or inside closed geometry (the floor under a box,
+               a face covered by another) is not a visible surface: left to the dilation */
+            uint64_t backs = 0;
+            for (uint32_t j = 0; j < N; j++) backs += res[(i - c0) * N + j].back_faces;
+            if (pts[i].state && backs * 4 > N) {
+                *pts[i].state = 0;
+                (*hidden)++;
+                continue;
+            }
             for (int c = 0; c < 3; c++) {
                 double sum = 0, sq = 0;
                 for (uint32_t j = 0; j < N; j++) {
@@ -589,6 +599,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
                     g->mat = w->mat;
                     g->rgb = A->rgb + 3 * ti;
                     g->var = A->var + 3 * ti;
+                    g->state = A->state + ti;
                 }
         }
         if (np == first) { /* no texel centre inside: one sample at the largest triangle's centroid */
@@ -612,6 +623,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
                 g->mat = w->mat;
                 g->rgb = A->rgb + 3 * ti;
                 g->var = A->var + 3 * ti;
+                g->state = A->state + ti;
             }
         }
     }
@@ -636,10 +648,11 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             g->mat = wi[i].mat;
             g->rgb = in->vertex_rgb + 3 * v;
             g->var = in->vertex_var + 3 * v;
+            g->state = NULL;
             b->sampled_vertices++;
         }
     }
-    if (ok) ok = gather(s, &o, o.samples, pts, np, progress, user, &b->seconds_gather, e);
+    if (ok) ok = gather(s, &o, o.samples, pts, np, progress, user, &b->seconds_gather, &b->hidden_texels, e);
     free(pts);
     /* optional box filter over the sampled texels of each chart */
     for (uint32_t ci = 0; ci < nch && ok && o.filter_radius > 0; ci++) {

@@ -43,7 +43,11 @@
  *  - Texel size t = sqrt(A / radiosity_size^2), A = the world area of the ATLAS-mode triangles:
  *    the quality knob radiosity_size ("radiosity texture size, texels a side") keeps its meaning as
  *    the side of the total light-map budget (about radiosity_size^2 sampled texels).
- *  - A texel whose centre lies in a chart triangle is sampled there (state 1); a chart with no such
+ *  - A texel whose centre lies in a chart triangle is sampled there (state 1) unless more than a
+ *    quarter of its gather rays first meet the back face of a single-sided surface
+ *    (prw_ref_ray_result.back_faces: the point lies under or inside closed geometry, like the floor
+ *    under a box): such a hidden texel is treated as outside the chart (dilated), so lookups next to
+ *    a contact read the visible neighbours instead of black; a chart with no such
  *    texel gets one at its largest triangle's centroid; every other texel of the chart's rectangle
  *    (padding included) takes the value of the nearest sampled texel of the SAME chart (state 2:
  *    dilation), so bilinear and bicubic lookups near a chart border never read another chart.
@@ -121,6 +125,7 @@ typedef struct prw_gi_bake {
     uint32_t instance_count;
     prw_gi_instance *inst;
     uint64_t charts, sampled_texels, sampled_vertices; /* statistics */
+    uint64_t hidden_texels; /* sampled texels found under / inside closed geometry, then dilated */
     double seconds_gather;
 } prw_gi_bake;
 
