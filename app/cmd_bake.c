@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "app.h"
 #include "prw_bake.h"
@@ -86,19 +87,19 @@ static void gi_help(void)
            "options:\n"
            "  --samples N        gather rays per texel / vertex, 1..65536 (default %d)\n"
            "  --seed N           random-number seed (default 0)\n"
-           "  --filter-radius R  box filter over R texels within each chart after gathering, 0..8 (default 0: off)\n"
+           "  --filter-radius R  box filter over R texels within each chart after gathering, 0..8 (default %d; 0: off)\n"
            "  --out FILE.gi      also write the light maps here (atomically)\n"
            "  --no-cache         neither read nor write the cache\n"
            "  --sweep            benchmark: error against bake time over sample counts (CSV: samples, seconds,\n"
-           "                     cpu_seconds, rel_rms_error, rel_noise, filter_radius; with --filter-radius R\n"
-           "                     the counts run unfiltered, then filtered); the error is against a bake with\n"
-           "                     --ref-samples (default 2048) and another seed at the same texels, unfiltered;\n"
-           "                     nothing is cached\n"
+           "                     cpu_seconds, rel_rms_error, rel_noise, filter_radius; the counts run\n"
+           "                     unfiltered, then with the filter radius unless it is 0); the error is\n"
+           "                     against an unfiltered bake with --ref-samples (default 2048) and another\n"
+           "                     seed at the same texels; nothing is cached\n"
            "  --samples-list L   the sweep's sample counts (default 16,32,64,128,256)\n"
            "  --csv FILE         the sweep's CSV (default: stdout)\n"
            "  --png FILE         the sweep's plot (error against CPU seconds, log-log; needs --csv and gnuplot)\n"
            "%s",
-           PRW_GI_DEFAULT_SAMPLES, prw_quality_args_help());
+           PRW_GI_DEFAULT_SAMPLES, PRW_GI_DEFAULT_FILTER_RADIUS, prw_quality_args_help());
 }
 
 /* Relative RMS difference of the sampled texels / vertices of a against ref (same layout), over
@@ -249,6 +250,7 @@ static int bake_gi(prw_args *a)
     prw_gi_options o;
     memset(&o, 0, sizeof o);
     o.radiosity_size = q.radiosity_size;
+    o.filter_radius = PRW_GI_DEFAULT_FILTER_RADIUS;
     long n;
     const char *v;
     if (!bad && (v = prw_args_value(a, "samples", &e, &bad))) {
@@ -302,7 +304,7 @@ static int bake_gi(prw_args *a)
         prw_scene_destroy(s);
         return rc;
     }
-    gi_bar bar = {0, false};
+    gi_bar bar = {0, isatty(fileno(stderr)) != 0};
     prw_gi_bake *b = NULL;
     prw_gi_result r;
     double cpu0 = cpu_seconds();

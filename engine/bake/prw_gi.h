@@ -55,7 +55,8 @@
  *    point), origin offset 2e-4 m along n, each ray one sample of prw_ref_trace_rays with the filter
  *    mindepth:1, ray index point x samples + j, the option's seed: a pure function of (scene, options).
  *    E = pi x mean(w(mu) L); var = its variance of the mean (stored per texel and vertex).
- *  - Optional box filter (filter_radius r > 0, default off): a sampled texel's E becomes the mean of
+ *  - Box filter (filter_radius r > 0; PRW_GI_DEFAULT_FILTER_RADIUS for the renderer's bakes, 0 = off
+ *    in the struct): a sampled texel's E becomes the mean of
  *    the sampled texels of the same chart within r texels (before dilation; vertices unfiltered):
  *    less noise, a bias where E bends (corners, contact) — the sweep measures the trade.
  *
@@ -86,7 +87,8 @@ extern "C" {
 #define PRW_GI_ATLAS_W 1024
 #define PRW_GI_PAD 2
 #define PRW_GI_DEFAULT_RADIOSITY_SIZE 256 /* the "high" preset's radiosity_size */
-#define PRW_GI_DEFAULT_SAMPLES 256
+#define PRW_GI_DEFAULT_SAMPLES 128
+#define PRW_GI_DEFAULT_FILTER_RADIUS 1 /* what prw bake (and callers baking for the renderer) pass */
 
 typedef struct prw_gi_options {
     uint32_t radiosity_size; /* the quality knob (texels a side of the light-map budget); 0: default */
@@ -94,7 +96,8 @@ typedef struct prw_gi_options {
     uint64_t seed;
     int threads;             /* 0: prw_threads_get() */
     uint32_t filter_radius;  /* 0: off; r: each sampled texel becomes the mean of the sampled texels of its
-                                chart within r texels (a (2r+1)^2 box; variance propagated); 0..8 */
+                                chart within r texels (a (2r+1)^2 box; variance propagated); 0..8.
+                                Callers baking for the renderer pass PRW_GI_DEFAULT_FILTER_RADIUS. */
 } prw_gi_options;
 
 typedef enum prw_gi_mode { PRW_GI_NONE = 0, PRW_GI_ATLAS = 1, PRW_GI_VERTEX = 2 } prw_gi_mode;

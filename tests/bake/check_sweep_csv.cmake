@@ -1,9 +1,10 @@
-# The sweep CSV of `prw bake --gi --sweep`: the header and one row per sample count with the error
-# falling from the smallest to the largest count (2 vs 8 samples: 2x lower noise expected).
+# The sweep CSV of `prw bake --gi --sweep` (default filter radius 1): the header, one unfiltered row
+# per sample count with the error falling from the smallest to the largest count (2 vs 8 samples: 2x
+# lower noise expected), then the same counts filtered (filter_radius 1).
 file(STRINGS ${FILE} lines)
 list(LENGTH lines n)
-if(NOT n EQUAL 3)
-  message(FATAL_ERROR "${FILE}: expected a header and 2 rows, got ${n} lines")
+if(NOT n EQUAL 5)
+  message(FATAL_ERROR "${FILE}: expected a header and 4 rows, got ${n} lines")
 endif()
 list(GET lines 0 h)
 if(NOT h STREQUAL "samples,seconds,cpu_seconds,rel_rms_error,rel_noise,filter_radius")
@@ -17,4 +18,16 @@ list(GET a 3 ea)
 list(GET b 3 eb)
 if(NOT ea GREATER eb)
   message(FATAL_ERROR "${FILE}: error at 2 samples (${ea}) is not above the error at 8 (${eb})")
+endif()
+list(GET lines 1 r1)
+list(GET lines 3 r3)
+list(GET lines 4 r4)
+string(REPLACE "," ";" r1 "${r1}")
+string(REPLACE "," ";" r3 "${r3}")
+string(REPLACE "," ";" r4 "${r4}")
+list(GET r1 5 f1)
+list(GET r3 5 f3)
+list(GET r4 5 f4)
+if(NOT f1 EQUAL 0 OR NOT f3 EQUAL 1 OR NOT f4 EQUAL 1)
+  message(FATAL_ERROR "${FILE}: filter radius column ${f1} / ${f3} / ${f4}, expected 0 then 1")
 endif()
