@@ -28,8 +28,8 @@
  *    mode ATLAS: flat charts in an atlas, uv = 6 floats per triangle (the corners' light-map uv,
  *    normalised to the atlas: texel (i, j) is centred at ((i + 0.5) / width, (j + 0.5) / height));
  *    mode VERTEX: meshes without TEXCOORD_1 dense enough (sqrt(world area / vertices) <= the texel size
- *    computed over every baked mesh: the spheres), one RGB
- *    per mesh vertex, interpolated with the triangle's barycentrics.
+ *    computed over every baked mesh: the spheres), one RGB per mesh vertex, interpolated with the
+ *    triangle's barycentrics (gathered at the vertex with its shading normal).
  *  - Charts (gi_build.c): a mesh with TEXCOORD_1 (prw_mesh.uvs1, non-degenerate) is one chart: its
  *    uv1 layout scaled by sqrt(world area / uv1 area) / t texels per uv unit (overlapping uv1
  *    triangles are not detected: the first one rasterised owns a texel; islands of the layout are
@@ -43,29 +43,32 @@
  *  - Texel size t = sqrt(A / radiosity_size^2), A = the world area of the ATLAS-mode triangles:
  *    the quality knob radiosity_size ("radiosity texture size, texels a side") keeps its meaning as
  *    the side of the total light-map budget (about radiosity_size^2 sampled texels).
- *  - A texel whose centre lies in a chart triangle is sampled there (state 1) unless more than a
- *    quarter of its gather rays first meet the back face of a single-sided surface
- *    (prw_ref_ray_result.back_faces: the point lies under or inside closed geometry, like the floor
- *    under a box): such a hidden texel is treated as outside the chart (dilated), so lookups next to
- *    a contact read the visible neighbours instead of black; a chart with no such
- *    texel gets one at its largest triangle's centroid; every other texel of the chart's rectangle
- *    (padding included) takes the value of the nearest sampled texel of the SAME chart (state 2:
- *    dilation), so bilinear and bicubic lookups near a chart border never read another chart.
+ *  - A texel whose centre lies in a chart triangle is sampled there (state 1); a chart with no such
+ *    texel gets one at its largest triangle's centroid.  A sampled texel more than a quarter of whose
+ *    gather rays first meet the back face of a single-sided surface (prw_ref_ray_result.back_faces:
+ *    the point lies under or inside closed geometry, like the floor under a box) is hidden: it is
+ *    treated as outside the chart, so lookups next to a contact read the visible neighbours instead
+ *    of black.  Every texel of the chart's rectangle (padding included) that is not sampled takes
+ *    the value of the nearest sampled texel of the SAME chart (state 2: dilation), so bilinear and
+ *    bicubic lookups near a chart border never read another chart.  A chart with no visible texel
+ *    stays 0 (state 0).
  *  - Gathering: `samples` cosine-weighted rays per point (a stratified (0,2) pattern rotated per
  *    point), origin offset 2e-4 m along n, each ray one sample of prw_ref_trace_rays with the filter
  *    mindepth:1, ray index point x samples + j, the option's seed: a pure function of (scene, options).
  *    E = pi x mean(w(mu) L); var = its variance of the mean (stored per texel and vertex).
  *  - Box filter (filter_radius r > 0; PRW_GI_DEFAULT_FILTER_RADIUS for the renderer's bakes, 0 = off
- *    in the struct): a sampled texel's E becomes the mean of
- *    the sampled texels of the same chart within r texels (before dilation; vertices unfiltered):
- *    less noise, a bias where E bends (corners, contact) — the sweep measures the trade.
+ *    in the struct): a sampled texel's E becomes the mean of the sampled texels of the same chart
+ *    within r texels (after the hidden-texel rule, before dilation; vertices unfiltered): less noise,
+ *    a bias where E bends (corners, contact); `prw bake --gi --sweep` measures the trade.
  *
  * File (PRWGI001, little-endian; gi_file.c has the layout): read back with every count checked
- * against limits and the remaining bytes before any allocation, non-finite values refused, an FNV-1a
- * checksum.  Cache: <cache>/gi/<key>.gi, key = prw_cache_key over the tag "prw-gi-key",
- * PRW_GI_ALGO_VERSION, the file version, the options (radiosity_size, samples, seed) and the
- * static content hash (prw_gi_content_hash: meshes, their nodes' world transforms, materials,
- * textures, lights with their transforms, the environment; NOT cameras).
+ * against limits and the remaining bytes before any allocation, non-finite or negative values
+ * refused, a prw_hash64 (FNV-1a) checksum.  Cache: <cache>/gi/<key>.gi, key = prw_cache_key over the
+ * tag "prw-gi-key", PRW_GI_ALGO_VERSION, the file version, the options (radiosity_size, samples,
+ * seed, filter_radius; not threads: the result does not depend on them), the material model's hash
+ * (prw_ref_material_hash) and the static content hash (prw_gi_content_hash: meshes, their nodes'
+ * world transforms, materials, textures, lights with their transforms, the environment, NURBS
+ * entries; NOT cameras).
  * Nothing here prints: progress goes to the callback.
  */
 #ifndef PRW_GI_H
