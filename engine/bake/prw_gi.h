@@ -84,7 +84,7 @@
 extern "C" {
 #endif
 
-#define PRW_GI_ALGO_VERSION "gi-2026-12-06a"
+#define PRW_GI_ALGO_VERSION "gi-2026-12-06b" /* b: hidden texels dilated */
 #define PRW_GI_CACHE_KIND "gi"
 #define PRW_GI_MAX_ATLASES 128
 #define PRW_GI_ATLAS_W 1024
