@@ -333,9 +333,11 @@ static int bake_gi(prw_args *a)
         printf("%s\n", b->atlas_count ? ")" : "");
         printf("instances: %u in atlases, %u per vertex, %u not baked (no diffuse lobe)\n", modes[1], modes[2], modes[0]);
         if (r.built)
-            printf("built in %.2f s (CPU %.2f s, %d threads): %llu charts, %llu texels + %llu vertices gathered in %.2f s\n",
+            printf("built in %.2f s (CPU %.2f s, %d threads): %llu charts, %llu texels (%llu hidden) + %llu vertices "
+                   "gathered in %.2f s, filter radius %u\n",
                    r.seconds_total, cpu_seconds() - cpu0, prw_threads_get(), (unsigned long long)b->charts,
-                   (unsigned long long)b->sampled_texels, (unsigned long long)b->sampled_vertices, b->seconds_gather);
+                   (unsigned long long)b->sampled_texels, (unsigned long long)b->hidden_texels,
+                   (unsigned long long)b->sampled_vertices, b->seconds_gather, o.filter_radius);
         else
             printf("cache hit (nothing built), %.3f s\n", r.seconds_total);
         if (r.warning[0]) fprintf(stderr, "prw bake: warning: %s\n", r.warning);
