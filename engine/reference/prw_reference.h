@@ -206,6 +206,8 @@ typedef struct prw_ref_ray_desc {
 typedef struct prw_ref_ray_result {
     double mean[3];     /* the fixed-point sum / 2^32 / samples */
     double var_mean[3]; /* sample variance / samples (the variance of the mean); 0 with one sample */
+    uint64_t back_faces;/* samples whose first surface was the back face of a single-sided material (the
+                           ray starts inside or under closed geometry; camera = false only) */
 } prw_ref_ray_result;
 
 /* out holds n results.  Errors: n > 2^32, empty or too long sample range, unknown filter, a

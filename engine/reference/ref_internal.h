@@ -191,9 +191,10 @@ void ref_camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, doub
 /* The same path from any ray: origin o (camera-relative), unit direction d, near distance tnear.
  * camera: the first hit passes through back faces of single-sided materials (camera rays);
  * otherwise they are opaque black, as for every bounce ray.  k counts from this ray (its first hit
- * is scattering vertex 1).  ref_trace_sample is camera_ray + this. */
+ * is scattering vertex 1).  back_first (may be NULL): set when the ray's first surface is the back
+ * face of a single-sided material (the path ends there).  ref_trace_sample is camera_ray + this. */
 void ref_trace_ray(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, bool camera,
-                   prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays);
+                   prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first);
 
 /* Environment radiance towards world direction d (unit) and its sampling density (solid angle). */
 /* The environment of the scene (se) as a light: a uniform colour, or the EXR map read with the

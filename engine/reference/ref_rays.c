@@ -40,25 +40,26 @@ static void one_ray(ray_job *j, size_t i, uint64_t *traced, uint64_t *nonfinite)
         for (int c = 0; c < 3; c++) d[c] /= l;
     }
     prw_ref_fixed sum[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
-    uint64_t kept = 0;
+    uint64_t backs = 0;
     for (uint64_t s = j->d->s0; s < j->d->s1; s++) {
         ref_rng rng = ref_rng_make(j->d->seed, j->d->first_index + i, s);
         rng.dim = 2; /* as a pixel's path: dimensions 0, 1 are the pixel jitter's */
         double L[3];
-        ref_trace_ray(r, o, d, ray->tnear, j->d->camera, j->d->filter, &rng, L, traced);
+        bool back = false;
+        ref_trace_ray(r, o, d, ray->tnear, j->d->camera, j->d->filter, &rng, L, traced, &back);
+        backs += back;
         bool ok = true;
         for (int c = 0; c < 3; c++) ok = ok && isfinite(L[c]) && fabs(L[c]) < 1e24;
-        if (!ok) {
+        if (!ok) { /* dropped: counts as 0, as in prw_ref_render */
             (*nonfinite)++;
             continue;
         }
-        kept++;
         for (int c = 0; c < 3; c++) {
             sum[c] += to_fixed(nearbyint(L[c] * PRW_REF_SUM_SCALE));
             sq[c] += to_fixed(nearbyint(L[c] * L[c] * PRW_REF_SQ_SCALE));
         }
     }
-    (void)kept; /* dropped samples count as 0, as in prw_ref_render */
+    j->out[i].back_faces = backs;
     double n = (double)(j->d->s1 - j->d->s0);
     for (int c = 0; c < 3; c++) {
         double m = (double)sum[c] / PRW_REF_SUM_SCALE / n;

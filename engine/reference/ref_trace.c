@@ -662,12 +662,13 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
 {
     double o[3], d[3], tnear;
     ref_camera_ray(r, v, x, y, o, d, &tnear);
-    ref_trace_ray(r, o, d, tnear, true, f, rng, out, rays);
+    ref_trace_ray(r, o, d, tnear, true, f, rng, out, rays, NULL);
 }
 
 void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double d_in[3], double tnear, bool camera,
-                   prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays)
+                   prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first)
 {
+    if (back_first) *back_first = false;
     path pa;
     memset(&pa, 0, sizeof pa);
     pa.r = r;
@@ -726,7 +727,10 @@ void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double
             }
             break;
         }
-        if (!s.front && !(s.in->mat->double_sided || s.in->two_sided)) break; /* opaque black back face */
+        if (!s.front && !(s.in->mat->double_sided || s.in->two_sided)) { /* opaque black back face */
+            if (pa.k == 0 && back_first) *back_first = true;
+            break;
+        }
         double Le[3];
         if (accept_path(f, pa.k, false) && surf_emission(r, &s, Le)) {
             double w = 1;

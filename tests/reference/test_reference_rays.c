@@ -3,7 +3,8 @@
  *  - camera_equals_render: the camera rays of a view (prw_ref_camera_ray, first_index = pixel index,
  *    camera = true), one call per sample, give exactly prw_ref_render's fixed-point sums per pixel,
  *    for `all` and for indirect-diffuse-last;
- *  - threads: 1 and 2 threads give bit-identical means and variances over a sample range;
+ *  - threads: 1 and 2 threads give bit-identical means and variances over a sample range; a ray from
+ *    inside a closed box counts every sample as a back-face hit, one in the open none;
  *  - mindepth: per sample (same seed) all = emission + mindepth:1 along the same rays (to the
  *    fixed-point rounding), and mindepth:1 > 0 on the lit room. */
 #include <math.h>
@@ -108,6 +109,17 @@ static void test_threads(void)
     d.threads = 2;
     CHECK_OK(prw_ref_trace_rays(r, rays, n, &d, b, NULL, NULL, &e), &e);
     CHECK(memcmp(a, b, n * sizeof a[0]) == 0);
+    /* back faces: from inside the red box every sample's first surface is its inner (back) side */
+    {
+        prw_ref_ray in[2] = {{prw_v3(0.2, 0.4, -1.2), prw_v3(0.3, 0.2, 1), 0}, {prw_v3(0, 1.5, 0), prw_v3(0.3, 0.2, 1), 0}};
+        prw_ref_ray_result ir[2];
+        prw_ref_ray_desc bd = {.s0 = 0, .s1 = 8, .seed = 1, .filter = {PRW_REF_ALL, 0}};
+        CHECK_OK(prw_ref_trace_rays(r, in, 2, &bd, ir, NULL, NULL, &e), &e);
+        printf("back faces: inside the box %llu of 8, in the room %llu of 8\n", (unsigned long long)ir[0].back_faces,
+               (unsigned long long)ir[1].back_faces);
+        CHECK(ir[0].back_faces == 8 && ir[1].back_faces == 0);
+        CHECK(ir[0].mean[0] == 0 && ir[0].mean[1] == 0 && ir[0].mean[2] == 0);
+    }
     /* a bad ray is named */
     rays[7].tnear = -1;
     CHECK(!prw_ref_trace_rays(r, rays, n, &d, b, NULL, NULL, &e) && strstr(e.msg, "ray 7") != NULL);
