@@ -100,6 +100,29 @@ int main(int argc, char **argv)
     }
     printf("env build: %dx%d source, %u levels of %ux%u, %u samples: %.2f s on %d threads\n", img.width, img.height,
            d.levels, 2 * d.height, d.height, d.samples, prw_now() - t0, prw_threads_get());
+    /* The prefilter's sampling error: 32-row levels at the default sample count against 16x more. */
+    {
+        uint32_t oh = 32, K = PRW_ENV_DEFAULT_LEVELS, S = PRW_ENV_DEFAULT_SAMPLES;
+        size_t nl = (size_t)oh * 2 * oh * 3;
+        float *a = prw_malloc(K * nl * sizeof(float)), *b = prw_malloc(K * nl * sizeof(float));
+        if (!prw_env_prefilter(rgb, (uint32_t)img.width, (uint32_t)img.height, oh, K, S, a, &e) ||
+            !prw_env_prefilter(rgb, (uint32_t)img.width, (uint32_t)img.height, oh, K, 16 * S, b, &e)) {
+            fprintf(stderr, "%s\n", e.msg);
+            return 1;
+        }
+        for (uint32_t k = 0; k < K; k++) {
+            double se = 0, sb = 0;
+            for (size_t q = 0; q < nl; q++) {
+                double dlt = a[k * nl + q] - b[k * nl + q];
+                se += dlt * dlt;
+                sb += (double)b[k * nl + q] * b[k * nl + q];
+            }
+            printf("prefilter sampling error: level %u (roughness %.2f) %u vs %u samples: rms difference / rms value %.4f\n",
+                   k, prw_env_level_roughness(k, K), S, 16 * S, sqrt(se / sb));
+        }
+        free(a);
+        free(b);
+    }
     const mat mats[] = {
         {"gold r0.3", {1.00f, 0.78f, 0.34f}, 1, 0.3f},
         {"blue plastic r0.25", {0.08f, 0.18f, 0.60f}, 0, 0.25f},
