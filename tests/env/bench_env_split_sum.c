@@ -183,7 +183,8 @@ int main(int argc, char **argv)
             return 1;
         }
         double tr = prw_now() - t1;
-        double sref = 0, sform = 0, srel = 0, svar = 0;
+        double sref = 0, sform = 0, srel = 0, svar = 0, rel_hi = 0, rel_lo = 0;
+        int n_hi = 0, n_lo = 0;
         for (int i = 0; i < npts; i++) {
             double o[3];
             split_sum(&d, m, nn[i], vv[i], o);
@@ -191,14 +192,22 @@ int main(int argc, char **argv)
             double oy = 0.2126 * o[0] + 0.7152 * o[1] + 0.0722 * o[2];
             sref += ry;
             sform += oy;
-            srel += fabs(oy - ry) / fmax(ry, 1e-6);
+            double rel = fabs(oy - ry) / fmax(ry, 1e-6);
+            srel += rel;
+            double mu = nn[i][0] * vv[i][0] + nn[i][1] * vv[i][1] + nn[i][2] * vv[i][2];
+            if (mu >= 0.5)
+                rel_hi += rel, n_hi++;
+            else
+                rel_lo += rel, n_lo++;
             svar += 0.2126 * 0.2126 * res[i].var_mean[0] + 0.7152 * 0.7152 * res[i].var_mean[1] +
                     0.0722 * 0.0722 * res[i].var_mean[2];
         }
         double ratio = sform / sref, se = sqrt(svar) / sref;
         printf("split-sum vs path tracer (environment-direct), %-20s %d points x %llu spp: mean luminance "
-               "ratio %.4f (reference s.e. %.4f), mean |rel. error| per point %.3f (trace %.1f s)\n",
-               m->name, npts, (unsigned long long)spp, ratio, se, srel / npts, tr);
+               "ratio %.4f (reference s.e. %.4f), mean |rel. error| per point %.3f (n.v >= 0.5: %.3f, < 0.5: %.3f) "
+               "(trace %.1f s)\n",
+               m->name, npts, (unsigned long long)spp, ratio, se, srel / npts, rel_hi / (n_hi ? n_hi : 1),
+               rel_lo / (n_lo ? n_lo : 1), tr);
         if (!(fabs(ratio - 1) < 0.25)) bad = 1;
         free(res);
         free(rays);
