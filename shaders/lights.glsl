@@ -4,40 +4,16 @@
 //    the directional illuminance, shadowed by shadows.glsl;
 //  - rect area lights: diffuse (and the multiple-scattering specular) from Lambert's polygon formula
 //    (exact irradiance, clipped to the receiver's hemisphere), single-scattering specular by a
-//    lobe-resolving quadrature over the rectangle (rect_specular_single), visibility from one shadow map
+//    lobe-resolving quadrature over the rectangle (rect_specular_single; linearly transformed cosines,
+//    ltc.glsl, with PRW_RECT_LTC defined), visibility from one shadow map
 //    at the rectangle's centre (hard shadows: the main remaining difference to the reference).
 // Needs common.glsl, shadows.glsl, prw_brdf.h and prw_shading.h included before it.
+#include "polygon.glsl"
+#include "ltc.glsl"
 #ifndef PRW_LIGHTS_GLSL
 #define PRW_LIGHTS_GLSL
 
 const float PI = 3.14159265358979323846;
-
-// Lambert's formula for one edge a -> b of a polygon seen from the origin: the angle it subtends times
-// the unit normal of the plane through it.
-vec3 lambert_edge(vec3 a, vec3 b)
-{
-    vec3 v0 = normalize(a), v1 = normalize(b);
-    vec3 cr = cross(v0, v1);
-    float l = length(cr);
-    return l > 1e-9 ? atan(l, dot(v0, v1)) * (cr / l) : vec3(0.0);
-}
-
-// The edge a -> b of a convex polygon (relative to the receiver) clipped to the hemisphere of n: adds the
-// part above the horizon to sum and records where the polygon leaves (exit_pt) or re-enters (entry_pt)
-// the hemisphere, so the caller closes it along the horizon.  (No local array: lavapipe makes a
-// dynamically indexed one cost ~300 ms a frame at 1280x720 even when the code never runs.  One
-// lambert_edge call on the clipped ends, chosen by selects: lavapipe runs every branch, and a call per
-// case cost three of them per edge.)
-void clip_edge(vec3 a, vec3 b, vec3 n, inout vec3 sum, inout vec3 exit_pt, inout vec3 entry_pt, inout int above)
-{
-    float da = dot(n, a), db = dot(n, b);
-    bool ua = da > 0.0, ub = db > 0.0;
-    vec3 cut = a + (b - a) * (da / (da - db)); // used only when exactly one end is above
-    if (ua) above++;
-    if (ua && !ub) exit_pt = cut;
-    if (!ua && ub) entry_pt = cut;
-    if (ua || ub) sum += lambert_edge(ua ? a : cut, ub ? b : cut);
-}
 
 // Irradiance per unit radiance from the quad q0..q3 (camera-relative, convex, planar) at p with normal n,
 // after clipping the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
@@ -45,15 +21,8 @@ void clip_edge(vec3 a, vec3 b, vec3 n, inout vec3 sum, inout vec3 exit_pt, inout
 float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out vec3 fdir)
 {
     fdir = n;
-    vec3 a = q0 - p, b = q1 - p, c = q2 - p, d = q3 - p;
-    vec3 sum = vec3(0.0), exit_pt = vec3(0.0), entry_pt = vec3(0.0);
-    int above = 0;
-    clip_edge(a, b, n, sum, exit_pt, entry_pt, above);
-    clip_edge(b, c, n, sum, exit_pt, entry_pt, above);
-    clip_edge(c, d, n, sum, exit_pt, entry_pt, above);
-    clip_edge(d, a, n, sum, exit_pt, entry_pt, above);
-    if (above == 0) return 0.0;
-    if (above < 4) sum += lambert_edge(exit_pt, entry_pt); // along the horizon
+    vec3 sum;
+    if (!quad_edge_sum(q0 - p, q1 - p, q2 - p, q3 - p, n, sum)) return 0.0;
     float e = dot(n, sum);
     if (e < 0.0) sum = -sum;
     float len = length(sum);
@@ -74,8 +43,8 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out ve
 // mean cos(v, h).
 #define PRW_RECT_NODES 10
 #define PRW_RECT_SCALE 3.0
-vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
-                          float roughness, float specular)
+vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                              float roughness, float specular)
 {
     float alpha = prw_alpha_from_roughness(roughness);
     float dist = max(length(c - p), 1e-4);
@@ -140,6 +109,20 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
     vec3 f = vec3((1.0 - m) * f_diel + m * prw_F_schlick(base.r, voh), (1.0 - m) * f_diel + m * prw_F_schlick(base.g, voh),
                   (1.0 - m) * f_diel + m * prw_F_schlick(base.b, voh));
     return f * (mapped ? sum : sum * 4.0 * lu * lv / float(nu * nv));
+}
+
+// The rect light's single-scattering specular: the quadrature above; with PRW_RECT_LTC defined, linearly
+// transformed cosines (ltc.glsl) instead: cheaper (one more polygon integral instead of up to 10 x 10
+// lobe evaluations) but a single LTC does not follow the GGX lobe as closely as the quadrature
+// (materials/tools/rect_quad_study.c prints both errors), so the quadrature is the default.
+vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                          float roughness, float specular)
+{
+#ifdef PRW_RECT_LTC
+    return rect_specular_ltc(p, n, v, c, du, dv, base, metallic, roughness, specular);
+#else
+    return rect_specular_quadrature(p, n, v, c, du, dv, ln, base, metallic, roughness, specular);
+#endif
 }
 
 // The fitted albedos (prw_ggx_fit.h) a surface point needs for every light: those of its roughness and
