@@ -78,27 +78,39 @@ vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, 
         Tv = tan(dtv);
     }
     vec3 eu = du / lu, ev = dv / lv;
+    // per node one division: D V (n.l) cos_light / d^2 =
+    //   (a^2 / (2 pi)) (n.d) (-ln.d) / (dd^2 (gv + gl) d2^2) with l = d / |d|, dd = (n.h)^2 (a^2 - 1) + 1,
+    // gv = min(n.l, 1) sqrt((n.v)^2 (1 - a^2) + a^2) and gl = n.v sqrt(min(n.l, 1)^2 (1 - a^2) + a^2)
+    // (prw_D_ggx and prw_V_smith_ggx up to float rounding); n.h and v.h from v.l without forming h
+    // (|v + l|^2 = 2 + 2 v.l); the node positions by multiplications.
+    float a2 = alpha * alpha, k2 = 1.0 - a2;
+    float gv0 = sqrt(NoV * NoV * k2 + a2), dvk = a2 * (0.5 / PRW_BRDF_PI), nov = dot(n, v);
+    vec3 cp = c - p;
+    float su_step = 2.0 / float(nu), sv_step = 2.0 / float(nv);
     float sum = 0.0, sum_voh = 0.0;
     float tv = tv0;
     for (int j = 0; j < nv; j++) {
-        float sv = (2.0 * (float(j) + 0.5)) / float(nv) - 1.0;
+        float sv = (float(j) + 0.5) * sv_step - 1.0;
         float wv = s * (1.0 + tv * tv) * dtv; // mapped: metres of the node along v
-        vec3 rowv = mapped ? ev * (xv + s * tv) : dv * sv;
+        vec3 rowv = mapped ? cp + ev * (xv + s * tv) : cp + dv * sv;
         float tu = tu0;
         for (int i = 0; i < nu; i++) {
-            float su = (2.0 * (float(i) + 0.5)) / float(nu) - 1.0;
-            vec3 d = mapped ? c + eu * (xu + s * tu) + rowv - p : c + du * su + dv * sv - p;
+            float su = (float(i) + 0.5) * su_step - 1.0;
+            vec3 d = rowv + (mapped ? eu * (xu + s * tu) : du * su);
             float cw = mapped ? s * (1.0 + tu * tu) * dtu * wv : 1.0;
             tu = (tu + Tu) / (1.0 - tu * Tu);
             float d2 = max(dot(d, d), 1e-8);
-            vec3 l = d * inversesqrt(d2);
+            float rs = inversesqrt(d2);
+            vec3 l = d * rs;
             float NoL = dot(n, l), cl = -dot(l, ln);
             if (NoL <= 0.0 || cl <= 0.0) continue;
-            vec3 h = normalize(v + l);
-            float w = prw_D_ggx(prw_clamp01(dot(n, h)), alpha) * prw_V_smith_ggx(NoV, min(NoL, 1.0), alpha) *
-                      (NoL * cl / d2) * cw;
+            float vl = dot(v, l), rh = inversesqrt(max(2.0 + 2.0 * vl, 1e-12)); // 1 / |v + l|
+            float NoH = prw_clamp01((nov + NoL) * rh), mi = min(NoL, 1.0);
+            float dd = NoH * NoH * (a2 - 1.0) + 1.0;
+            float g = max(mi * gv0 + NoV * sqrt(mi * mi * k2 + a2), 1e-12);
+            float w = dvk * NoL * cl * cw * (rs * rs) / (dd * dd * g);
             sum += w;
-            sum_voh += w * prw_clamp01(dot(v, h));
+            sum_voh += w * prw_clamp01((1.0 + vl) * rh);
         }
         tv = (tv + Tv) / (1.0 - tv * Tv);
     }
