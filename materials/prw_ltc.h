@@ -1,6 +1,7 @@
 /* prw_ltc — the rect lights' single-scattering GGX specular by linearly transformed cosines (Heitz,
- * Dupuy, Hill & Neubelt 2016), in C: the table the rasterizer samples (shaders/ltc.glsl) and a float
- * twin of the shader's evaluation, for tests and studies.
+ * Dupuy, Hill & Neubelt 2016), in C: the table the rasterizer samples (shaders/ltc.glsl, used with
+ * PRW_RECT_LTC defined in shaders/lights.glsl) and a float twin of the shader's evaluation, for tests and
+ * studies.
  *
  * Promises:
  *  - prw_ltc_table_texels(): PRW_LTC_N x PRW_LTC_N RGBA32F texels of 2 layers, layer-major then rows

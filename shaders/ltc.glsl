@@ -1,7 +1,8 @@
 // ltc.glsl — the rect lights' single-scattering GGX specular by linearly transformed cosines (Heitz,
-// Dupuy, Hill & Neubelt 2016): the table (materials/prw_ltc.h says its layout; fitted to prw_brdf.h's
-// lobe by materials/tools/gen_ltc_fit.c) maps the lobe D V (n.l) at (roughness, n.v) to a clamped
-// cosine, whose integral over the transformed rectangle is Lambert's polygon formula (polygon.glsl).
+// Dupuy, Hill & Neubelt 2016; lights.glsl uses it with PRW_RECT_LTC defined): the table
+// (materials/prw_ltc.h says its layout; fitted to prw_brdf.h's lobe by materials/tools/gen_ltc_fit.c)
+// maps the lobe D V (n.l) at (roughness, n.v) to a clamped cosine, whose integral over the transformed
+// rectangle is Lambert's polygon formula (polygon.glsl).
 // materials/prw_ltc.c is the C twin of rect_specular_ltc (tests/render/test_ltc_gpu.c checks they agree).
 // Needs prw_brdf.h and polygon.glsl included before it.  The table is a 2-layer array image with linear
 // filtering and clamp to edge, at set PRW_LTC_SET, binding PRW_LTC_BINDING (the base pass: set 0, binding 3).

@@ -1,11 +1,12 @@
 /* gen_ltc_fit — writes materials/prw_ltc_table.h, the linearly transformed cosines (LTC; Heitz, Dupuy,
  * Hill & Neubelt 2016, "Real-time polygonal-light shading with linearly transformed cosines") that the
- * rasterizer's rect lights use for the single-scattering GGX specular (shaders/ltc.glsl,
- * materials/prw_ltc.h).  Fitted here to OUR lobe: D_GGX * V_SmithGGXCorrelated * (n.l) of prw_brdf.h
+ * rasterizer's rect lights can use for the single-scattering GGX specular (shaders/ltc.glsl with
+ * PRW_RECT_LTC, materials/prw_ltc.h).  Fitted here to OUR lobe: D_GGX * V_SmithGGXCorrelated * (n.l) of prw_brdf.h
  * (restated below in double precision: float loses the lobe's shape at alpha 0.002), F = 1.
  *
  *   cc -O2 -std=c17 materials/tools/gen_ltc_fit.c -lm -o gen_ltc_fit
- *   ./gen_ltc_fit > materials/prw_ltc_table.h        (~1 min; prints its fit error on stderr)
+ *   ./gen_ltc_fit > materials/prw_ltc_table.h   (~2.5 min with -fopenmp on 2 cores; prints the worst fit error
+ *   on stderr, LTC_VERBOSE=1 each cell's parameters and L1 distance between the normalised lobes)
  * (or build the CMake target prw_gen_ltc_fit and run build/materials/prw_gen_ltc_fit).
  *
  * Table: PRW_LTC_N x PRW_LTC_N cells over perceptual roughness r = i / (N - 1) (alpha as
@@ -22,9 +23,9 @@
  * GGX lobe (reflected D-sampled half vectors) and of the LTC itself, 16 x 16 stratified samples each
  * with fixed jitter (so the objective is deterministic), by Nelder-Mead started from the neighbouring
  * cell's solution (cells visited from n.v = 1 towards grazing) and from an isotropic lobe (a = c = alpha,
- * b = 0) at the mean direction, keeping the better; the lobe's direction stays above the horizon.  Stored: M^-1 scaled so that its
- * middle element is 1 (the distribution does not depend on the scale): (m00, m02, m20, m22), and
- * (A, B, C, 0).  A, B, C by 256 x 256 midpoint samples of the reflected D-sampled half vector.
+ * b = 0) at the mean direction, keeping the better; the lobe's direction stays above the horizon.
+ * Stored: M^-1 scaled so that its middle element is 1 (the distribution does not depend on the scale):
+ * (m00, m02, m20, m22), and (A, B, C, 0).  A, B, C by 256 x 256 midpoint samples of the reflected D-sampled half vector.
  */
 #include <math.h>
 #include <stdio.h>
@@ -302,7 +303,9 @@ int main(void)
             c.l1 = 1;
             double l1 = objective(&c, p);
             if (l1 > worst) worst = l1;
-            if (getenv("LTC_VERBOSE")) fprintf(stderr, "r %.3f mu %.4f phi %.3f -> %.3f abc %.4g %.4g %.4g L1 %.4f\n", r, mu, c.phi, p[3], p[0], p[1], p[2], l1);
+            if (getenv("LTC_VERBOSE"))
+                fprintf(stderr, "r %.3f mu %.4f phi %.3f -> %.3f abc %.4g %.4g %.4g L1 %.4f\n", r, mu, c.phi, p[3],
+                        p[0], p[1], p[2], l1);
             ltc L = make_ltc(p);
             double s = L.inv[1][1];
             table[0][j][i][0] = (float)(L.inv[0][0] / s);

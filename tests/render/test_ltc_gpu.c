@@ -170,8 +170,8 @@ static void test_ltc_gpu_equals_c(void)
                 if (rel > worst_t) worst_t = rel;
             }
         }
-        printf("ltc gpu vs c twin: %d cases (%d lit); lookup: worst |diff| / 1e-5 (|c| + max) %.3g, %d beyond; specular: worst "
-               "|diff| / 1e-4 (|c| + s) %.3g (case %d), %d channels beyond\n",
+        printf("ltc gpu vs c twin: %d cases (%d lit); lookup: worst |diff| / 1e-5 (|c| + max) %.3g, %d beyond; "
+               "specular: worst |diff| / 1e-4 (|c| + s) %.3g (case %d), %d channels beyond\n",
                N, lit, worst_t, bad_t, worst, worst_i, bad);
         CHECK(bad == 0);
         CHECK(bad_t == 0);
