@@ -11,7 +11,7 @@
 cmake_minimum_required(VERSION 3.25) # IN_LIST, POP_FRONT
 set(PRW_RANKS
   "core=0"
-  "lod=1" "materials=1" "materials/btf=1"
+  "lod=1" "materials=1" "materials/btf=1" "materials/env=1"
   "engine/scene=2" "engine/view=2" "engine/gpu=2" "engine/image=2"
   "engine/render=3" "engine/reference=3"
   "engine/bake=4")

@@ -4,40 +4,16 @@
 //    the directional illuminance, shadowed by shadows.glsl;
 //  - rect area lights: diffuse (and the multiple-scattering specular) from Lambert's polygon formula
 //    (exact irradiance, clipped to the receiver's hemisphere), single-scattering specular by a
-//    lobe-resolving quadrature over the rectangle (rect_specular_single), visibility from one shadow map
+//    lobe-resolving quadrature over the rectangle (rect_specular_single; linearly transformed cosines,
+//    ltc.glsl, with PRW_RECT_LTC defined), visibility from one shadow map
 //    at the rectangle's centre (hard shadows: the main remaining difference to the reference).
 // Needs common.glsl, shadows.glsl, prw_brdf.h and prw_shading.h included before it.
+#include "polygon.glsl"
+#include "ltc.glsl"
 #ifndef PRW_LIGHTS_GLSL
 #define PRW_LIGHTS_GLSL
 
 const float PI = 3.14159265358979323846;
-
-// Lambert's formula for one edge a -> b of a polygon seen from the origin: the angle it subtends times
-// the unit normal of the plane through it.
-vec3 lambert_edge(vec3 a, vec3 b)
-{
-    vec3 v0 = normalize(a), v1 = normalize(b);
-    vec3 cr = cross(v0, v1);
-    float l = length(cr);
-    return l > 1e-9 ? atan(l, dot(v0, v1)) * (cr / l) : vec3(0.0);
-}
-
-// The edge a -> b of a convex polygon (relative to the receiver) clipped to the hemisphere of n: adds the
-// part above the horizon to sum and records where the polygon leaves (exit_pt) or re-enters (entry_pt)
-// the hemisphere, so the caller closes it along the horizon.  (No local array: lavapipe makes a
-// dynamically indexed one cost ~300 ms a frame at 1280x720 even when the code never runs.  One
-// lambert_edge call on the clipped ends, chosen by selects: lavapipe runs every branch, and a call per
-// case cost three of them per edge.)
-void clip_edge(vec3 a, vec3 b, vec3 n, inout vec3 sum, inout vec3 exit_pt, inout vec3 entry_pt, inout int above)
-{
-    float da = dot(n, a), db = dot(n, b);
-    bool ua = da > 0.0, ub = db > 0.0;
-    vec3 cut = a + (b - a) * (da / (da - db)); // used only when exactly one end is above
-    if (ua) above++;
-    if (ua && !ub) exit_pt = cut;
-    if (!ua && ub) entry_pt = cut;
-    if (ua || ub) sum += lambert_edge(ua ? a : cut, ub ? b : cut);
-}
 
 // Irradiance per unit radiance from the quad q0..q3 (camera-relative, convex, planar) at p with normal n,
 // after clipping the quad to the hemisphere above p (Lambert's formula: E/L = 1/2 sum theta_i n.gamma_i).
@@ -45,15 +21,8 @@ void clip_edge(vec3 a, vec3 b, vec3 n, inout vec3 sum, inout vec3 exit_pt, inout
 float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out vec3 fdir)
 {
     fdir = n;
-    vec3 a = q0 - p, b = q1 - p, c = q2 - p, d = q3 - p;
-    vec3 sum = vec3(0.0), exit_pt = vec3(0.0), entry_pt = vec3(0.0);
-    int above = 0;
-    clip_edge(a, b, n, sum, exit_pt, entry_pt, above);
-    clip_edge(b, c, n, sum, exit_pt, entry_pt, above);
-    clip_edge(c, d, n, sum, exit_pt, entry_pt, above);
-    clip_edge(d, a, n, sum, exit_pt, entry_pt, above);
-    if (above == 0) return 0.0;
-    if (above < 4) sum += lambert_edge(exit_pt, entry_pt); // along the horizon
+    vec3 sum;
+    if (!quad_edge_sum(q0 - p, q1 - p, q2 - p, q3 - p, n, sum)) return 0.0;
     float e = dot(n, sum);
     if (e < 0.0) sum = -sum;
     float len = length(sum);
@@ -74,8 +43,8 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out ve
 // mean cos(v, h).
 #define PRW_RECT_NODES 10
 #define PRW_RECT_SCALE 3.0
-vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
-                          float roughness, float specular)
+vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                              float roughness, float specular)
 {
     float alpha = prw_alpha_from_roughness(roughness);
     float dist = max(length(c - p), 1e-4);
@@ -109,27 +78,39 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
         Tv = tan(dtv);
     }
     vec3 eu = du / lu, ev = dv / lv;
+    // per node one division: D V (n.l) cos_light / d^2 =
+    //   (a^2 / (2 pi)) (n.d) (-ln.d) / (dd^2 (gv + gl) d2^2) with l = d / |d|, dd = (n.h)^2 (a^2 - 1) + 1,
+    // gv = min(n.l, 1) sqrt((n.v)^2 (1 - a^2) + a^2) and gl = n.v sqrt(min(n.l, 1)^2 (1 - a^2) + a^2)
+    // (prw_D_ggx and prw_V_smith_ggx up to float rounding); n.h and v.h from v.l without forming h
+    // (|v + l|^2 = 2 + 2 v.l); the node positions by multiplications.
+    float a2 = alpha * alpha, k2 = 1.0 - a2;
+    float gv0 = sqrt(NoV * NoV * k2 + a2), dvk = a2 * (0.5 / PRW_BRDF_PI), nov = dot(n, v);
+    vec3 cp = c - p;
+    float su_step = 2.0 / float(nu), sv_step = 2.0 / float(nv);
     float sum = 0.0, sum_voh = 0.0;
     float tv = tv0;
     for (int j = 0; j < nv; j++) {
-        float sv = (2.0 * (float(j) + 0.5)) / float(nv) - 1.0;
+        float sv = (float(j) + 0.5) * sv_step - 1.0;
         float wv = s * (1.0 + tv * tv) * dtv; // mapped: metres of the node along v
-        vec3 rowv = mapped ? ev * (xv + s * tv) : dv * sv;
+        vec3 rowv = mapped ? cp + ev * (xv + s * tv) : cp + dv * sv;
         float tu = tu0;
         for (int i = 0; i < nu; i++) {
-            float su = (2.0 * (float(i) + 0.5)) / float(nu) - 1.0;
-            vec3 d = mapped ? c + eu * (xu + s * tu) + rowv - p : c + du * su + dv * sv - p;
+            float su = (float(i) + 0.5) * su_step - 1.0;
+            vec3 d = rowv + (mapped ? eu * (xu + s * tu) : du * su);
             float cw = mapped ? s * (1.0 + tu * tu) * dtu * wv : 1.0;
             tu = (tu + Tu) / (1.0 - tu * Tu);
             float d2 = max(dot(d, d), 1e-8);
-            vec3 l = d * inversesqrt(d2);
+            float rs = inversesqrt(d2);
+            vec3 l = d * rs;
             float NoL = dot(n, l), cl = -dot(l, ln);
             if (NoL <= 0.0 || cl <= 0.0) continue;
-            vec3 h = normalize(v + l);
-            float w = prw_D_ggx(prw_clamp01(dot(n, h)), alpha) * prw_V_smith_ggx(NoV, min(NoL, 1.0), alpha) *
-                      (NoL * cl / d2) * cw;
+            float vl = dot(v, l), rh = inversesqrt(max(2.0 + 2.0 * vl, 1e-12)); // 1 / |v + l|
+            float NoH = prw_clamp01((nov + NoL) * rh), mi = min(NoL, 1.0);
+            float dd = NoH * NoH * (a2 - 1.0) + 1.0;
+            float g = max(mi * gv0 + NoV * sqrt(mi * mi * k2 + a2), 1e-12);
+            float w = dvk * NoL * cl * cw * (rs * rs) / (dd * dd * g);
             sum += w;
-            sum_voh += w * prw_clamp01(dot(v, h));
+            sum_voh += w * prw_clamp01((1.0 + vl) * rh);
         }
         tv = (tv + Tv) / (1.0 - tv * Tv);
     }
@@ -140,6 +121,20 @@ vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3
     vec3 f = vec3((1.0 - m) * f_diel + m * prw_F_schlick(base.r, voh), (1.0 - m) * f_diel + m * prw_F_schlick(base.g, voh),
                   (1.0 - m) * f_diel + m * prw_F_schlick(base.b, voh));
     return f * (mapped ? sum : sum * 4.0 * lu * lv / float(nu * nv));
+}
+
+// The rect light's single-scattering specular: the quadrature above; with PRW_RECT_LTC defined, linearly
+// transformed cosines (ltc.glsl) instead: cheaper (one more polygon integral instead of up to 10 x 10
+// lobe evaluations) but a single LTC does not follow the GGX lobe as closely as the quadrature
+// (materials/tools/rect_quad_study.c prints both errors), so the quadrature is the default.
+vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
+                          float roughness, float specular)
+{
+#ifdef PRW_RECT_LTC
+    return rect_specular_ltc(p, n, v, c, du, dv, base, metallic, roughness, specular);
+#else
+    return rect_specular_quadrature(p, n, v, c, du, dv, ln, base, metallic, roughness, specular);
+#endif
 }
 
 // The fitted albedos (prw_ggx_fit.h) a surface point needs for every light: those of its roughness and

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "prw_constants.h"
+#include "prw_ltc.h"
 #include "prw_shaders.h"
 #include "shadow_plan.h"
 
@@ -146,10 +147,11 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     p->gpu = env->gpu;
     p->env = env;
     VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding globals[3] = {
+    VkDescriptorSetLayoutBinding globals[4] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutBinding material[8];
     for (uint32_t i = 0; i < 8; i++)
@@ -160,7 +162,17 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
     };
-    if (!prw_desc_layout_create(p->gpu, globals, 3, &p->globals_layout, e) ||
+    /* the LTC table: 2 layers of PRW_LTC_N^2 RGBA32F texels, sampled bilinearly (shaders/ltc.glsl) */
+    prw_image_desc ltc = {.width = PRW_LTC_N, .height = PRW_LTC_N, .layers = 2,
+                          .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+                          .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                          .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
+    size_t layer_bytes = (size_t)PRW_LTC_N * PRW_LTC_N * 4 * sizeof(float);
+    if (!prw_image_create(p->gpu, &ltc, &p->ltc, e) ||
+        !prw_image_upload(p->gpu, &p->ltc, 0, prw_ltc_table_texels(), layer_bytes, e) ||
+        !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
+        return false;
+    if (!prw_desc_layout_create(p->gpu, globals, 4, &p->globals_layout, e) ||
         !prw_desc_layout_create(p->gpu, material, 8, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
@@ -190,7 +202,14 @@ void prw_pipes_destroy(prw_pipes *p)
     VkDescriptorSetLayout dls[3] = {p->globals_layout, p->material_layout, p->storage2_layout};
     for (int i = 0; i < 3; i++)
         if (dls[i]) vkDestroyDescriptorSetLayout(dev, dls[i], NULL);
+    prw_image_destroy(p->gpu, &p->ltc);
     free(p);
+}
+
+void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set)
+{
+    prw_desc_write_image(p->gpu, set, 3, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->ltc.view,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
 bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_error *e)

@@ -68,10 +68,14 @@ typedef struct prw_pipes {
     prw_pipe_recipe base, shadow; /* the standard recipes */
     VkPipeline downsample;        /* compute: N x N box filter (storage2 layout) */
     prw_pipeline_table *table;
+    prw_gpu_image ltc;            /* the rect lights' LTC table (materials/prw_ltc.h), set 0 binding 3 */
 } prw_pipes;
 
 bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e);
 void prw_pipes_destroy(prw_pipes *p);
+/* Writes the bindings of a globals set (globals_layout) that the pipes own: binding 3, the LTC table.
+ * Every globals set a base pipeline is drawn with needs it (bindings 0-2 are the caller's). */
+void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set);
 /* The pipeline for k (built on first use). */
 bool prw_pipes_get(prw_pipes *p, const prw_pipe_key *k, VkPipeline *out, prw_error *e);
 /* Destroys every pipeline built from recipe r. */

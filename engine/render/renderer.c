@@ -107,9 +107,11 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
         ok = prw_buffer_create(gpu, sizeof(prw_gpu_globals), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
                                &r->globals[v], e) &&
              prw_desc_alloc(gpu, r->pool, r->pipes->globals_layout, &r->globals_set[v], e);
-        if (ok)
+        if (ok) {
             prw_desc_write_buffer(gpu, r->globals_set[v], 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &r->globals[v], 0,
                                   sizeof(prw_gpu_globals));
+            prw_pipes_write_globals(r->pipes, r->globals_set[v]);
+        }
     }
     ok = ok && create_scene_parts(r, e);
     if (ok && r->desc.timestamps) ok = prw_timer_create(gpu, 64, &r->timer, e);

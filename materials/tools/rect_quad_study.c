@@ -2,9 +2,12 @@
  * rect_specular_single), in double precision against a converged quadrature.  A study, not a test: it
  * re-states the shader's two node rules in C (the GLSL is not compiled here), so it answers "which rule
  * and how many nodes", not "is the shader right" (test_raster_vs_ref checks the shader end to end);
- * it evaluates each node's tan directly in double, not the shader's float tangent recurrence.
+ * it evaluates each node's tan directly in double, not the shader's float tangent recurrence.  It also
+ * prints the error of the linearly transformed cosines (shaders/ltc.glsl) through their float C twin
+ * (materials/prw_ltc.c, the table materials/prw_ltc_table.h), with F = 1 (the table's albedo times the
+ * LTC's integral over the rectangle).
  *
- *   cc -O2 -std=c17 materials/tools/rect_quad_study.c -lm -o rect_quad_study
+ *   cc -O2 -std=c17 -Imaterials materials/tools/rect_quad_study.c materials/prw_ltc.c -lm -o rect_quad_study
  *   ./rect_quad_study [M] [k] [--mapped-only]    (default M 10, k 3; ~20 s)
  *
  * Integrand on the light (radiance 1): D(n.h) V(n.v, n.l) (n.l) cos_light / d^2, GGX with the
@@ -22,6 +25,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "prw_ltc.h"
 
 typedef struct {
     double x, y, z;
@@ -56,7 +61,17 @@ static v3 rnd_dir(void)
 typedef struct {
     v3 p, n, v, c, du, dv, ln; /* receiver, normal, towards the eye; light centre, half axes, emitting +ln */
     double a;                  /* GGX alpha */
+    double r;                  /* perceptual roughness */
 } config;
+
+static double ltc_rule(const config *g)
+{
+    float p[3] = {(float)g->p.x, (float)g->p.y, (float)g->p.z}, n[3] = {(float)g->n.x, (float)g->n.y, (float)g->n.z};
+    float v[3] = {(float)g->v.x, (float)g->v.y, (float)g->v.z}, c[3] = {(float)g->c.x, (float)g->c.y, (float)g->c.z};
+    float du[3] = {(float)g->du.x, (float)g->du.y, (float)g->du.z}, dv[3] = {(float)g->dv.x, (float)g->dv.y, (float)g->dv.z};
+    float f[4];
+    return prw_ltc_rect_ggx(p, n, v, c, du, dv, (float)g->r, f);
+}
 
 static double integrand(const config *g, v3 x)
 {
@@ -140,7 +155,7 @@ int main(int argc, char **argv)
         return 2;
     }
     enum { N = 600 };
-    static double e_old[N], e_new[N];
+    static double e_old[N], e_new[N], e_ltc[N];
     double c_old = 0, c_new = 0;
     int n = 0;
     while (n < N) {
@@ -156,6 +171,7 @@ int main(int argc, char **argv)
         if (dot(g.v, g.n) <= 0.02) continue;
         double r = 0.0447 + (1 - 0.0447) * rnd();
         g.a = fmax(r * r, 0.002);
+        g.r = r;
         int nu, nv, cells;
         grid(&g, 1.0 / 64, 3000, &nu, &nv);
         double ref = uniform_rule(&g, nu, nv);
@@ -166,6 +182,7 @@ int main(int argc, char **argv)
         double a = uniform_rule(&g, ou, ov), b = new_rule(&g, M, k, &cells);
         e_old[n] = fabs(a - ref) / (ref + 0.02);
         e_new[n] = fabs(b - ref) / (ref + 0.02);
+        e_ltc[n] = fabs(ltc_rule(&g) - ref) / (ref + 0.02);
         c_old += ou * ov;
         c_new += cells;
         n++;
@@ -174,10 +191,13 @@ int main(int argc, char **argv)
     fprintf(stderr, "\n");
     qsort(e_old, N, sizeof(double), cmp);
     qsort(e_new, N, sizeof(double), cmp);
+    qsort(e_ltc, N, sizeof(double), cmp);
     printf("%d configurations%s, M %d, k %.2f\n", N, mapped_only ? " (only where the new rule maps)" : "", M, k);
     printf("  old rule: %6.1f cells on average, error median %.4f p90 %.4f p99 %.4f max %.4f\n", c_old / N, e_old[N / 2],
            e_old[N * 9 / 10], e_old[N * 99 / 100], e_old[N - 1]);
     printf("  new rule: %6.1f cells on average, error median %.4f p90 %.4f p99 %.4f max %.4f\n", c_new / N, e_new[N / 2],
            e_new[N * 9 / 10], e_new[N * 99 / 100], e_new[N - 1]);
+    printf("  LTC:      %2d x %2d table,       error median %.4f p90 %.4f p99 %.4f max %.4f\n", PRW_LTC_N, PRW_LTC_N,
+           e_ltc[N / 2], e_ltc[N * 9 / 10], e_ltc[N * 99 / 100], e_ltc[N - 1]);
     return 0;
 }

@@ -52,6 +52,7 @@ static bool create(const prw_pass_init *in, void **state, prw_error *e)
             return false;
         prw_desc_write_buffer(env->gpu, m->sets[v], 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &m->globals[v], 0,
                               sizeof(prw_gpu_globals));
+        prw_pipes_write_globals(env->pipes, m->sets[v]);
         prw_desc_write_image(env->gpu, m->sets[v], 1, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
                              prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         prw_desc_write_image(env->gpu, m->sets[v], 2, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
