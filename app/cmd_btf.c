@@ -31,7 +31,7 @@ static void help(void)
            "  --points LIST     knob points: components for fmf / pvf (\"4,8,16\"), clusters x components for\n"
            "                    cluster (\"16x0,32x4\"), clusters x components + residual entries per texel for sparse\n"
            "                    (\"16x0+4\"); default fmf 4,8,16,32; cluster 16x0,64x0,16x4,32x4; pvf 1,2,4;\n"
-           "                    sparse 16x0+2,16x0+4,32x0+4,16x2+4\n"
+           "                    sparse 8x0+2,16x0+2,16x0+4,64x0+1\n"
            "  --out DIR         output directory (default prw-out/btf)\n"
            "  --seed N          generator and codec seed (default 1)\n"
            "  --save-btf F      also write the input BTF to F as a raw dump (\"PRWBTFR1\", u32 width, height, views,\n"
@@ -108,7 +108,7 @@ static bool raw_read(const char *path, prw_btf *out, prw_error *e)
     bool ok = fread(magic, 1, 8, f) == 8 && memcmp(magic, RAW_MAGIC, 8) == 0 && fread(h, 4, 4, f) == 4;
     if (!ok) {
         fclose(f);
-        return prw_fail(e, "%s: byte 0 (header): not a raw BTF dump (%s)", path, RAW_MAGIC);
+        return prw_fail(e, "%s: byte 0 (header): not a raw BTF dump (%s and four sizes)", path, RAW_MAGIC);
     }
     if (!h[0] || !h[1] || !h[2] || !h[3] || h[0] > 65536 || h[1] > 65536 || h[2] > 65536 || h[3] > 65536) {
         fclose(f);
@@ -153,7 +153,7 @@ static const char *codec_name(prw_btf_codec c)
 /* The points of one codec: from --points or the defaults. */
 static bool points_of(prw_btf_codec c, const char *list, point *out, int *n, prw_error *e)
 {
-    static const char *defaults[5] = {NULL, "4,8,16,32", "16x0,64x0,16x4,32x4", "1,2,4", "16x0+2,16x0+4,32x0+4,16x2+4"};
+    static const char *defaults[5] = {NULL, "4,8,16,32", "16x0,64x0,16x4,32x4", "1,2,4", "8x0+2,16x0+2,16x0+4,64x0+1"};
     const char *s = list ? list : defaults[c];
     char buf[512];
     snprintf(buf, sizeof buf, "%s", s);
