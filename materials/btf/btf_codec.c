@@ -335,12 +335,38 @@ static void sparse_bins(void *user, uint64_t b, uint64_t e)
         }
 }
 
+/* Without components, each cluster's mean ABRDF again over the entries the residual does not hold: the
+ * spikes it holds no longer leak into the mean of every texel of their cluster. */
+static void refit_means(const prw_btf *a, prw_btf_packed *out)
+{
+    uint64_t N = (uint64_t)a->width * a->height, P = (uint64_t)a->views * a->lights, D = P * 3;
+    double *sum = prw_calloc((size_t)(out->clusters * D), sizeof(double));
+    uint32_t *count = prw_calloc((size_t)(out->clusters * P), sizeof(uint32_t));
+    for (uint64_t t = 0; t < N; t++) {
+        uint64_t i = out->index[t];
+        uint32_t j = out->sp_start[t], end = out->sp_start[t + 1];
+        for (uint64_t q = 0; q < P; q++) {
+            if (j < end && out->sp_pair[j] == q) {
+                j++;
+                continue;
+            }
+            count[i * P + q]++;
+            for (uint32_t c = 0; c < 3; c++) sum[i * D + q * 3 + c] += a->rgb[(q * N + t) * 3 + c];
+        }
+    }
+    for (uint64_t i = 0; i < out->clusters; i++)
+        for (uint64_t q = 0; q < P; q++)
+            if (count[i * P + q])
+                for (uint32_t c = 0; c < 3; c++) out->mean[i * D + q * 3 + c] = h16(sum[i * D + q * 3 + c] / count[i * P + q]);
+    free(sum), free(count);
+}
+
 static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
 {
     uint64_t N = (uint64_t)a->width * a->height, P = (uint64_t)a->views * a->lights;
     if (p->clusters > 65535 || P > 65535)
         return prw_fail(e, "btf sparse: %u clusters, %llu direction pairs (at most 65535 each)", p->clusters, (unsigned long long)P);
-    if (!(p->sparse_per_texel >= 0) || p->sparse_per_texel * (double)N > (double)PRW_MIN(N * P, (uint64_t)UINT32_MAX))
+    if (!(p->sparse_per_texel >= 0) || p->sparse_per_texel * (double)N > (double)PRW_MIN(N * P, (uint64_t)UINT32_MAX / 3))
         return prw_fail(e, "btf sparse: %g entries per texel for %llu texels x %llu direction pairs", p->sparse_per_texel,
                         (unsigned long long)N, (unsigned long long)P);
     if (!prw_mem_check(prw_mul_sat(N * P, 2), "btf sparse", "the residual energies", e)) return false;
@@ -367,17 +393,21 @@ static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_pack
             int b = x.bin[t * P + q];
             if (b < thr || b == 0 || (b == thr && !quota)) continue;
             if (b == thr) quota--;
-            out->sp_pair[j] = (uint16_t)q;
-            for (uint32_t c = 0; c < 3; c++)
-                out->sp_val[(uint64_t)j * 3 + c] =
-                    h16(a->rgb[(q * N + t) * 3 + c] - (double)prw_btf_decode_cluster(out, (uint32_t)q * 3 + c, (uint32_t)t, out->components, D));
-            j++;
+            out->sp_pair[j++] = (uint16_t)q;
         }
         if ((t & 1023) == 0) progress(p, "sparse: residual", (double)t / (double)N);
     }
     out->sp_start[N] = j;
     out->sparse_count = j;
     free(x.bin);
+    if (!out->components) refit_means(a, out);
+    for (uint64_t t = 0; t < N; t++)
+        for (uint32_t i = out->sp_start[t]; i < out->sp_start[t + 1]; i++) {
+            uint64_t q = out->sp_pair[i];
+            for (uint32_t c = 0; c < 3; c++)
+                out->sp_val[(uint64_t)i * 3 + c] =
+                    h16(a->rgb[(q * N + t) * 3 + c] - (double)prw_btf_decode_cluster(out, (uint32_t)q * 3 + c, (uint32_t)t, out->components, D));
+        }
     progress(p, "sparse: residual", 1);
     return true;
 }

@@ -75,9 +75,9 @@ typedef struct prw_btf_packed {
     float *view_dirs, *light_dirs; /* 2 per direction: theta, phi */
     uint32_t components, clusters; /* PVF: clusters = views (one basis per view) */
     uint16_t *u;     /* FMF: D x components */
-    uint16_t *w;     /* FMF: N x components; CLUSTER: N x components; PVF: views x N x components */
-    uint16_t *mean;  /* CLUSTER: clusters x D; PVF: views x (lights * 3) */
-    uint16_t *basis; /* CLUSTER: clusters x components x D; PVF: views x components x (lights * 3) */
+    uint16_t *w;     /* FMF: N x components; CLUSTER, SPARSE: N x components; PVF: views x N x components */
+    uint16_t *mean;  /* CLUSTER, SPARSE: clusters x D; PVF: views x (lights * 3) */
+    uint16_t *basis; /* CLUSTER, SPARSE: clusters x components x D; PVF: views x components x (lights * 3) */
     uint32_t *index; /* CLUSTER, SPARSE: N cluster indices */
     uint32_t sparse_count; /* SPARSE: M residual entries */
     uint32_t *sp_start;    /* SPARSE: N + 1 offsets: texel t's entries are [sp_start[t], sp_start[t + 1]) */

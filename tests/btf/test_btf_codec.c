@@ -7,7 +7,7 @@
  *  - pvf:        per view a mean plus one varying pattern: 1 component per view;
  *  - sparse:     one ABRDF everywhere plus 4 spikes (2 texels x 2 direction pairs, "flakes"): the
  *                residual after 1 cluster lives on 4 pairs x 30 texels, so 4 entries per texel rebuild it;
- *                4 entries in all keep exactly the 4 spikes (what is left is the spikes spread into the mean);
+ *                4 entries in all keep exactly the 4 spikes and (the mean refitted without them) rebuild it;
  *                3 cannot (a spike is lost);
  *  - errors:     the three figures on a 2-texel BTF computed by hand (rms, varying, mean abs);
  *  - file:       every codec's file round-trips exactly; truncations, a bad cluster index and SPARSE
@@ -211,7 +211,8 @@ static void test_sparse(void)
         spikes = p.sp_start[t + 1] - p.sp_start[t] == 2 && p.sp_pair[j] == spike_q[s];
     }
     CHECK_MSG(spikes, "4 entries in all: not the 4 spikes");
-    CHECK_MSG(r.rms_pct < 0.25 * r0.rms_pct, "4 spikes kept: rms %.4f %% against %.4f %% without", r.rms_pct, r0.rms_pct);
+    /* the mean refitted without the spikes: exact to half precision */
+    CHECK_MSG(r.rms_pct < 0.1 && r0.rms_pct > 50, "4 spikes kept: rms %.4f %% against %.4f %% without", r.rms_pct, r0.rms_pct);
     prw_btf_packed_free(&p);
     g_sparse = 3.0 / 30;
     prw_btf_error r3 = run(&b, PRW_BTF_CODEC_SPARSE, 0, 1, &p);
