@@ -17,7 +17,7 @@
 
 static void help(void)
 {
-    printf("usage: prw btf-compress (--synthetic fabric|leather|flakes|brushed | FILE) [options]\n"
+    printf("usage: prw btf-compress (--synthetic fabric|leather|flakes|brushed | --btf DUMP | FILE) [options]\n"
            "  Compresses a BTF by each codec point, writes each point's file, prints per point\n"
            "    btf: size X MB, RMS Y %%, varying Z %%, mean abs W   (codec, knobs, seconds, peak memory)\n"
            "  and writes DIR/<name>.csv and DIR/<name>.png (size against RMS; the PNG needs gnuplot).\n"
@@ -31,11 +31,12 @@ static void help(void)
            "  --points LIST     knob points: components for fmf / pvf (\"4,8,16\"), clusters x components for\n"
            "                    cluster (\"16x0,32x4\"), clusters x components + residual entries per texel for sparse\n"
            "                    (\"16x0+4\"); default fmf 4,8,16,32; cluster 16x0,64x0,16x4,32x4; pvf 1,2,4;\n"
-           "                    sparse 8x0+2,16x0+2,16x0+4,64x0+1\n"
+           "                    sparse 4x0+1,8x0+2,16x0+4,64x0+0\n"
            "  --out DIR         output directory (default prw-out/btf)\n"
            "  --seed N          generator and codec seed (default 1)\n"
            "  --save-btf F      also write the input BTF to F as a raw dump (\"PRWBTFR1\", u32 width, height, views,\n"
-           "                    lights, f32 (theta, phi) per view and light, f32 RGB in prw_btf's layout; little-endian)\n"
+           "                    lights, f32 (theta, phi) per view and light, f32 RGB in prw_btf's layout; the host's\n"
+           "                    byte order: little-endian on x86-64 and arm64)\n"
            "  --btf F           read the input from such a raw dump instead of synthesising it\n"
            "Threads: the global --threads budget.  Memory: the BTF is held as float RGB (256^2 x 81^2: 5.2 GB);\n"
            "the global --max-memory budget is checked before allocating.\n");
@@ -153,7 +154,7 @@ static const char *codec_name(prw_btf_codec c)
 /* The points of one codec: from --points or the defaults. */
 static bool points_of(prw_btf_codec c, const char *list, point *out, int *n, prw_error *e)
 {
-    static const char *defaults[5] = {NULL, "4,8,16,32", "16x0,64x0,16x4,32x4", "1,2,4", "8x0+2,16x0+2,16x0+4,64x0+1"};
+    static const char *defaults[5] = {NULL, "4,8,16,32", "16x0,64x0,16x4,32x4", "1,2,4", "4x0+1,8x0+2,16x0+4,64x0+0"};
     const char *s = list ? list : defaults[c];
     char buf[512];
     snprintf(buf, sizeof buf, "%s", s);
