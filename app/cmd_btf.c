@@ -3,6 +3,7 @@
  * compressed by each codec point (materials/btf/prw_btf_codec.h); every point's file is written and
  * measured against the input: size, RMS %, varying-part %, mean abs; a CSV and a PNG of the curve. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +17,7 @@
 
 static void help(void)
 {
-    printf("usage: prw btf-compress (--synthetic fabric|leather|flakes|brushed | FILE) [options]\n"
+    printf("usage: prw btf-compress (--synthetic fabric|leather|flakes|brushed | --btf DUMP | FILE) [options]\n"
            "  Compresses a BTF by each codec point, writes each point's file, prints per point\n"
            "    btf: size X MB, RMS Y %%, varying Z %%, mean abs W   (codec, knobs, seconds, peak memory)\n"
            "  and writes DIR/<name>.csv and DIR/<name>.png (size against RMS; the PNG needs gnuplot).\n"
@@ -26,11 +27,17 @@ static void help(void)
            "  --spp N           synthetic: samples per ray (default 1: direct light is exact per sample)\n"
            "  --rays N          synthetic: stratified rays per texel side (default 1: the texel centre)\n"
            "  --dirs N          synthetic: the first N of the 81 directions (default 81; fewer for quick looks)\n"
-           "  --codec C         fmf | cluster | pvf (default: every codec)\n"
+           "  --codec C         fmf | cluster | pvf | sparse (default: every codec)\n"
            "  --points LIST     knob points: components for fmf / pvf (\"4,8,16\"), clusters x components for\n"
-           "                    cluster (\"16x0,32x4\"); default fmf 4,8,16,32; cluster 16x0,64x0,16x4,32x4; pvf 1,2,4\n"
+           "                    cluster (\"16x0,32x4\"), clusters x components + residual entries per texel for sparse\n"
+           "                    (\"16x0+4\"); default fmf 4,8,16,32; cluster 16x0,64x0,16x4,32x4; pvf 1,2,4;\n"
+           "                    sparse 4x0+1,8x0+2,16x0+4,64x0+0\n"
            "  --out DIR         output directory (default prw-out/btf)\n"
            "  --seed N          generator and codec seed (default 1)\n"
+           "  --save-btf F      also write the input BTF to F as a raw dump (\"PRWBTFR1\", u32 width, height, views,\n"
+           "                    lights, f32 (theta, phi) per view and light, f32 RGB in prw_btf's layout; the host's\n"
+           "                    byte order: little-endian on x86-64 and arm64)\n"
+           "  --btf F           read the input from such a raw dump instead of synthesising it\n"
            "Threads: the global --threads budget.  Memory: the BTF is held as float RGB (256^2 x 81^2: 5.2 GB);\n"
            "the global --max-memory budget is checked before allocating.\n");
 }
@@ -70,20 +77,84 @@ static void codec_progress(void *user, const char *stage, double f)
     }
 }
 
+/* The raw dump of --save-btf / --btf: the BTF exactly as synthesised, so codec tries skip the synthesis. */
+#define RAW_MAGIC "PRWBTFR1"
+
+static bool raw_write(const char *path, const prw_btf *b, prw_error *e)
+{
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    if (!f) return prw_fail(e, "%s: cannot create", tmp);
+    uint32_t hdr[4] = {b->width, b->height, b->views, b->lights};
+    size_t n = (size_t)b->width * b->height * b->views * b->lights * 3;
+    bool ok = fwrite(RAW_MAGIC, 1, 8, f) == 8 && fwrite(hdr, 4, 4, f) == 4 &&
+              fwrite(b->view_dirs, 4, 2 * (size_t)b->views, f) == 2 * (size_t)b->views &&
+              fwrite(b->light_dirs, 4, 2 * (size_t)b->lights, f) == 2 * (size_t)b->lights && fwrite(b->rgb, 4, n, f) == n;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        return prw_fail(e, "%s: write failed", path);
+    }
+    return true;
+}
+
+static bool raw_read(const char *path, prw_btf *out, prw_error *e)
+{
+    memset(out, 0, sizeof *out);
+    FILE *f = fopen(path, "rb");
+    if (!f) return prw_fail(e, "%s: cannot open", path);
+    char magic[8];
+    uint32_t h[4];
+    bool ok = fread(magic, 1, 8, f) == 8 && memcmp(magic, RAW_MAGIC, 8) == 0 && fread(h, 4, 4, f) == 4;
+    if (!ok) {
+        fclose(f);
+        return prw_fail(e, "%s: byte 0 (header): not a raw BTF dump (%s and four sizes)", path, RAW_MAGIC);
+    }
+    if (!h[0] || !h[1] || !h[2] || !h[3] || h[0] > 65536 || h[1] > 65536 || h[2] > 65536 || h[3] > 65536) {
+        fclose(f);
+        return prw_fail(e, "%s: byte 8 (size): %u x %u texels, %u views, %u lights", path, h[0], h[1], h[2], h[3]);
+    }
+    uint64_t n = prw_mul_sat(prw_mul_sat((uint64_t)h[0] * h[1], (uint64_t)h[2] * h[3]), 3);
+    uint64_t want = prw_add_sat(24 + 8 * ((uint64_t)h[2] + h[3]), prw_mul_sat(n, 4));
+    long long have = (fseek(f, 0, SEEK_END) == 0) ? (long long)ftell(f) : -1;
+    if (have < 0 || (uint64_t)have != want) {
+        fclose(f);
+        return prw_fail(e, "%s: %lld bytes where the header asks for %llu", path, have, (unsigned long long)want);
+    }
+    fseek(f, 24, SEEK_SET);
+    if (!prw_btf_create(h[0], h[1], h[2], h[3], out, e)) {
+        fclose(f);
+        return false;
+    }
+    ok = fread(out->view_dirs, 4, 2 * (size_t)h[2], f) == 2 * (size_t)h[2] &&
+         fread(out->light_dirs, 4, 2 * (size_t)h[3], f) == 2 * (size_t)h[3] && fread(out->rgb, 4, (size_t)n, f) == n;
+    fclose(f);
+    for (uint64_t i = 0; ok && i < n; i++) ok = isfinite(out->rgb[i]);
+    for (uint64_t i = 0; ok && i < 2 * (uint64_t)h[2]; i++) ok = isfinite(out->view_dirs[i]);
+    for (uint64_t i = 0; ok && i < 2 * (uint64_t)h[3]; i++) ok = isfinite(out->light_dirs[i]);
+    if (!ok) {
+        prw_btf_free(out);
+        return prw_fail(e, "%s: short read or a value that is not finite", path);
+    }
+    return true;
+}
+
 typedef struct point {
     prw_btf_codec codec;
     uint32_t comps, clusters;
+    double sparse;
 } point;
 
 static const char *codec_name(prw_btf_codec c)
 {
-    return c == PRW_BTF_CODEC_FMF ? "fmf" : c == PRW_BTF_CODEC_CLUSTER ? "cluster" : "pvf";
+    return c == PRW_BTF_CODEC_FMF ? "fmf" : c == PRW_BTF_CODEC_CLUSTER ? "cluster" : c == PRW_BTF_CODEC_SPARSE ? "sparse" : "pvf";
 }
 
 /* The points of one codec: from --points or the defaults. */
 static bool points_of(prw_btf_codec c, const char *list, point *out, int *n, prw_error *e)
 {
-    static const char *defaults[4] = {NULL, "4,8,16,32", "16x0,64x0,16x4,32x4", "1,2,4"};
+    static const char *defaults[5] = {NULL, "4,8,16,32", "16x0,64x0,16x4,32x4", "1,2,4", "4x0+1,8x0+2,16x0+4,64x0+0"};
     const char *s = list ? list : defaults[c];
     char buf[512];
     snprintf(buf, sizeof buf, "%s", s);
@@ -91,17 +162,28 @@ static bool points_of(prw_btf_codec c, const char *list, point *out, int *n, prw
         if (*n >= 32) return prw_fail(e, "--points: at most 32 points");
         long a = 0, b = 0;
         char *x = strchr(tok, 'x');
-        if (c == PRW_BTF_CODEC_CLUSTER) {
-            if (!x) return prw_fail(e, "--points '%s': cluster points are CLUSTERSxCOMPONENTS, e.g. 32x4", tok);
+        if (c == PRW_BTF_CODEC_CLUSTER || c == PRW_BTF_CODEC_SPARSE) {
+            char *plus = strchr(tok, '+');
+            if (!x || (c == PRW_BTF_CODEC_SPARSE) != !!plus)
+                return prw_fail(e, "--points '%s': cluster points are CLUSTERSxCOMPONENTS, e.g. 32x4; sparse points "
+                                   "CLUSTERSxCOMPONENTS+ENTRIES (residual entries per texel), e.g. 16x0+4", tok);
             *x = 0;
+            double sp = 0;
+            if (plus) {
+                *plus = 0;
+                char *end = NULL;
+                sp = strtod(plus + 1, &end);
+                if (end == plus + 1 || *end || !(sp >= 0 && sp <= 65535))
+                    return prw_fail(e, "--points '%s': entries per texel: a number in [0, 65535]", plus + 1);
+            }
             if (!prw_parse_int(tok, "--points clusters", 1, 1 << 20, &a, e) ||
                 !prw_parse_int(x + 1, "--points components", 0, 4096, &b, e))
                 return false;
-            out[(*n)++] = (point){c, (uint32_t)b, (uint32_t)a};
+            out[(*n)++] = (point){c, (uint32_t)b, (uint32_t)a, sp};
         } else {
             if (x || !prw_parse_int(tok, "--points components", 1, 4096, &a, e))
                 return prw_fail(e, "--points '%s': %s points are component counts, e.g. 8", tok, codec_name(c));
-            out[(*n)++] = (point){c, (uint32_t)a, 0};
+            out[(*n)++] = (point){c, (uint32_t)a, 0, 0};
         }
     }
     return true;
@@ -130,9 +212,10 @@ int prw_cmd_btf_compress(int argc, char **argv)
     const char *rays_s = prw_args_value(&a, "rays", &e, &bad), *dirs_s = prw_args_value(&a, "dirs", &e, &bad);
     const char *codec_s = prw_args_value(&a, "codec", &e, &bad), *points_s = prw_args_value(&a, "points", &e, &bad);
     const char *out_s = prw_args_value(&a, "out", &e, &bad), *seed_s = prw_args_value(&a, "seed", &e, &bad);
+    const char *save_s = prw_args_value(&a, "save-btf", &e, &bad), *raw_s = prw_args_value(&a, "btf", &e, &bad);
     if (bad || !prw_args_finish(&a, &e)) return fail(e.msg, &a, 2);
-    if (!!synthetic == (a.positional_count == 1) || a.positional_count > 1)
-        return fail("give either --synthetic PRESET or one BTF file (see prw btf-compress --help)", &a, 2);
+    if ((!!synthetic + !!raw_s + (a.positional_count == 1)) != 1 || a.positional_count > 1)
+        return fail("give one of --synthetic PRESET, --btf DUMP or a BTF file (see prw btf-compress --help)", &a, 2);
     prw_btf_synth_params sp = {.size = 256, .rays = 1, .spp = 1, .dirs = 81, .seed = 1};
     long v;
     if (synthetic && !prw_btf_synth_parse(synthetic, &sp.kind)) {
@@ -152,11 +235,12 @@ int prw_cmd_btf_compress(int argc, char **argv)
         if (strcmp(codec_s, "fmf") == 0) only = PRW_BTF_CODEC_FMF;
         else if (strcmp(codec_s, "cluster") == 0) only = PRW_BTF_CODEC_CLUSTER;
         else if (strcmp(codec_s, "pvf") == 0) only = PRW_BTF_CODEC_PVF;
-        else return fail("--codec: expected fmf, cluster or pvf", &a, 2);
+        else if (strcmp(codec_s, "sparse") == 0) only = PRW_BTF_CODEC_SPARSE;
+        else return fail("--codec: expected fmf, cluster, pvf or sparse", &a, 2);
     } else if (points_s) {
         return fail("--points needs --codec (its knobs differ per codec)", &a, 2);
     }
-    for (int c = PRW_BTF_CODEC_FMF; c <= PRW_BTF_CODEC_PVF; c++)
+    for (int c = PRW_BTF_CODEC_FMF; c <= PRW_BTF_CODEC_SPARSE; c++)
         if ((!only || (int)only == c) && !points_of((prw_btf_codec)c, points_s, pts, &np, &e)) return fail(e.msg, &a, 2);
     const char *dir = out_s ? out_s : "prw-out/btf";
     if (!prw_check_writable_dir(dir, true, &e) || !prw_mkdirs(dir, &e)) return fail(e.msg, &a, 1);
@@ -165,7 +249,11 @@ int prw_cmd_btf_compress(int argc, char **argv)
     char name[256];
     prw_btf btf;
     double t0 = prw_now();
-    if (synthetic) {
+    if (raw_s) {
+        const char *base = strrchr(raw_s, '/');
+        snprintf(name, sizeof name, "%s", base ? base + 1 : raw_s);
+        if (!raw_read(raw_s, &btf, &e)) return fail(e.msg, &a, 1);
+    } else if (synthetic) {
         snprintf(name, sizeof name, "%s-%u", synthetic, sp.size);
         char what[128];
         snprintf(what, sizeof what, "btf synth %s %u^2 x %u^2 directions", synthetic, sp.size, sp.dirs);
@@ -181,6 +269,13 @@ int prw_cmd_btf_compress(int argc, char **argv)
         prw_btf_ubo_free(&u);
         if (!ok) return fail(e.msg, &a, 1);
     }
+    if (save_s) {
+        if (!raw_write(save_s, &btf, &e)) {
+            prw_btf_free(&btf);
+            return fail(e.msg, &a, 1);
+        }
+        printf("wrote %s\n", save_s);
+    }
     double t_in = prw_now() - t0, raw_mb = 12.0 * btf.width * btf.height * btf.views * btf.lights / 1e6;
     printf("btf input: %s, %u x %u texels, %u x %u directions, %.1f MB as float RGB, %.1f s, |A - Abar| / |A| = %.3f, "
            "peak memory %.2f GB\n",
@@ -190,10 +285,11 @@ int prw_cmd_btf_compress(int argc, char **argv)
     char csv_path[4096];
     snprintf(csv_path, sizeof csv_path, "%s/%s.csv", dir, name);
     prw_strbuf csv = {0};
-    prw_strbuf_printf(&csv, "codec,clusters,components,size_mb,rms_pct,varying_pct,mean_abs,seconds,peak_gb,file\n");
+    prw_strbuf_printf(&csv, "codec,clusters,components,sparse_entries,size_mb,rms_pct,varying_pct,mean_abs,seconds,peak_gb,file\n");
     int rc = 0;
     for (int i = 0; i < np; i++) {
         prw_btf_codec_params cp = {.codec = pts[i].codec, .components = pts[i].comps, .clusters = pts[i].clusters,
+                                   .sparse_per_texel = pts[i].sparse,
                                    .seed = sp.seed, .threads = g_prw_opts.threads};
         prog pg = {"", -100, prw_now()};
         cp.progress = codec_progress, cp.user = &pg;
@@ -206,7 +302,10 @@ int prw_cmd_btf_compress(int argc, char **argv)
         }
         double secs = prw_now() - t1;
         char file[4096];
-        snprintf(file, sizeof file, "%s/%s-%s-%ux%u.btfc", dir, name, codec_name(pts[i].codec), pts[i].clusters, pts[i].comps);
+        char extra[32] = "";
+        if (pts[i].codec == PRW_BTF_CODEC_SPARSE) snprintf(extra, sizeof extra, "+%g", pts[i].sparse);
+        snprintf(file, sizeof file, "%s/%s-%s-%ux%u%s.btfc", dir, name, codec_name(pts[i].codec), pts[i].clusters,
+                 pts[i].comps, extra);
         if (!prw_btf_packed_write(file, &pk, &e)) {
             fprintf(stderr, "prw btf-compress: %s\n", e.msg);
             prw_btf_packed_free(&pk);
@@ -216,13 +315,13 @@ int prw_cmd_btf_compress(int argc, char **argv)
         prw_btf_error r;
         prw_btf_errors(&btf, &pk, g_prw_opts.threads, &r);
         double mb = (double)prw_btf_packed_bytes(&pk) / 1e6;
-        printf("btf: size %.3f MB, RMS %.3f %%, varying %.3f %%, mean abs %.4g   (%s, %u clusters, %u components; %.1f s; "
-               "peak memory %.2f GB; %s)\n",
-               mb, r.rms_pct, r.varying_pct, r.mean_abs, codec_name(pts[i].codec), pts[i].clusters, pts[i].comps, secs,
-               peak_gb(), file);
+        printf("btf: size %.3f MB, RMS %.3f %%, varying %.3f %%, mean abs %.4g   (%s, %u clusters, %u components, %u "
+               "residual entries; %.1f s; peak memory %.2f GB; %s)\n",
+               mb, r.rms_pct, r.varying_pct, r.mean_abs, codec_name(pts[i].codec), pts[i].clusters, pts[i].comps,
+               pk.sparse_count, secs, peak_gb(), file);
         fflush(stdout);
-        prw_strbuf_printf(&csv, "%s,%u,%u,%.6f,%.6f,%.6f,%.6g,%.2f,%.3f,%s\n", codec_name(pts[i].codec), pts[i].clusters,
-                          pts[i].comps, mb, r.rms_pct, r.varying_pct, r.mean_abs, secs, peak_gb(), file);
+        prw_strbuf_printf(&csv, "%s,%u,%u,%u,%.6f,%.6f,%.6f,%.6g,%.2f,%.3f,%s\n", codec_name(pts[i].codec), pts[i].clusters,
+                          pts[i].comps, pk.sparse_count, mb, r.rms_pct, r.varying_pct, r.mean_abs, secs, peak_gb(), file);
         prw_btf_packed_free(&pk);
     }
     if (!prw_write_file_atomic(csv_path, csv.p, csv.n, &e)) {
@@ -239,7 +338,7 @@ int prw_cmd_btf_compress(int argc, char **argv)
             fprintf(f, "set terminal pngcairo size 800,500 noenhanced\nset output '%s'\nset datafile separator ','\n"
                        "set key autotitle columnhead\nset xlabel 'size (MB)'\nset ylabel 'RMS (%%)'\nset logscale x\n"
                        "set title '%s: size against error'\n"
-                       "plot for [c in 'fmf cluster pvf'] '%s' using 4:(strcol(1) eq c ? $5 : 1/0) with linespoints title c\n",
+                       "plot for [c in 'fmf cluster pvf sparse'] '%s' using 5:(strcol(1) eq c ? $6 : 1/0) with linespoints title c\n",
                     png, name, csv_path);
             fclose(f);
             char cmd[8400];

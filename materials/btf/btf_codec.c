@@ -27,6 +27,7 @@ void prw_btf_packed_free(prw_btf_packed *p)
 {
     if (!p) return;
     free(p->view_dirs), free(p->light_dirs), free(p->u), free(p->w), free(p->mean), free(p->basis), free(p->index);
+    free(p->sp_start), free(p->sp_pair), free(p->sp_val);
     memset(p, 0, sizeof *p);
 }
 
@@ -259,6 +260,8 @@ static bool pvf(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed 
     return ok;
 }
 
+static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e);
+
 bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
 {
     memset(out, 0, sizeof *out);
@@ -277,6 +280,7 @@ bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_p
     case PRW_BTF_CODEC_FMF: out->clusters = 0, ok = fmf(a, p, out, e); break;
     case PRW_BTF_CODEC_CLUSTER: ok = cluster(a, p, out, e); break;
     case PRW_BTF_CODEC_PVF: ok = pvf(a, p, out, e); break;
+    case PRW_BTF_CODEC_SPARSE: ok = sparse(a, p, out, e); break;
     default: ok = prw_fail(e, "btf compress: unknown codec %d", (int)p->codec);
     }
     if (!ok) prw_btf_packed_free(out);
@@ -290,7 +294,123 @@ bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_p
 #define PRW_BTF_MEAN(i) f16(p->mean[i])
 #define PRW_BTF_BASIS(i) f16(p->basis[i])
 #define PRW_BTF_INDEX(t) p->index[t]
+#define PRW_BTF_ARGS p,
+#define PRW_BTF_SP_START(t) p->sp_start[t]
+#define PRW_BTF_SP_PAIR(j) p->sp_pair[j]
+#define PRW_BTF_SP_VAL(i) f16(p->sp_val[i])
 #include "prw_btf_decode.h"
+
+/* SPARSE: log2 energy in 1/64 octave bins from 2^-100 (bin 0: below, or zero) */
+enum { SP_BINS = 140 * 64 };
+
+static uint16_t energy_bin(double en)
+{
+    if (!(en > 0x1.0p-100)) return 0;
+    double b = (log2(en) + 100.0) * 64.0 + 1.0;
+    return (uint16_t)(b >= SP_BINS - 1 ? SP_BINS - 1 : b);
+}
+
+typedef struct sparse_ctx {
+    const prw_btf *a;
+    const prw_btf_packed *p;
+    uint16_t *bin; /* N x pairs */
+} sparse_ctx;
+
+/* per texel and direction pair: the bin of the residual energy after the cluster decode */
+static void sparse_bins(void *user, uint64_t b, uint64_t e)
+{
+    sparse_ctx *x = user;
+    const prw_btf *a = x->a;
+    uint64_t N = (uint64_t)a->width * a->height, P = (uint64_t)a->views * a->lights;
+    uint32_t D = (uint32_t)(P * 3);
+    for (uint64_t t = b; t < e; t++)
+        for (uint64_t q = 0; q < P; q++) {
+            double en = 0;
+            for (uint32_t c = 0; c < 3; c++) {
+                double r = a->rgb[(q * N + t) * 3 + c] -
+                           (double)prw_btf_decode_cluster(x->p, (uint32_t)q * 3 + c, (uint32_t)t, x->p->components, D);
+                en += r * r;
+            }
+            x->bin[t * P + q] = energy_bin(en);
+        }
+}
+
+/* Without components, each cluster's mean ABRDF again over the entries the residual does not hold: the
+ * spikes it holds no longer leak into the mean of every texel of their cluster. */
+static void refit_means(const prw_btf *a, prw_btf_packed *out)
+{
+    uint64_t N = (uint64_t)a->width * a->height, P = (uint64_t)a->views * a->lights, D = P * 3;
+    double *sum = prw_calloc((size_t)(out->clusters * D), sizeof(double));
+    uint32_t *count = prw_calloc((size_t)(out->clusters * P), sizeof(uint32_t));
+    for (uint64_t t = 0; t < N; t++) {
+        uint64_t i = out->index[t];
+        uint32_t j = out->sp_start[t], end = out->sp_start[t + 1];
+        for (uint64_t q = 0; q < P; q++) {
+            if (j < end && out->sp_pair[j] == q) {
+                j++;
+                continue;
+            }
+            count[i * P + q]++;
+            for (uint32_t c = 0; c < 3; c++) sum[i * D + q * 3 + c] += a->rgb[(q * N + t) * 3 + c];
+        }
+    }
+    for (uint64_t i = 0; i < out->clusters; i++)
+        for (uint64_t q = 0; q < P; q++)
+            if (count[i * P + q])
+                for (uint32_t c = 0; c < 3; c++) out->mean[i * D + q * 3 + c] = h16(sum[i * D + q * 3 + c] / count[i * P + q]);
+    free(sum), free(count);
+}
+
+static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e)
+{
+    uint64_t N = (uint64_t)a->width * a->height, P = (uint64_t)a->views * a->lights;
+    if (p->clusters > 65535 || P > 65535)
+        return prw_fail(e, "btf sparse: %u clusters, %llu direction pairs (at most 65535 each)", p->clusters, (unsigned long long)P);
+    if (!(p->sparse_per_texel >= 0) || p->sparse_per_texel * (double)N > (double)PRW_MIN(N * P, (uint64_t)UINT32_MAX / 3))
+        return prw_fail(e, "btf sparse: %g entries per texel for %llu texels x %llu direction pairs", p->sparse_per_texel,
+                        (unsigned long long)N, (unsigned long long)P);
+    if (!prw_mem_check(prw_mul_sat(N * P, 2), "btf sparse", "the residual energies", e)) return false;
+    if (!cluster(a, p, out, e)) return false;
+    uint64_t M = (uint64_t)llround(p->sparse_per_texel * (double)N);
+    progress(p, "sparse: residual", 0);
+    sparse_ctx x = {a, out, prw_malloc(sizeof(uint16_t) * N * P)};
+    btf_parallel(N, p->threads, sparse_bins, &x);
+    /* the threshold bin: entries above it are all kept, in it the first ones in texel order */
+    uint64_t *hist = prw_calloc(SP_BINS, sizeof(uint64_t));
+    for (uint64_t i = 0; i < N * P; i++) hist[x.bin[i]]++;
+    uint64_t above = 0;
+    int thr = SP_BINS - 1;
+    while (thr > 0 && above + hist[thr] <= M) above += hist[thr--];
+    uint64_t quota = thr > 0 ? M - above : 0; /* bin 0 (no residual) is never kept */
+    free(hist);
+    out->sp_start = prw_malloc(sizeof(uint32_t) * (N + 1));
+    out->sp_pair = prw_malloc(sizeof(uint16_t) * (M ? M : 1));
+    out->sp_val = prw_malloc(sizeof(uint16_t) * 3 * (M ? M : 1));
+    uint32_t D = (uint32_t)(P * 3), j = 0;
+    for (uint64_t t = 0; t < N; t++) {
+        out->sp_start[t] = j;
+        for (uint64_t q = 0; q < P; q++) {
+            int b = x.bin[t * P + q];
+            if (b < thr || b == 0 || (b == thr && !quota)) continue;
+            if (b == thr) quota--;
+            out->sp_pair[j++] = (uint16_t)q;
+        }
+        if ((t & 1023) == 0) progress(p, "sparse: residual", (double)t / (double)N);
+    }
+    out->sp_start[N] = j;
+    out->sparse_count = j;
+    free(x.bin);
+    if (!out->components) refit_means(a, out);
+    for (uint64_t t = 0; t < N; t++)
+        for (uint32_t i = out->sp_start[t]; i < out->sp_start[t + 1]; i++) {
+            uint64_t q = out->sp_pair[i];
+            for (uint32_t c = 0; c < 3; c++)
+                out->sp_val[(uint64_t)i * 3 + c] =
+                    h16(a->rgb[(q * N + t) * 3 + c] - (double)prw_btf_decode_cluster(out, (uint32_t)q * 3 + c, (uint32_t)t, out->components, D));
+        }
+    progress(p, "sparse: residual", 1);
+    return true;
+}
 
 float prw_btf_packed_value(const prw_btf_packed *p, uint32_t v, uint32_t l, uint32_t x, uint32_t y, uint32_t c)
 {
@@ -299,6 +419,7 @@ float prw_btf_packed_value(const prw_btf_packed *p, uint32_t v, uint32_t l, uint
     case PRW_BTF_CODEC_FMF: return prw_btf_decode_fmf(p, d, t, p->components);
     case PRW_BTF_CODEC_CLUSTER: return prw_btf_decode_cluster(p, d, t, p->components, p->views * p->lights * 3);
     case PRW_BTF_CODEC_PVF: return prw_btf_decode_pvf(p, v, l * 3 + c, t, p->components, N, p->lights * 3);
+    case PRW_BTF_CODEC_SPARSE: return prw_btf_decode_sparse(p, d, t, p->components, p->views * p->lights * 3);
     }
     return 0;
 }

@@ -2,7 +2,9 @@
  *   "PRWBTFC1", u32 version (1), u32 codec, u32 width, height, views, lights, components, clusters,
  *   f32 view (theta, phi) x views, f32 light (theta, phi) x lights, then the codec's arrays:
  *   FMF u (D x k halves), w (N x k); CLUSTER u32 index (N), mean (c x D), basis (c x k x D),
- *   w (N x k); PVF mean (V x 3L), basis (V x k x 3L), w (V x N x k); little-endian, nothing after. */
+ *   w (N x k); PVF mean (V x 3L), basis (V x k x 3L), w (V x N x k); SPARSE u32 M (residual entries),
+ *   u16 index (N), mean, basis, w as CLUSTER, u16 entries per texel (N, summing to M), u16 pair (M),
+ *   residual (M x 3 halves); little-endian, nothing after. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +17,8 @@
 
 typedef struct sizes {
     uint64_t u, w, mean, basis, index; /* element counts */
+    uint64_t index_bytes;              /* per index: 4, SPARSE 2 */
+    uint64_t sparse_bytes;             /* SPARSE: M, the counts, pairs and residuals */
 } sizes;
 
 static bool sizes_of(const prw_btf_packed *p, sizes *s)
@@ -26,7 +30,13 @@ static bool sizes_of(const prw_btf_packed *p, sizes *s)
     case PRW_BTF_CODEC_CLUSTER:
         s->index = N, s->mean = prw_mul_sat(p->clusters, D), s->basis = prw_mul_sat(prw_mul_sat(p->clusters, k), D),
         s->w = prw_mul_sat(N, k);
+        s->index_bytes = 4;
         return p->clusters >= 1;
+    case PRW_BTF_CODEC_SPARSE:
+        s->index = N, s->mean = prw_mul_sat(p->clusters, D), s->basis = prw_mul_sat(prw_mul_sat(p->clusters, k), D),
+        s->w = prw_mul_sat(N, k), s->index_bytes = 2;
+        s->sparse_bytes = prw_add_sat(4 + 2 * N, prw_mul_sat(p->sparse_count, 8));
+        return p->clusters >= 1 && p->clusters <= 65535 && (uint64_t)p->views * p->lights <= 65535;
     case PRW_BTF_CODEC_PVF: {
         uint64_t E = (uint64_t)p->lights * 3;
         s->mean = prw_mul_sat(p->views, E), s->basis = prw_mul_sat(prw_mul_sat(p->views, k), E),
@@ -42,8 +52,9 @@ uint64_t prw_btf_packed_bytes(const prw_btf_packed *p)
     sizes s;
     sizes_of(p, &s);
     uint64_t b = 8 + 9 * 4 + 8 * ((uint64_t)p->views + p->lights);
-    return prw_add_sat(b, prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
-                                      prw_mul_sat(s.index, 4)));
+    return prw_add_sat(prw_add_sat(b, s.sparse_bytes),
+                       prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
+                                   prw_mul_sat(s.index, s.index_bytes)));
 }
 
 static void put(uint8_t **o, const void *src, size_t n)
@@ -90,6 +101,15 @@ bool prw_btf_packed_write(const char *path, const prw_btf_packed *p, prw_error *
     if (p->codec == PRW_BTF_CODEC_FMF) {
         put_halves(&o, p->u, s.u);
         put_halves(&o, p->w, s.w);
+    } else if (p->codec == PRW_BTF_CODEC_SPARSE) {
+        put_u32(&o, p->sparse_count);
+        for (uint64_t i = 0; i < s.index; i++) put_halves(&o, &(uint16_t){(uint16_t)p->index[i]}, 1);
+        put_halves(&o, p->mean, s.mean);
+        put_halves(&o, p->basis, s.basis);
+        put_halves(&o, p->w, s.w);
+        for (uint64_t t = 0; t < s.index; t++) put_halves(&o, &(uint16_t){(uint16_t)(p->sp_start[t + 1] - p->sp_start[t])}, 1);
+        put_halves(&o, p->sp_pair, p->sparse_count);
+        put_halves(&o, p->sp_val, 3 * (uint64_t)p->sparse_count);
     } else {
         for (uint64_t i = 0; i < s.index; i++) put_u32(&o, p->index[i]);
         put_halves(&o, p->mean, s.mean);
@@ -108,6 +128,11 @@ static uint32_t get_u32(cur *c)
     uint32_t v = prw_btf_le32(c->p + c->at);
     c->at += 4;
     return v;
+}
+
+static void u16s(cur *c, uint16_t *dst, uint64_t n)
+{
+    for (uint64_t i = 0; i < n; i++, c->at += 2) dst[i] = (uint16_t)(c->p[c->at] | (c->p[c->at + 1] << 8));
 }
 
 static bool halves(cur *c, uint16_t **dst, uint64_t n, const char *what)
@@ -138,22 +163,29 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
         uint32_t reserved = get_u32(&c);
         if (reserved != 0) ok = btf_cur_fail(&c, "reserved", "%u where version 1 has 0", reserved);
         else if (version != 1) ok = btf_cur_fail(&c, "version", "version %u (this reader knows 1)", version);
-        else if (out->codec < PRW_BTF_CODEC_FMF || out->codec > PRW_BTF_CODEC_PVF)
+        else if (out->codec < PRW_BTF_CODEC_FMF || out->codec > PRW_BTF_CODEC_SPARSE)
             ok = btf_cur_fail(&c, "codec", "unknown codec %d", (int)out->codec);
         else if (!out->width || !out->height || !out->views || !out->lights || out->width > PRW_BTF_UBO_MAX_SIDE ||
                  out->height > PRW_BTF_UBO_MAX_SIDE || out->views > PRW_BTF_UBO_MAX_DIRS || out->lights > PRW_BTF_UBO_MAX_DIRS)
             ok = btf_cur_fail(&c, "size", "%u x %u texels, %u views, %u lights", out->width, out->height, out->views, out->lights);
+    }
+    uint64_t dirs_end = 8 + 9 * 4 + 8 * ((uint64_t)out->views + out->lights);
+    if (ok && out->codec == PRW_BTF_CODEC_SPARSE) { /* M leads the codec's arrays */
+        if (c.n < dirs_end + 4) ok = btf_cur_fail(&c, "residual count", "the file ends before it");
+        else out->sparse_count = prw_btf_le32(c.p + dirs_end);
     }
     sizes s;
     if (ok && !sizes_of(out, &s))
         ok = btf_cur_fail(&c, "codec", "%u components, %u clusters do not fit codec %d", out->components, out->clusters,
                      (int)out->codec);
     /* the decode (prw_btf_decode.h) indexes with 32 bits, the GPU's */
-    if (ok && (s.u > UINT32_MAX || s.w > UINT32_MAX || s.mean > UINT32_MAX || s.basis > UINT32_MAX || s.index > UINT32_MAX))
+    if (ok && (s.u > UINT32_MAX || s.w > UINT32_MAX || s.mean > UINT32_MAX || s.basis > UINT32_MAX || s.index > UINT32_MAX ||
+               3ull * out->sparse_count > UINT32_MAX))
         ok = btf_cur_fail(&c, "size", "an array of more than 2^32 elements (the decode indexes with 32 bits)");
     if (ok) {
         uint64_t all = prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
-                                   prw_add_sat(prw_mul_sat(s.index, 4), prw_mul_sat(8, (uint64_t)out->views + out->lights)));
+                                   prw_add_sat(prw_mul_sat(s.index, s.index_bytes), prw_mul_sat(8, (uint64_t)out->views + out->lights)));
+        all = prw_add_sat(all, s.sparse_bytes);
         ok = btf_cur_need(&c, all, 1, "data") && prw_mem_check(all, c.name, "the compressed BTF", e);
     }
     if (ok) {
@@ -174,6 +206,38 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
     }
     if (ok && out->codec == PRW_BTF_CODEC_FMF) {
         ok = halves(&c, &out->u, s.u, "U") && halves(&c, &out->w, s.w, "W");
+    } else if (ok && out->codec == PRW_BTF_CODEC_SPARSE) {
+        uint64_t N = s.index, M = out->sparse_count, P = (uint64_t)out->views * out->lights;
+        c.at += 4;
+        out->index = prw_malloc(sizeof(uint32_t) * (size_t)N);
+        for (uint64_t i = 0; ok && i < N; i++, c.at += 2) {
+            out->index[i] = (uint32_t)(c.p[c.at] | (c.p[c.at + 1] << 8));
+            if (out->index[i] >= out->clusters)
+                ok = btf_cur_fail(&c, "cluster index", "texel %llu: cluster %u of %u", (unsigned long long)i, out->index[i], out->clusters);
+        }
+        if (ok) ok = halves(&c, &out->mean, s.mean, "means") && halves(&c, &out->basis, s.basis, "bases") &&
+                     halves(&c, &out->w, s.w, "weights");
+        if (ok) {
+            out->sp_start = prw_malloc(sizeof(uint32_t) * (size_t)(N + 1));
+            out->sp_start[0] = 0;
+            for (uint64_t t = 0; ok && t < N; t++, c.at += 2) {
+                uint64_t next = (uint64_t)out->sp_start[t] + (uint32_t)(c.p[c.at] | (c.p[c.at + 1] << 8));
+                if (next > M) ok = btf_cur_fail(&c, "residual counts", "texel %llu: more than the %llu entries", (unsigned long long)t, (unsigned long long)M);
+                else out->sp_start[t + 1] = (uint32_t)next;
+            }
+            if (ok && out->sp_start[N] != M)
+                ok = btf_cur_fail(&c, "residual counts", "they sum to %u, not %llu", out->sp_start[N], (unsigned long long)M);
+        }
+        if (ok) {
+            out->sp_pair = prw_malloc(sizeof(uint16_t) * (size_t)(M ? M : 1));
+            u16s(&c, out->sp_pair, M);
+            for (uint64_t t = 0; ok && t < N; t++)
+                for (uint32_t j = out->sp_start[t]; ok && j < out->sp_start[t + 1]; j++)
+                    if (out->sp_pair[j] >= P || (j > out->sp_start[t] && out->sp_pair[j] <= out->sp_pair[j - 1]))
+                        ok = btf_cur_fail(&c, "residual pairs", "texel %llu entry %u: pair %u out of range or order", (unsigned long long)t,
+                                          j, out->sp_pair[j]);
+        }
+        if (ok) ok = halves(&c, &out->sp_val, 3 * M, "residuals");
     } else if (ok) {
         out->index = prw_malloc(sizeof(uint32_t) * (size_t)(s.index ? s.index : 1));
         for (uint64_t i = 0; ok && i < s.index; i++) {

@@ -15,6 +15,13 @@
  *  - PVF (per-view factorisation, as the Bonn PVF files): for each view v the texels x (light,
  *    channel) matrix by PCA with `components` components;
  *      value(d, t) = M[v][e] + sum_k W[v][t][k] B[v][k][e],   e = l * 3 + c
+ *  - SPARSE (CLUSTER plus a sparse residual): the CLUSTER approximation, then the `sparse_per_texel`
+ *    x N (texel, direction pair) entries with the largest residual energy (summed over the channels)
+ *    over the whole BTF keep their RGB residual; what few texels hold in few direction pairs (the
+ *    narrow highlights of metallic flakes) is stored where it is instead of being clustered away;
+ *      value(d, t) = CLUSTER value(d, t) + R[j][c] if texel t has an entry j for pair q = d / 3
+ *    (entries per texel ascending in q, found by binary search); at most 65535 clusters and
+ *    65535 direction pairs.
  * Every stored number is a half float (what the GPU reads); the errors are measured after that.
  *
  * Promises:
@@ -46,12 +53,14 @@ typedef enum prw_btf_codec {
     PRW_BTF_CODEC_FMF = 1,
     PRW_BTF_CODEC_CLUSTER = 2,
     PRW_BTF_CODEC_PVF = 3,
+    PRW_BTF_CODEC_SPARSE = 4,
 } prw_btf_codec;
 
 typedef struct prw_btf_codec_params {
     prw_btf_codec codec;
     uint32_t components; /* FMF >= 1; CLUSTER >= 0; PVF >= 1 */
-    uint32_t clusters;   /* CLUSTER: >= 1 */
+    uint32_t clusters;   /* CLUSTER, SPARSE: >= 1 */
+    double sparse_per_texel; /* SPARSE: residual entries kept, per texel on average (>= 0) */
     uint32_t kmeans_iterations; /* CLUSTER: 0 = 20 */
     uint32_t power;      /* subspace iterations of the SVDs: 0 = 2 */
     uint64_t seed;
@@ -66,10 +75,14 @@ typedef struct prw_btf_packed {
     float *view_dirs, *light_dirs; /* 2 per direction: theta, phi */
     uint32_t components, clusters; /* PVF: clusters = views (one basis per view) */
     uint16_t *u;     /* FMF: D x components */
-    uint16_t *w;     /* FMF: N x components; CLUSTER: N x components; PVF: views x N x components */
-    uint16_t *mean;  /* CLUSTER: clusters x D; PVF: views x (lights * 3) */
-    uint16_t *basis; /* CLUSTER: clusters x components x D; PVF: views x components x (lights * 3) */
-    uint32_t *index; /* CLUSTER: N cluster indices */
+    uint16_t *w;     /* FMF: N x components; CLUSTER, SPARSE: N x components; PVF: views x N x components */
+    uint16_t *mean;  /* CLUSTER, SPARSE: clusters x D; PVF: views x (lights * 3) */
+    uint16_t *basis; /* CLUSTER, SPARSE: clusters x components x D; PVF: views x components x (lights * 3) */
+    uint32_t *index; /* CLUSTER, SPARSE: N cluster indices */
+    uint32_t sparse_count; /* SPARSE: M residual entries */
+    uint32_t *sp_start;    /* SPARSE: N + 1 offsets: texel t's entries are [sp_start[t], sp_start[t + 1]) */
+    uint16_t *sp_pair;     /* SPARSE: M direction pairs v * lights + l, ascending within a texel */
+    uint16_t *sp_val;      /* SPARSE: M x 3 halves, the RGB residual */
 } prw_btf_packed;
 
 bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e);

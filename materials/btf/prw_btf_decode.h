@@ -3,8 +3,11 @@
  * tracer's BTF kind).  A scalar header: the includer defines how the stored numbers are fetched,
  *   PRW_BTF_U(i), PRW_BTF_W(i), PRW_BTF_MEAN(i), PRW_BTF_BASIS(i)  the i-th stored half as a float,
  *   PRW_BTF_INDEX(t)                                                texel t's cluster (PRW_BTF_UINT),
+ *   PRW_BTF_SP_START(t), PRW_BTF_SP_PAIR(j)                         SPARSE: offsets, entries' pairs (PRW_BTF_UINT),
+ *   PRW_BTF_SP_VAL(i)                                               SPARSE: the i-th residual half as a float,
  *   PRW_BTF_PARAMS                                                  leading parameters the fetches use
  *                                                                   (e.g. the packed BTF in C; empty in GLSL),
+ *   PRW_BTF_ARGS                                                    the same parameters passed on (e.g. "p,"),
  * and calls the decode of the codec with the call's own leading arguments.  Each sums in float in one
  * fixed order (component 0 first), so both sides compute the same roundings (up to fused multiply-adds
  * on the GPU).  d = (v * lights + l) * 3 + c, e = l * 3 + c, t = y * width + x. */
@@ -43,6 +46,20 @@ PRW_BTF_FN float prw_btf_decode_pvf(PRW_BTF_PARAMS PRW_BTF_UINT v, PRW_BTF_UINT 
 {
     float s = PRW_BTF_MEAN(v * E + e);
     for (PRW_BTF_UINT j = 0u; j < k; j++) s += PRW_BTF_W((v * N + t) * k + j) * PRW_BTF_BASIS((v * k + j) * E + e);
+    return s;
+}
+
+/* SPARSE: the CLUSTER value plus texel t's residual entry for pair d / 3, if it has one */
+PRW_BTF_FN float prw_btf_decode_sparse(PRW_BTF_PARAMS PRW_BTF_UINT d, PRW_BTF_UINT t, PRW_BTF_UINT k, PRW_BTF_UINT D)
+{
+    float s = prw_btf_decode_cluster(PRW_BTF_ARGS d, t, k, D);
+    PRW_BTF_UINT q = d / 3u, lo = PRW_BTF_SP_START(t), end = PRW_BTF_SP_START(t + 1u), hi = end;
+    while (lo < hi) {
+        PRW_BTF_UINT mid = lo + (hi - lo) / 2u;
+        if (PRW_BTF_SP_PAIR(mid) < q) lo = mid + 1u;
+        else hi = mid;
+    }
+    if (lo < end && PRW_BTF_SP_PAIR(lo) == q) s += PRW_BTF_SP_VAL(lo * 3u + (d - q * 3u));
     return s;
 }
 

@@ -44,10 +44,11 @@ int main(int argc, char **argv)
     btf_sample_tensor_file(PRW_BTF_UBO_DFMF, 2, 3, 3, 2, &b);
     if (!prw_btf_from_ubo(&b, &t, &e)) return fprintf(stderr, "%s\n", e.msg), 1;
     prw_btf_ubo_free(&b);
-    const prw_btf_codec codecs[3] = {PRW_BTF_CODEC_FMF, PRW_BTF_CODEC_CLUSTER, PRW_BTF_CODEC_PVF};
-    const char *pn[3] = {"fmf.btfc", "cluster.btfc", "pvf.btfc"};
-    for (int i = 0; i < 3; i++) {
-        prw_btf_codec_params p = {.codec = codecs[i], .components = 2, .clusters = 2, .seed = 1, .threads = 1};
+    const prw_btf_codec codecs[4] = {PRW_BTF_CODEC_FMF, PRW_BTF_CODEC_CLUSTER, PRW_BTF_CODEC_PVF, PRW_BTF_CODEC_SPARSE};
+    const char *pn[4] = {"fmf.btfc", "cluster.btfc", "pvf.btfc", "sparse.btfc"};
+    for (int i = 0; i < 4; i++) {
+        prw_btf_codec_params p = {.codec = codecs[i], .components = i == 3 ? 1 : 2, .clusters = 2, .sparse_per_texel = 2,
+                                  .seed = 1, .threads = 1};
         prw_btf_packed pk;
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", argv[2], pn[i]);

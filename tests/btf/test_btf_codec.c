@@ -5,8 +5,13 @@
  *  - cluster:    a BTF of 6 distinct ABRDFs: 6 clusters without components rebuild it; a BTF whose
  *                clusters vary along one direction each: 3 clusters x 1 component;
  *  - pvf:        per view a mean plus one varying pattern: 1 component per view;
+ *  - sparse:     one ABRDF everywhere plus 4 spikes (2 texels x 2 direction pairs, "flakes"): the
+ *                residual after 1 cluster lives on 4 pairs x 30 texels, so 4 entries per texel rebuild it;
+ *                4 entries in all keep exactly the 4 spikes and (the mean refitted without them) rebuild it;
+ *                3 cannot (a spike is lost);
  *  - errors:     the three figures on a 2-texel BTF computed by hand (rms, varying, mean abs);
- *  - file:       every codec's file round-trips exactly; truncations and a bad cluster index refused. */
+ *  - file:       every codec's file round-trips exactly; truncations, a bad cluster index and SPARSE
+ *                entries out of order refused. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -80,9 +85,12 @@ static void tensor_btf(uint32_t V, uint32_t L, uint32_t W, uint32_t H, prw_btf *
     prw_btf_ubo_free(&u);
 }
 
+static double g_sparse = 2; /* SPARSE: entries per texel for run() */
+
 static prw_btf_error run(const prw_btf *b, prw_btf_codec codec, uint32_t comps, uint32_t clusters, prw_btf_packed *out)
 {
-    prw_btf_codec_params p = {.codec = codec, .components = comps, .clusters = clusters, .seed = 3, .threads = 2};
+    prw_btf_codec_params p = {.codec = codec, .components = comps, .clusters = clusters, .sparse_per_texel = g_sparse,
+                              .seed = 3, .threads = 2};
     prw_error e;
     prw_btf_error r = {0};
     if (!prw_btf_compress(b, &p, out, &e)) {
@@ -174,6 +182,46 @@ static void test_pvf(void)
     prw_btf_free(&b);
 }
 
+static void test_sparse(void)
+{
+    /* 6 x 5 texels, 3 views x 4 lights: one random ABRDF, texels 7 and 22 with a spike of 20 at two pairs each */
+    prw_btf b;
+    prw_error e;
+    prw_btf_create(6, 5, 3, 4, &b, &e);
+    double base[36];
+    for (int d = 0; d < 36; d++) base[d] = 0.2 + 0.5 * rnd();
+    const uint32_t spike_t[4] = {7, 7, 22, 22}, spike_q[4] = {1, 9, 4, 9};
+    for (uint32_t q = 0; q < 12; q++)
+        for (uint32_t t = 0; t < 30; t++)
+            for (uint32_t c = 0; c < 3; c++) b.rgb[(q * 30 + t) * 3 + c] = (float)base[q * 3 + c];
+    for (int s = 0; s < 4; s++)
+        for (uint32_t c = 0; c < 3; c++) b.rgb[(spike_q[s] * 30 + spike_t[s]) * 3 + c] += (float)(20.0 + c);
+    prw_btf_packed p;
+    prw_btf_error r0 = run(&b, PRW_BTF_CODEC_CLUSTER, 0, 1, &p);
+    prw_btf_packed_free(&p);
+    g_sparse = 4;
+    prw_btf_error r = run(&b, PRW_BTF_CODEC_SPARSE, 0, 1, &p);
+    CHECK_MSG(r.rms_pct < 0.1 && p.sparse_count == 120, "4 entries per texel: rms %.4f %%, %u entries", r.rms_pct, p.sparse_count);
+    prw_btf_packed_free(&p);
+    g_sparse = 4.0 / 30;
+    r = run(&b, PRW_BTF_CODEC_SPARSE, 0, 1, &p);
+    bool spikes = p.sparse_count == 4;
+    for (int s = 0; spikes && s < 4; s++) {
+        uint32_t t = spike_t[s], j = p.sp_start[t] + (s & 1);
+        spikes = p.sp_start[t + 1] - p.sp_start[t] == 2 && p.sp_pair[j] == spike_q[s];
+    }
+    CHECK_MSG(spikes, "4 entries in all: not the 4 spikes");
+    /* the mean refitted without the spikes: exact to half precision */
+    CHECK_MSG(r.rms_pct < 0.1 && r0.rms_pct > 50, "4 spikes kept: rms %.4f %% against %.4f %% without", r.rms_pct, r0.rms_pct);
+    prw_btf_packed_free(&p);
+    g_sparse = 3.0 / 30;
+    prw_btf_error r3 = run(&b, PRW_BTF_CODEC_SPARSE, 0, 1, &p);
+    CHECK_MSG(r3.rms_pct > 2 * r.rms_pct && r3.rms_pct > 1, "3 entries: rms %.4f %% (a spike is lost)", r3.rms_pct);
+    prw_btf_packed_free(&p);
+    g_sparse = 2;
+    prw_btf_free(&b);
+}
+
 static void test_errors(void)
 {
     /* 1 view, 1 light, 2 texels; A = (1, 3) in every channel, Ahat = FMF... take a 1-cluster VQ: the mean 2 */
@@ -210,9 +258,9 @@ static void test_file(void)
 {
     prw_btf b;
     patterned(&b, 3, true);
-    const prw_btf_codec codecs[3] = {PRW_BTF_CODEC_FMF, PRW_BTF_CODEC_CLUSTER, PRW_BTF_CODEC_PVF};
+    const prw_btf_codec codecs[4] = {PRW_BTF_CODEC_FMF, PRW_BTF_CODEC_CLUSTER, PRW_BTF_CODEC_PVF, PRW_BTF_CODEC_SPARSE};
     prw_error e;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 4; i++) {
         prw_btf_packed p, q;
         run(&b, codecs[i], 2, 3, &p);
         char name[32];
@@ -242,6 +290,18 @@ static void test_file(void)
             CHECK(!prw_btf_packed_read_memory(data, n, "bad.btfc", &q, &e) && strstr(e.msg, "cluster 9 of 3"));
             printf("refused: %s\n", e.msg);
         }
+        if (codecs[i] == PRW_BTF_CODEC_SPARSE) {
+            /* the last entry's pair: beyond the 12 pairs, then equal to its predecessor (out of order) */
+            size_t pair = n - 6 * (size_t)p.sparse_count - 2;
+            uint16_t prev = p.sp_pair[p.sparse_count - 2];
+            CHECK(p.sp_start[29] <= p.sparse_count - 2); /* the last two entries are the last texel's */
+            data[pair] = 12, data[pair + 1] = 0;
+            CHECK(!prw_btf_packed_read_memory(data, n, "bad.btfc", &q, &e) && strstr(e.msg, "pair 12 out of range"));
+            printf("refused: %s\n", e.msg);
+            data[pair] = (char)(prev & 0xff), data[pair + 1] = (char)(prev >> 8);
+            CHECK(!prw_btf_packed_read_memory(data, n, "bad.btfc", &q, &e) && strstr(e.msg, "out of range or order"));
+            printf("refused: %s\n", e.msg);
+        }
         free(data);
         prw_btf_packed_free(&p);
     }
@@ -252,7 +312,7 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"svd", test_svd}, {"fmf", test_fmf},       {"cluster", test_cluster},
-        {"pvf", test_pvf}, {"errors", test_errors}, {"file", test_file},
+        {"pvf", test_pvf}, {"sparse", test_sparse}, {"errors", test_errors}, {"file", test_file},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
