@@ -61,6 +61,11 @@ for c in sorted(curves):
 def grid(u0, u1, v0, v1, n):
     return [x for i in range(n + 1) for j in range(n + 1) for x in (u0 + (u1 - u0) * i / n, v0 + (v1 - v0) * j / n)]
 def interior(t):
+    fb = list(gmsh.model.getBoundingBox(2, t))  # OCC's box of the face (STL based: widened here)
+    m = 0.02 * math.dist(fb[0:3], fb[3:6]) + 0.1
+    fb = [fb[k] - m for k in range(3)] + [fb[k] + m for k in range(3, 6)]
+    if all(fb[k] >= lo[k] and fb[k + 3] <= hi[k] for k in range(3)):
+        return
     (u0, v0), (u1, v1) = gmsh.model.getParametrizationBounds(2, t)
     n = 96
     uv = grid(u0, u1, v0, v1, n)
@@ -68,6 +73,8 @@ def interior(t):
     for k in range(3):
         for sign in (-1, 1):
             ext = hi[k] if sign > 0 else -lo[k]
+            if (fb[k + 3] if sign > 0 else -fb[k]) <= ext:
+                continue
             cand = sorted((sign * xyz[3 * i + k], i) for i in range(len(xyz) // 3) if sign * xyz[3 * i + k] > ext)
             best = None
             for val, i in reversed(cand[-64:]):
@@ -87,7 +94,7 @@ def interior(t):
                         break
                 hu, hv = hu / 4, hv / 4
 failed = 0
-for d, t in s:
+for d, t in sorted(s, key=lambda e: -math.dist(gmsh.model.getBoundingBox(2, e[1])[0:3], gmsh.model.getBoundingBox(2, e[1])[3:6])):
     try:
         interior(t)
     except Exception:
