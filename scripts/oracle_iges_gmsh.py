@@ -134,13 +134,15 @@ def main():
             tl = [l for l in g.stdout.splitlines() if l.startswith('TIGHT')]
             gm = [float(x) for x in gl[0].split()[1:]] if gl else None
             tight = [float(x) for x in tl[0].split()[1:7]] if tl else None
+            gwhy = 'gmsh: ' + (g.stderr.strip().splitlines() or ['exit %d' % g.returncode])[-1][:60]
         except subprocess.TimeoutExpired:
             gm = tight = None
+            gwhy = 'gmsh: timeout'
         if not prw or not gm or gm[0] == 0 or prw[0] == 0:
             print('%-40s %5s %5s %14s %14s   (not compared: %s)' % (name[:40], prw[2] if prw else '-', int(gm[0]) if gm else '-',
                   '%.6g' % prw[0] if prw else '-', '%.6g' % (gm[1] * 1e-6) if gm else '-',
                   (why if not prw else 'prw has no faces') if not prw or prw[0] == 0 else
-                  'gmsh: ' + ('timeout' if gm is None else 'no surfaces')), flush=True)
+                  gwhy if gm is None else 'gmsh: no surfaces'), flush=True)
             continue
         ga = gm[1] * 1e-6
 
