@@ -134,7 +134,8 @@ def main():
             tl = [l for l in g.stdout.splitlines() if l.startswith('TIGHT')]
             gm = [float(x) for x in gl[0].split()[1:]] if gl else None
             tight = [float(x) for x in tl[0].split()[1:7]] if tl else None
-            gwhy = 'gmsh: ' + (g.stderr.strip().splitlines() or ['exit %d' % g.returncode])[-1][:60]
+            gwhy = 'gmsh: ' + ('signal %d' % -g.returncode if g.returncode < 0 else
+                               (g.stderr.strip().splitlines() or ['exit %d' % g.returncode])[-1][:60])
         except subprocess.TimeoutExpired:
             gm = tight = None
             gwhy = 'gmsh: timeout'
