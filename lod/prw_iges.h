@@ -5,9 +5,13 @@
  *    empty; lines end in LF or CRLF, or the file is a bare run of 80-column records).  Every
  *    record is checked: length 80 (trailing blanks beyond 80 tolerated), section letter in column
  *    73, sequence number 1, 2, … in columns 74–80, D records in pairs, P back-pointers, and the
- *    Terminate record's section counts.  Binary and compressed forms are rejected.
+ *    Terminate record's section counts.  Binary and compressed forms are rejected.  Tolerated,
+ *    with a note in info->warning (OpenCASCADE reads such files): a Terminate record miscounting
+ *    the Start or Global section; a directory entry whose parameter record count disagrees with
+ *    the P records pointing back to it when those hold a whole record (they are taken).
  *  - Parameters use the delimiters from the Global section (Hollerith strings nH…; reals with E
- *    or D exponents).  Units: Global unit flag 1–11 (flag 3: the unit name) → metres, divided by
+ *    or D exponents).  Units: Global unit flag 1–11 (flag 3: the unit name; flag 0 with no unit
+ *    name: the default, inches, noted in info->warning) → metres, divided by
  *    the model space scale (parameter 13: model/real-world ratio).  Transformation matrices (124,
  *    chained) are applied.  The output is in metres.
  *  - Converted: 100, 102, 110, 112 (Bezier pieces, its own parameter kept), 124, 126, 128, 142,

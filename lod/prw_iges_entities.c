@@ -715,6 +715,10 @@ bool iges_project_loop(iges_ctx *x, const iges_de *d, int param, iges_clist *mod
         double u0, u1, v0, v1;
         prw_nurbs_surface_domain(&t->surface, &u0, &u1, &v0, &v1);
         for (int i = 0; i < uv.n; i++) prw_trim_drop_close_points(&uv.c[i], 1e-12 * fmax(u1 - u0, v1 - v0));
+        /* an edge running along another one and leaving it (a plane tangent to a tube): the spike
+         * between them is cut, 1e-3 of the domain wide at most (prw_trim_wrap.h) */
+        const double dom[4] = {u0, u1, v0, v1};
+        prw_trim_cut_spikes(uv.c, uv.n, dom, 1e-3);
     }
     if (ok) {
         prw_trim_loop *l = prw_trimmed_surface_add_loop(t);

@@ -41,7 +41,8 @@ typedef struct iges_file {
     char *ptext; /* concatenated field texts */
     int plen, pcap;
     int lines;
-    char note[128]; /* a tolerated inconsistency of the records (Start / Global counts), for the warning */
+    char note[256]; /* tolerated inconsistencies of the records (section counts, unit flag 0, parameter record
+                     * counts), "; "-separated, for the warning */
 } iges_file;
 
 /* Record layer: splits the file, checks the layout, reads Global, Directory and Parameter data. */

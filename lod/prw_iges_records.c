@@ -3,6 +3,7 @@
  * exponents).  Every failure names the file line. */
 #include <ctype.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +22,19 @@ typedef struct src {
     int *ln;
     int n, cap;
 } src;
+
+/* Appends one tolerated inconsistency to f->note ("; "-separated, cut at its size). */
+static void add_note(iges_file *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void add_note(iges_file *f, const char *fmt, ...)
+{
+    size_t n = strlen(f->note);
+    if (n + 3 >= sizeof f->note) return;
+    if (n) n += (size_t)snprintf(f->note + n, sizeof f->note - n, "; ");
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(f->note + n, sizeof f->note - n, fmt, ap);
+    va_end(ap);
+}
 
 static void src_add(src *s, const char *p, int n, int lineno)
 {
@@ -242,9 +256,16 @@ static bool read_global(iges_file *f, const src *g, int gline, prw_error *e)
         f->model_scale = tk[10].num;
     }
     if (nt > 11 && tk[11].kind != TOK_EMPTY) {
-        if (tk[11].kind != TOK_NUM || tk[11].num != floor(tk[11].num) || tk[11].num < 1 || tk[11].num > 11)
+        bool no_name = nt <= 12 || tk[12].kind == TOK_EMPTY || (tk[12].kind == TOK_STR && tk[12].len == 0);
+        if (tk[11].kind == TOK_NUM && tk[11].num == 0 && no_name) {
+            /* flag 0 and no unit name (an old Rhino writer): nothing says another unit than the
+             * default; OpenCASCADE reads such files too: noted, not refused */
+            add_note(f, "line %d: unit flag 0 and no unit name, inches (the default) assumed", tk[11].line);
+        } else if (tk[11].kind != TOK_NUM || tk[11].num != floor(tk[11].num) || tk[11].num < 1 || tk[11].num > 11) {
             return prw_fail(e, "%s:%d: global parameter 14 (unit flag) must be an integer 1..11", f->name, tk[11].line);
-        f->unit_flag = (int)tk[11].num;
+        } else {
+            f->unit_flag = (int)tk[11].num;
+        }
     }
     f->unit_m = unit_flags[f->unit_flag];
     if (f->unit_flag == 3) {
@@ -406,10 +427,10 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
                 num = isdigit((unsigned char)q[m]);
                 if (num) v = v * 10 + (q[m] - '0');
             }
-            if (num && v != counts[k] && k < 2 && !f->note[0]) {
+            if (num && v != counts[k] && k < 2) {
                 /* a miscounted Start or Global section loses nothing (the sections are delimited by
                  * their letters); OpenCASCADE reads such files too: noted, not refused */
-                snprintf(f->note, sizeof f->note, "line %d: Terminate record counts %d %c records, the file has %d",
+                add_note(f, "line %d: Terminate record counts %d %c records, the file has %d",
                          t->no, v, letters[k], counts[k]);
                 continue;
             }
@@ -478,6 +499,10 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
             goto done;
         }
         if (d->type == 0) continue; /* null entity */
+        if (d->pd_ptr >= 1 && d->pd_ptr <= counts[3] && (d->pd_count < 1 || d->pd_count > counts[3] - d->pd_ptr + 1)) {
+            d->pd_count = -d->pd_count - 1; /* recounted from the back pointers below, or refused there */
+            continue;
+        }
         if (d->pd_ptr < 1 || d->pd_count < 1 || d->pd_ptr > counts[3] || d->pd_count > counts[3] - d->pd_ptr + 1) {
             prw_fail(e, "%s:%d: parameter data pointer %d with %d records lies outside the P section (%d records)", name,
                      a->no, d->pd_ptr, d->pd_count, counts[3]);
@@ -485,10 +510,34 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
         }
     }
     /* Parameters */
+    int recounted = 0;
     for (int k = 0; k < f->nde; k++) {
         iges_de *d = &f->de[k];
         if (d->type == 0) continue;
         ptmp.n = 0;
+        /* the records from the pointer on that point back to this entry; when the count in the
+         * directory disagrees and they hold a whole record (its delimiter), they are taken, with a
+         * note (OpenCASCADE reads such files: its bad_header.igs) */
+        int run = 0, declared = d->pd_count < 0 ? -d->pd_count - 1 : d->pd_count;
+        bool whole = false;
+        while (d->pd_ptr - 1 + run < counts[3]) {
+            const line *l = &lines[first[3] + d->pd_ptr - 1 + run];
+            int back = 0;
+            for (int q = 64; q < 72; q++) back = isdigit((unsigned char)l->p[q]) ? back * 10 + (l->p[q] - '0') : back;
+            if (back != d->seq) break;
+            whole = memchr(l->p, f->rdelim, 64) != NULL;
+            run++;
+        }
+        if (run >= 1 && run != declared && whole) {
+            if (recounted++ == 0)
+                add_note(f, "line %d: directory entry %d counts %d parameter records, it has %d", d->line, d->seq,
+                         declared, run);
+            d->pd_count = run;
+        } else if (d->pd_count < 0) {
+            prw_fail(e, "%s:%d: parameter data pointer %d with %d records lies outside the P section (%d records)", name,
+                     d->line, d->pd_ptr, declared, counts[3]);
+            goto done;
+        }
         for (int m = 0; m < d->pd_count; m++) {
             const line *l = &lines[first[3] + d->pd_ptr - 1 + m];
             int back = 0;
@@ -518,6 +567,7 @@ bool iges_read_records(iges_file *f, const char *data, size_t size, prw_error *e
         d->tok0 = t0 + 1;
         d->ntok = f->ntok - t0 - 1;
     }
+    if (recounted > 1) add_note(f, "%d more entries recounted so", recounted - 1);
     ok = true;
 done:
     src_free(&g);

@@ -369,3 +369,87 @@ bool prw_trim_join_bands(prw_trimmed_surface *t, const bool closed[2], double to
     }
     return false;
 }
+
+/* Distance from p to the segment a-b in scaled coordinates; *t: the nearest point's parameter. */
+static double seg_dist(prw_dvec3 p, prw_dvec3 a, prw_dvec3 b, const double sc[2], double *t)
+{
+    double ax = (b.x - a.x) * sc[0], ay = (b.y - a.y) * sc[1], px = (p.x - a.x) * sc[0], py = (p.y - a.y) * sc[1];
+    double ll = ax * ax + ay * ay, s = ll > 0 ? (px * ax + py * ay) / ll : 0;
+    s = s < 0 ? 0 : s > 1 ? 1 : s;
+    *t = s;
+    return hypot(px - s * ax, py - s * ay);
+}
+
+/* Degree-1 (u, v) curve through pts[0..n-1]; false (curve untouched) if it cannot be made. */
+static bool remake(prw_nurbs_curve *c, const prw_dvec3 *pts, int n)
+{
+    prw_nurbs_curve out;
+    prw_error ignore;
+    if (n < 2 || !prw_nurbs_make_polyline(&out, 2, pts, n, &ignore)) return false;
+    prw_nurbs_curve_free(c);
+    *c = out;
+    return true;
+}
+
+/* The spike at the junction a (its end) -> b (its start), if any, cut (prw_trim_cut_spikes). */
+static bool cut_spike(prw_nurbs_curve *a, prw_nurbs_curve *b, const double sc[2], double tol)
+{
+    if (a->degree != 1 || b->degree != 1 || a->n < 2 || b->n < 2) return false;
+    int ja = a->n - 2, ib = -1, cut = -1;
+    double cut_t = 0;
+    /* walk b forward and a backward together while b stays within tol of a */
+    for (int i = 1; i < b->n; i++) {
+        prw_dvec3 p = prw_nurbs_curve_point_at(b, i);
+        double t, d = seg_dist(p, prw_nurbs_curve_point_at(a, ja), prw_nurbs_curve_point_at(a, ja + 1), sc, &t);
+        while (ja > 0) {
+            double t2, d2 = seg_dist(p, prw_nurbs_curve_point_at(a, ja - 1), prw_nurbs_curve_point_at(a, ja), sc, &t2);
+            if (d2 > d) break;
+            d = d2, t = t2, ja--;
+        }
+        if (!(d <= tol)) break;
+        ib = i, cut = ja, cut_t = t;
+    }
+    if (ib < 0 || ib == b->n - 1 || (cut == 0 && cut_t <= 0)) return false;
+    prw_dvec3 q0 = prw_nurbs_curve_point_at(a, cut), q1 = prw_nurbs_curve_point_at(a, cut + 1);
+    prw_dvec3 P = prw_v3(q0.x + cut_t * (q1.x - q0.x), q0.y + cut_t * (q1.y - q0.y), 0);
+    double back = 0; /* how much of a the spike covers (scaled length from P to a's end) */
+    prw_dvec3 prev = P;
+    for (int k = cut + 1; k < a->n; k++) {
+        prw_dvec3 q = prw_nurbs_curve_point_at(a, k);
+        back += hypot((q.x - prev.x) * sc[0], (q.y - prev.y) * sc[1]);
+        prev = q;
+    }
+    if (!(back > 4 * tol)) return false;
+    int na = cut_t > 0 ? cut + 2 : cut + 1, nb = b->n - ib;
+    prw_dvec3 *pa = prw_malloc(sizeof *pa * (size_t)na), *pb = prw_malloc(sizeof *pb * (size_t)nb);
+    for (int k = 0; k < na - 1; k++) pa[k] = prw_nurbs_curve_point_at(a, k);
+    pa[na - 1] = P;
+    pb[0] = P;
+    for (int k = 1; k < nb; k++) pb[k] = prw_nurbs_curve_point_at(b, ib + k);
+    bool ok = na >= 2 && nb >= 2;
+    prw_nurbs_curve keep_a = *a;
+    if (ok) { /* both or neither */
+        prw_nurbs_curve na_c;
+        prw_error ignore;
+        ok = prw_nurbs_make_polyline(&na_c, 2, pa, na, &ignore);
+        if (ok && remake(b, pb, nb)) {
+            prw_nurbs_curve_free(&keep_a);
+            *a = na_c;
+        } else if (ok) {
+            prw_nurbs_curve_free(&na_c);
+            ok = false;
+        }
+    }
+    free(pa);
+    free(pb);
+    return ok;
+}
+
+int prw_trim_cut_spikes(prw_nurbs_curve *pieces, int n, const double dom[4], double tol)
+{
+    if (n < 2 || !(dom[1] > dom[0]) || !(dom[3] > dom[2])) return 0;
+    const double sc[2] = {1 / (dom[1] - dom[0]), 1 / (dom[3] - dom[2])};
+    int cuts = 0;
+    for (int k = 0; k < n; k++) cuts += cut_spike(&pieces[(k + n - 1) % n], &pieces[k], sc, tol);
+    return cuts;
+}

@@ -33,7 +33,19 @@
  *    other way round when it winds the same way), the seam line back — the band as one ring of the
  *    domain, the seam lines without model curves.  Anything else is left as it is.  Returns whether
  *    it joined.
- *  - Nothing prints; prw_nurbs_surface_reseat and prw_trim_join_bands allocate.
+ *  - prw_trim_cut_spikes: where a loop turns back on itself at a junction of two degree-1 pieces
+ *    (the next piece's first points all within tol of the previous piece's polyline, in (u, v)
+ *    scaled by 1 / the domain's side in each direction, for more than 4 tol of its length), both
+ *    pieces are cut at the last such point (its nearest point on the previous piece becomes their
+ *    common end): the zero-width spike, whose two sides cross each other wherever inversion noise
+ *    puts them, is gone and the loop is simple there.  A plane cut tangent to a tube along a
+ *    boundary line gives one (the ground ends of the public occt_bug22869_Spring.igs: its edge
+ *    runs 2.6 of the 52 (u, v) units along the helix edge before it leaves it).  The region loses
+ *    at most a sliver tol wide; a piece that would lose all its points is left alone, and so is
+ *    anything else.  Model-space curves are not cut (nothing reads them past the projection).
+ *    Returns the number of junctions cut.
+ *  - Nothing prints; prw_nurbs_surface_reseat, prw_trim_join_bands and prw_trim_cut_spikes
+ *    allocate.
  */
 #ifndef PRW_TRIM_WRAP_H
 #define PRW_TRIM_WRAP_H
@@ -53,6 +65,8 @@ void prw_trim_shift_loop(const prw_nurbs_surface *s, int dir, double a, prw_nurb
 bool prw_nurbs_surface_reseat(prw_nurbs_surface *s, int dir, double a, prw_error *e);
 void prw_trim_drop_close_points(prw_nurbs_curve *c, double tol);
 bool prw_trim_join_bands(prw_trimmed_surface *t, const bool closed[2], double tol);
+/* pieces: one loop's pieces in order (the last joins the first); dom: u0, u1, v0, v1. */
+int prw_trim_cut_spikes(prw_nurbs_curve *pieces, int n, const double dom[4], double tol);
 
 #ifdef __cplusplus
 }

@@ -24,7 +24,7 @@ int main(int argc, char **argv)
 {
     if (argc != 2 && !(argc == 3 && !strcmp(argv[2], "--brep"))) {
         fprintf(stderr, "usage: iges_assets_gen <dir> [--brep]\n  --brep: the B-rep test solids instead (box, cylinder, "
-                        "free-form, free faces on 190 planes, a bounded band, a 144 on a 190; not stored in assets/)\n");
+                        "free-form, free faces on 190 planes, a bounded band, a 144 on a 190, a boundary running back along itself, unit flag 0; not stored in assets/)\n");
         return 2;
     }
     if (argc == 3) {
@@ -42,6 +42,10 @@ int main(int argc, char **argv)
         err |= save(argv[1], "bounded_band.igs", s, n);
         s = iges_model_plane190_trimmed(&n);
         err |= save(argv[1], "plane190_trimmed.igs", s, n);
+        s = iges_model_spike_loop(1e-3, &n);
+        err |= save(argv[1], "spike_loop.igs", s, n);
+        s = iges_model_units(0, "", 1, 0, 1, &n);
+        err |= save(argv[1], "unit_flag_0.igs", s, n);
         return err;
     }
     size_t n;

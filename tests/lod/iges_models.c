@@ -476,3 +476,30 @@ char *iges_model_brep_freeform(size_t *len)
     }
     return brep_finish(&b, len);
 }
+
+char *iges_model_spike_loop(double e, size_t *len)
+{
+    static igw w;
+    igw_init(&w);
+    const double p00[3] = {-10, -10, 0}, p10[3] = {20, -10, 0}, p01[3] = {-10, 20, 0}, p11[3] = {20, 20, 0};
+    int pl = plane128(&w, p00, p10, p01, p11);
+    const double a[3] = {10, 0, 0}, o[3] = {0, 0, 0}, c[3] = {4, 10, 0}, d[3] = {10, 10, 0};
+    int l0 = line(&w, a, o);
+    /* (0, 0) back along y = 0 to (4, 0), zig-zagging +-e across the line, then up to (4, 10) */
+    enum { NZ = 10 };
+    double z[NZ][2] = {{0, 0}, {0.5, e}, {1, -e}, {1.5, e}, {2, -e}, {2.5, e}, {3, -e}, {3.5, e}, {4, 0}, {4, 10}};
+    char buf[2048];
+    int n = snprintf(buf, sizeof buf, "%d,1,1,0,1,0,0.,0.", NZ - 1);
+    for (int k = 1; k < NZ - 1; k++) n += snprintf(buf + n, sizeof buf - (size_t)n, ",%d.", k);
+    n += snprintf(buf + n, sizeof buf - (size_t)n, ",%d.,%d.", NZ - 1, NZ - 1);
+    for (int k = 0; k < NZ; k++) n += snprintf(buf + n, sizeof buf - (size_t)n, ",1.");
+    for (int k = 0; k < NZ; k++) n += snprintf(buf + n, sizeof buf - (size_t)n, ",%.17g,%.17g,0.", z[k][0], z[k][1]);
+    snprintf(buf + n, sizeof buf - (size_t)n, ",0.,%d.,0.,0.,1.", NZ - 1);
+    int l1 = igw_add(&w, 126, 0, DEP, 0, 0, "%s", buf);
+    int l2 = line(&w, c, d), l3 = line(&w, d, a);
+    int b = igw_add(&w, 141, 0, DEP, 0, 0, "0,1,%d,4,%d,1,0,%d,1,0,%d,1,0,%d,1,0", pl, l0, l1, l2, l3);
+    igw_add(&w, 143, 0, 0, 0, 0, "0,%d,1,%d", pl, b);
+    char *s = igw_finish(&w, len);
+    igw_free(&w);
+    return s;
+}

@@ -43,6 +43,12 @@ char *iges_model_brep_box_variant(bool faces_only, bool planes_190, size_t *len)
  * boundaries (141) are its end circles, each on its own (as SolidWorks writes revolved faces); the
  * top circle runs against the bottom one unless same_way. */
 char *iges_model_bounded_band(bool same_way, size_t *len);
+/* A bounded surface (143) on a 30 x 30 mm plane whose boundary runs back along itself: the line
+ * (10, 0) -> (0, 0), then a polyline from (0, 0) back along y = 0 to (4, 0), zig-zagging +-e mm
+ * across that line on the way (an edge tangent to another, with inversion noise: the ground ends of
+ * occt_bug22869_Spring.igs), up to (4, 10), then (10, 10) and back to (10, 0): the face is the
+ * 6 x 10 mm rectangle (60 mm^2). */
+char *iges_model_spike_loop(double e, size_t *len);
 /* A 100 x 60 mm rectangle trimming a 190 plane (144 with a model-space 142), and a free 190. */
 char *iges_model_plane190_trimmed(size_t *len);
 char *iges_model_brep_cylinder(size_t *len);

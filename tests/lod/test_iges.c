@@ -246,6 +246,23 @@ static void test_units_and_subordinate(void)
         }
         prw_nurbs_model_free(&m);
     }
+    /* unit flag 0 and no unit name (an old Rhino writer; OpenCASCADE's bad_header.igs): the default,
+     * inches, with a note */
+    {
+        size_t n0;
+        char *s0 = iges_model_units(0, "", 1, 0, 0, &n0);
+        prw_nurbs_model m0;
+        prw_iges_info i0;
+        prw_error e0 = {{0}};
+        bool ok = parse(s0, n0, &m0, &i0, &e0);
+        CHECK_MSG(ok, "unit flag 0: %s", e0.msg);
+        free(s0);
+        if (ok) {
+            CHECK(m0.count == 1 && strstr(i0.warning, "unit flag 0 and no unit name, inches") != NULL);
+            if (m0.count) CHECK_NEAR(prw_nurbs_surface_eval(&m0.surfaces[0].surface, 1, 1).x, 0.0254, 1e-15);
+            prw_nurbs_model_free(&m0);
+        }
+    }
     /* subordinate switch: dependent 128 alone -> nothing drawn; independent 128 used by a 144 ->
      * drawn once (trimmed) */
     size_t n;
@@ -410,6 +427,26 @@ static void test_malformed(void)
                 free(t);
             }
         }
+    }
+    /* a directory entry whose parameter record count runs past the P section (30 for the 124's
+     * one record): recounted from the back pointers, with a note (OpenCASCADE's bad_header.igs
+     * has nine) */
+    {
+        char dl[128];
+        snprintf(dl, sizeof dl, "%.80s\n", line_of(base, 6));
+        memcpy(dl + 24, "      30", 8);
+        t = edit_line(base, 6, dl);
+        prw_nurbs_model m;
+        prw_iges_info info;
+        prw_error e = {{0}};
+        bool ok = parse(t, strlen(t), &m, &info, &e);
+        CHECK_MSG(ok, "D count 30: %s", e.msg);
+        if (ok) {
+            printf("  D count 30 -> read, warning '%s'\n", info.warning);
+            CHECK(m.count > 0 && strstr(info.warning, "directory entry 1 counts 30 parameter records, it has 1") != NULL);
+            prw_nurbs_model_free(&m);
+        }
+        free(t);
     }
     free(base);
 }

@@ -13,6 +13,7 @@
 #include "lod_mesh_check.h"
 #include "prw_iges.h"
 #include "prw_lod.h"
+#include "prw_tess.h"
 #include "prw_trim.h"
 #include "prw_test.h"
 
@@ -225,6 +226,51 @@ static void test_bounded_band(void)
     }
 }
 
+/* A boundary that runs back along itself and leaves (iges_model_spike_loop): the spike between
+ * the two edges, whose sides cross wherever the zig-zag (inversion noise in the real file) puts
+ * them, is cut; the face tessellates (prw_tess and the LOD build) to the 6 x 10 mm rectangle.
+ * Before the cut both failed with "trim loops cross or overlap" (occt_bug22869_Spring.igs lost 2
+ * of its 6 faces to it). */
+static void test_spike_loop(void)
+{
+    for (int k = 0; k < 2; k++) {
+        double e = k ? 1e-5 : 1e-3; /* mm; the domain is 30 mm wide: 3.3e-5 and 3.3e-7 of it */
+        size_t n;
+        char *s = iges_model_spike_loop(e, &n);
+        prw_nurbs_model m;
+        prw_iges_info info;
+        prw_error err;
+        CHECK_OK(prw_iges_parse(s, n, "spike.igs", &m, &info, &err), &err);
+        free(s);
+        CHECK(m.count == 1);
+        if (m.count != 1) continue;
+        prw_tess_mesh mesh;
+        bool ok = prw_tess_surface(&m.surfaces[0], &(prw_tess_options){0}, &mesh, &err);
+        CHECK_MSG(ok, "e %g: %s", e, err.msg);
+        if (ok) {
+            double area = 0;
+            for (size_t t = 0; t < mesh.ntris; t++) {
+                const double *a = mesh.pos + 3 * mesh.tris[3 * t], *b = mesh.pos + 3 * mesh.tris[3 * t + 1],
+                             *c = mesh.pos + 3 * mesh.tris[3 * t + 2];
+                prw_dvec3 x = prw_v3_cross(prw_v3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                                           prw_v3(c[0] - a[0], c[1] - a[1], c[2] - a[2]));
+                area += 0.5 * prw_v3_len(x);
+            }
+            printf("  spike loop (zig-zag %g mm): area %.9g m^2 (60 mm^2 exact)\n", e, area);
+            CHECK(fabs(area - 60e-6) <= 1e-6 * 60e-6);
+            prw_tess_mesh_free(&mesh);
+        }
+        prw_seam_graph g;
+        CHECK_OK(prw_seam_build(&m, NULL, &g, &err), &err);
+        prw_lod_model lm;
+        CHECK_OK(prw_lod_build(&m, &g, NULL, &lm, &err), &err);
+        CHECK(lm.failed_patches == 0);
+        prw_lod_free(&lm);
+        prw_seam_free(&g);
+        prw_nurbs_model_free(&m);
+    }
+}
+
 /* A 144 on a 190 plane takes the plane's extent from its trim curves (the exact rectangle); a free
  * 190 is counted as skipped, not drawn. */
 static void test_plane190_trimmed(void)
@@ -358,7 +404,8 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
         {"box", test_box}, {"box_190", test_box_190}, {"box_free_faces", test_box_free_faces},
-        {"bounded_band", test_bounded_band}, {"plane190_trimmed", test_plane190_trimmed},
+        {"bounded_band", test_bounded_band}, {"spike_loop", test_spike_loop},
+        {"plane190_trimmed", test_plane190_trimmed},
         {"cylinder", test_cylinder},
         {"freeform", test_freeform},
         {"bare_records", test_bare_records},
