@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "prw_brdf.h"
+#include "compute_case.h"
 #include "prw_shaders.h"
 #include "prw_test.h"
 
@@ -63,54 +64,9 @@ static coat_case random_coat_case(void)
 /* Runs `shader` over n cases of `stride` bytes into n floats. */
 static bool run_cases(prw_spirv shader, const void *cases, size_t stride, int n, float *results, prw_error *e)
 {
-    prw_gpu *gpu = NULL;
-    prw_gpu_desc d = {.device_index = -1, .validation = true};
-    if (!prw_gpu_create(&d, &gpu, e)) return false;
-    prw_buffer in = {0}, out = {0};
-    VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
-    VkPipelineLayout pl = VK_NULL_HANDLE;
-    VkPipeline pipe = VK_NULL_HANDLE;
-    prw_desc_pool *pool = NULL;
-    VkDescriptorSetLayoutBinding b[2] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-    };
-    VkDescriptorSet set;
-    VkCommandBuffer cmd;
-    bool ok = prw_buffer_create(gpu, n * stride, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_UPLOAD, &in, e) &&
-              prw_buffer_create(gpu, n * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, PRW_MEM_READBACK, &out,
-                                e) &&
-              prw_desc_layout_create(gpu, b, 2, &dsl, e) && prw_pipeline_layout_create(gpu, &dsl, 1, 4, &pl, e) &&
-              prw_pipeline_compute(gpu, shader, pl, &pipe, e) && prw_desc_pool_create(gpu, &pool, e) &&
-              prw_desc_alloc(gpu, pool, dsl, &set, e);
-    if (ok) {
-        memcpy(in.mapped, cases, n * stride);
-        prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &in, 0, VK_WHOLE_SIZE);
-        prw_desc_write_buffer(gpu, set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &out, 0, VK_WHOLE_SIZE);
-        ok = prw_cmd_begin(gpu, &cmd, e);
-    }
-    if (ok) {
-        uint32_t count = (uint32_t)n;
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
-        vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_ALL, 0, 4, &count);
-        vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
-        VkMemoryBarrier2 mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, NULL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                               VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT};
-        VkDependencyInfo di = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
-                               .pMemoryBarriers = &mb};
-        vkCmdPipelineBarrier2(cmd, &di);
-        ok = prw_cmd_submit_wait(gpu, cmd, e);
-    }
-    if (ok) memcpy(results, out.mapped, n * sizeof(float));
-    if (pool) prw_desc_pool_destroy(gpu, pool);
-    if (pipe) vkDestroyPipeline(prw_gpu_device(gpu), pipe, NULL);
-    if (pl) vkDestroyPipelineLayout(prw_gpu_device(gpu), pl, NULL);
-    if (dsl) vkDestroyDescriptorSetLayout(prw_gpu_device(gpu), dsl, NULL);
-    prw_buffer_destroy(gpu, &in);
-    prw_buffer_destroy(gpu, &out);
-    prw_gpu_destroy(gpu);
-    return ok;
+    uint32_t count = (uint32_t)n;
+    compute_buffer b[2] = {{cases, (size_t)n * stride, NULL}, {NULL, (size_t)n * sizeof(float), results}};
+    return compute_case_run(shader, b, 2, NULL, &count, sizeof count, (count + 63) / 64, e);
 }
 
 /* relative difference, values below 1e-6 /sr compared absolutely at 1e-11 */

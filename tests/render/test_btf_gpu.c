@@ -8,7 +8,7 @@
 
 #include "prw_btf_codec.h"
 #include "prw_btf_synth.h"
-#include "prw_gpu.h"
+#include "compute_case.h"
 #include "prw_shaders.h"
 #include "prw_test.h"
 
@@ -19,70 +19,28 @@ static size_t words(uint64_t halves) { return (size_t)((halves + 1) / 2 + 1); }
 
 static bool run(const prw_btf_packed *p, const uint32_t *cases, float *out, prw_error *e)
 {
-    prw_gpu *gpu = NULL;
-    prw_gpu_desc d = {.device_index = -1, .validation = true};
-    if (!prw_gpu_create(&d, &gpu, e)) return false;
     uint64_t D = (uint64_t)p->views * p->lights * 3, T = (uint64_t)p->width * p->height, k = p->components;
     uint64_t nu = 0, nw = 0, nm = 0, nb = 0, ni = 0;
     if (p->codec == PRW_BTF_CODEC_FMF) nu = D * k, nw = T * k;
     else if (p->codec == PRW_BTF_CODEC_CLUSTER || p->codec == PRW_BTF_CODEC_SPARSE)
         nw = T * k, nm = p->clusters * D, nb = p->clusters * k * D, ni = T;
     else nw = p->views * T * k, nm = p->views * p->lights * 3, nb = p->views * k * p->lights * 3;
-    const uint16_t *src[4] = {p->u, p->w, p->mean, p->basis};
-    uint64_t cnt[4] = {nu, nw, nm, nb};
-    prw_buffer buf[NB];
-    memset(buf, 0, sizeof buf);
-    VkDescriptorSetLayoutBinding b[NB];
-    for (int i = 0; i < NB; i++) b[i] = (VkDescriptorSetLayoutBinding){(uint32_t)i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL};
     uint64_t M = p->codec == PRW_BTF_CODEC_SPARSE ? p->sparse_count : 0, ns = p->codec == PRW_BTF_CODEC_SPARSE ? T + 1 : 0;
     size_t sizes[NB] = {4 * words(nu), 4 * words(nw), 4 * words(nm), 4 * words(nb), 4 * (size_t)(ni + 1), 16 * (size_t)N, 4 * (size_t)N,
                         4 * (size_t)(ns + 1), 4 * words(M), 4 * words(3 * M)};
-    VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
-    VkPipelineLayout pl = VK_NULL_HANDLE;
-    VkPipeline pipe = VK_NULL_HANDLE;
-    prw_desc_pool *pool = NULL;
-    VkDescriptorSet set;
-    VkCommandBuffer cmd;
-    bool ok = true;
-    for (int i = 0; ok && i < NB; i++)
-        ok = prw_buffer_create(gpu, sizes[i], VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, i == 6 ? PRW_MEM_READBACK : PRW_MEM_UPLOAD,
-                               &buf[i], e);
-    ok = ok && prw_desc_layout_create(gpu, b, NB, &dsl, e) && prw_pipeline_layout_create(gpu, &dsl, 1, 24, &pl, e) &&
-         prw_pipeline_compute(gpu, prw_shader_btf_decode_test_comp(), pl, &pipe, e) && prw_desc_pool_create(gpu, &pool, e) &&
-         prw_desc_alloc(gpu, pool, dsl, &set, e);
-    if (ok) {
-        for (int i = 0; i < 4; i++) {
-            memset(buf[i].mapped, 0, sizes[i]);
-            if (cnt[i]) memcpy(buf[i].mapped, src[i], 2 * cnt[i]);
-        }
-        memset(buf[4].mapped, 0, sizes[4]);
-        if (ni) memcpy(buf[4].mapped, p->index, 4 * ni);
-        memcpy(buf[5].mapped, cases, 16 * (size_t)N);
-        for (int i = 7; i < NB; i++) memset(buf[i].mapped, 0, sizes[i]);
-        if (ns) memcpy(buf[7].mapped, p->sp_start, 4 * ns);
-        if (M) memcpy(buf[8].mapped, p->sp_pair, 2 * M), memcpy(buf[9].mapped, p->sp_val, 6 * M);
-        for (int i = 0; i < NB; i++) prw_desc_write_buffer(gpu, set, (uint32_t)i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &buf[i], 0, VK_WHOLE_SIZE);
-        ok = prw_cmd_begin(gpu, &cmd, e);
+    /* the stored arrays, zero-padded to whole uints (two halves per uint in the shader) */
+    const void *src[NB] = {p->u, p->w, p->mean, p->basis, p->index, cases, NULL, p->sp_start, p->sp_pair, p->sp_val};
+    size_t used[NB] = {2 * nu, 2 * nw, 2 * nm, 2 * nb, 4 * ni, 16 * (size_t)N, 0, 4 * ns, 2 * M, 6 * M};
+    void *host[NB];
+    compute_buffer b[NB];
+    for (int i = 0; i < NB; i++) {
+        host[i] = prw_calloc(sizes[i], 1);
+        if (used[i]) memcpy(host[i], src[i], used[i]);
+        b[i] = (compute_buffer){host[i], sizes[i], i == 6 ? out : NULL};
     }
-    if (ok) {
-        uint32_t pc[6] = {N, (uint32_t)p->codec, p->components, p->lights, p->views, (uint32_t)T};
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
-        vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_ALL, 0, sizeof pc, pc);
-        vkCmdDispatch(cmd, (N + 63) / 64, 1, 1);
-        VkMemoryBarrier2 mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, NULL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                               VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT};
-        VkDependencyInfo di = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1, .pMemoryBarriers = &mb};
-        vkCmdPipelineBarrier2(cmd, &di);
-        ok = prw_cmd_submit_wait(gpu, cmd, e);
-    }
-    if (ok) memcpy(out, buf[6].mapped, sizeof(float) * N);
-    if (pool) prw_desc_pool_destroy(gpu, pool);
-    if (pipe) vkDestroyPipeline(prw_gpu_device(gpu), pipe, NULL);
-    if (pl) vkDestroyPipelineLayout(prw_gpu_device(gpu), pl, NULL);
-    if (dsl) vkDestroyDescriptorSetLayout(prw_gpu_device(gpu), dsl, NULL);
-    for (int i = 0; i < NB; i++) prw_buffer_destroy(gpu, &buf[i]);
-    prw_gpu_destroy(gpu);
+    uint32_t pc[6] = {N, (uint32_t)p->codec, p->components, p->lights, p->views, (uint32_t)T};
+    bool ok = compute_case_run(prw_shader_btf_decode_test_comp(), b, NB, NULL, pc, sizeof pc, (N + 63) / 64, e);
+    for (int i = 0; i < NB; i++) free(host[i]);
     return ok;
 }
 

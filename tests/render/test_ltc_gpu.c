@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compute_case.h"
 #include "prw_ltc.h"
 #include "prw_test_shaders.h"
 #include "prw_test.h"
@@ -68,67 +69,11 @@ static void random_case(float *f)
 
 static bool run_cases(const float *cases, int n, float *results, prw_error *e)
 {
-    prw_gpu *gpu = NULL;
-    prw_gpu_desc d = {.device_index = -1, .validation = true};
-    if (!prw_gpu_create(&d, &gpu, e)) return false;
-    prw_buffer in = {0}, out = {0};
-    prw_gpu_image table = {0};
-    VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
-    VkPipelineLayout pl = VK_NULL_HANDLE;
-    VkPipeline pipe = VK_NULL_HANDLE;
-    prw_desc_pool *pool = NULL;
-    VkDescriptorSetLayoutBinding b[3] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
-    };
-    prw_image_desc td = {.width = PRW_LTC_N, .height = PRW_LTC_N, .layers = 2, .format = VK_FORMAT_R32G32B32A32_SFLOAT,
-                         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                         .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
-    size_t layer = (size_t)PRW_LTC_N * PRW_LTC_N * 4;
-    VkDescriptorSet set;
-    VkCommandBuffer cmd;
-    bool ok = prw_buffer_create(gpu, (size_t)n * FLOATS * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                PRW_MEM_UPLOAD, &in, e) &&
-              prw_buffer_create(gpu, (size_t)n * OUTS * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                PRW_MEM_READBACK, &out, e) &&
-              prw_image_create(gpu, &td, &table, e) &&
-              prw_image_upload(gpu, &table, 0, prw_ltc_table_texels(), layer * sizeof(float), e) &&
-              prw_image_upload(gpu, &table, 1, prw_ltc_table_texels() + layer, layer * sizeof(float), e) &&
-              prw_desc_layout_create(gpu, b, 3, &dsl, e) && prw_pipeline_layout_create(gpu, &dsl, 1, 4, &pl, e) &&
-              prw_pipeline_compute(gpu, prw_shader_ltc_test_comp(), pl, &pipe, e) &&
-              prw_desc_pool_create(gpu, &pool, e) && prw_desc_alloc(gpu, pool, dsl, &set, e);
-    if (ok) {
-        memcpy(in.mapped, cases, (size_t)n * FLOATS * sizeof(float));
-        prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &in, 0, VK_WHOLE_SIZE);
-        prw_desc_write_buffer(gpu, set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &out, 0, VK_WHOLE_SIZE);
-        prw_desc_write_image(gpu, set, 2, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, table.view,
-                             prw_gpu_sampler(gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        ok = prw_cmd_begin(gpu, &cmd, e);
-    }
-    if (ok) {
-        uint32_t count = (uint32_t)n;
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
-        vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_ALL, 0, 4, &count);
-        vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
-        VkMemoryBarrier2 mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, NULL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                               VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT};
-        VkDependencyInfo di = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
-                               .pMemoryBarriers = &mb};
-        vkCmdPipelineBarrier2(cmd, &di);
-        ok = prw_cmd_submit_wait(gpu, cmd, e);
-    }
-    if (ok) memcpy(results, out.mapped, (size_t)n * OUTS * sizeof(float));
-    if (pool) prw_desc_pool_destroy(gpu, pool);
-    if (pipe) vkDestroyPipeline(prw_gpu_device(gpu), pipe, NULL);
-    if (pl) vkDestroyPipelineLayout(prw_gpu_device(gpu), pl, NULL);
-    if (dsl) vkDestroyDescriptorSetLayout(prw_gpu_device(gpu), dsl, NULL);
-    prw_image_destroy(gpu, &table);
-    prw_buffer_destroy(gpu, &in);
-    prw_buffer_destroy(gpu, &out);
-    prw_gpu_destroy(gpu);
-    return ok;
+    uint32_t count = (uint32_t)n;
+    compute_buffer b[2] = {{cases, (size_t)n * FLOATS * sizeof(float), NULL},
+                           {NULL, (size_t)n * OUTS * sizeof(float), results}};
+    compute_texture t = {prw_ltc_table_texels(), PRW_LTC_N, PRW_LTC_N, 2};
+    return compute_case_run(prw_shader_ltc_test_comp(), b, 2, &t, &count, sizeof count, (count + 63) / 64, e);
 }
 
 static void test_ltc_gpu_equals_c(void)
