@@ -57,6 +57,14 @@ void prw_btf_dirs_ubo81(float *dirs);
 /* Decodes a Bonn binary (colour model or dynamic-range expansion applied; 3 channels only). */
 bool prw_btf_from_ubo(const prw_btf_ubo *u, prw_btf *out, prw_error *e);
 
+/* The raw dump (prw btf-compress --save-btf / --btf: a synthesised BTF kept for later codec runs):
+ * "PRWBTFR1", u32 width, height, views, lights, then the view and light (theta, phi) floats and the
+ * rgb floats as laid out above, in the host's byte order.  The writer goes through "<path>.tmp" and
+ * a rename (no partial file); the reader checks the header's sizes against the file's length and the
+ * memory budget before allocating and refuses non-finite values, naming the file. */
+bool prw_btf_write_raw(const char *path, const prw_btf *b, prw_error *e);
+bool prw_btf_read_raw(const char *path, prw_btf *out, prw_error *e);
+
 /* Loads one image as linear RGB floats (width * height * 3, malloc'd, caller frees), or fails naming it. */
 typedef bool (*prw_btf_image_loader)(void *user, const char *path, uint32_t *width, uint32_t *height, float **rgb,
                                      prw_error *e);

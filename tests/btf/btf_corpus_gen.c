@@ -1,8 +1,10 @@
-/* btf_corpus_gen UBO_DIR PACKED_DIR — writes the seed corpora of fuzz_btf_ubo
+/* btf_corpus_gen UBO_DIR PACKED_DIR RAW_DIR — writes the seed corpora of fuzz_btf_ubo
  * (tests/fuzz_readers/corpus_btf_ubo: every sample kind of btf_samples.h and the closed-form tensor in
  * each format, at small sizes) and of fuzz_btf_packed (tests/fuzz_readers/corpus_btf_packed: the
- * tensor compressed by each codec).  regress_* files in the corpora are fuzzer finds, kept by hand.
- * Regenerate: build/tests/btf/btf_corpus_gen tests/fuzz_readers/corpus_btf_ubo tests/fuzz_readers/corpus_btf_packed */
+ * tensor compressed by each codec) and of fuzz_btf_raw (tests/fuzz_readers/corpus_btf_raw: the tensor's
+ * raw dump).  regress_* files in the corpora are fuzzer finds, kept by hand.
+ * Regenerate: build/tests/btf/btf_corpus_gen tests/fuzz_readers/corpus_btf_ubo tests/fuzz_readers/corpus_btf_packed \
+ *             tests/fuzz_readers/corpus_btf_raw */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -21,8 +23,8 @@ static int put(const char *dir, const char *name, prw_btf_ubo *b)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: btf_corpus_gen UBO_DIR PACKED_DIR\n");
+    if (argc != 4) {
+        fprintf(stderr, "usage: btf_corpus_gen UBO_DIR PACKED_DIR RAW_DIR\n");
         return 2;
     }
     static const char *names[BTF_SAMPLE_KIND_COUNT] = {"dfmf_r_v4.btf", "dfmf_v1.btf", "fmf_ext.btf", "fmf_plain.btf",
@@ -57,6 +59,12 @@ int main(int argc, char **argv)
             rc = 1;
         }
         prw_btf_packed_free(&pk);
+    }
+    char raw[1024];
+    snprintf(raw, sizeof raw, "%s/tensor.raw", argv[3]);
+    if (!prw_btf_write_raw(raw, &t, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        rc = 1;
     }
     prw_btf_free(&t);
     return rc;
