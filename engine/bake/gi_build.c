@@ -206,8 +206,7 @@ static void make_charts(const winst *w, uint32_t ii, double texel, chart **chart
         if (owner[seed] >= 0) continue;
         if (*count == *cap) {
             *cap = *cap ? 2 * *cap : 64;
-            *charts = realloc(*charts, sizeof **charts * *cap);
-            if (!*charts) abort();
+            *charts = prw_realloc(*charts, sizeof **charts * *cap);
         }
         uint32_t ci = (*count)++;
         chart *ch = &(*charts)[ci];
@@ -280,8 +279,7 @@ static bool chart_uv1(const winst *w, uint32_t ii, double texel, chart **charts,
     if (!(k * (umax - umin) < 1e7 && k * (vmax - vmin) < 1e7)) return false;
     if (*count == *cap) {
         *cap = *cap ? 2 * *cap : 64;
-        *charts = realloc(*charts, sizeof **charts * *cap);
-        if (!*charts) abort();
+        *charts = prw_realloc(*charts, sizeof **charts * *cap);
     }
     chart *ch = &(*charts)[(*count)++];
     memset(ch, 0, sizeof *ch);
@@ -342,6 +340,16 @@ typedef struct gpoint {
     float *rgb, *var; /* where E and its variance go */
     uint8_t *state;   /* the texel's state (NULL for vertices): set to 0 when the point is hidden */
 } gpoint;
+
+/* The next free gather point of the growing array (*pts, *np used of *cap). */
+static gpoint *push_point(gpoint **pts, size_t *np, size_t *cap)
+{
+    if (*np == *cap) {
+        *cap = *cap ? 2 * *cap : 4096;
+        *pts = prw_realloc(*pts, *cap * sizeof **pts);
+    }
+    return &(*pts)[(*np)++];
+}
 
 static double radical_inverse2(uint32_t i)
 {
@@ -585,12 +593,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
                     size_t ti = (size_t)(c->y0 + ty) * A->width + c->x0 + tx;
                     if (A->state[ti]) continue;
                     A->state[ti] = 1;
-                    if (np == pcap) {
-                        pcap = pcap ? 2 * pcap : 4096;
-                        pts = realloc(pts, pcap * sizeof *pts);
-                        if (!pts) abort();
-                    }
-                    gpoint *g = &pts[np++];
+                    gpoint *g = push_point(&pts, &np, &pcap);
                     const uint32_t *ix = w->m->indices + 3 * t;
                     for (int cc = 0; cc < 3; cc++) {
                         g->p[cc] = b0 * w->p[3 * ix[0] + cc] + b1 * w->p[3 * ix[1] + cc] + b2 * w->p[3 * ix[2] + cc];
@@ -609,12 +612,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             size_t ti = (size_t)(c->y0 + ty) * A->width + c->x0 + tx;
             if (!A->state[ti] && w->area[c->tris[best]] > 0) {
                 A->state[ti] = 1;
-                if (np == pcap) {
-                    pcap = pcap ? 2 * pcap : 4096;
-                    pts = realloc(pts, pcap * sizeof *pts);
-                    if (!pts) abort();
-                }
-                gpoint *g = &pts[np++];
+                gpoint *g = push_point(&pts, &np, &pcap);
                 const uint32_t *ix = w->m->indices + 3 * c->tris[best];
                 for (int cc = 0; cc < 3; cc++) {
                     g->p[cc] = (w->p[3 * ix[0] + cc] + w->p[3 * ix[1] + cc] + w->p[3 * ix[2] + cc]) / 3;
@@ -636,12 +634,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
         in->vertex_rgb = prw_calloc((size_t)in->vertex_count * 3, sizeof(float));
         in->vertex_var = prw_calloc((size_t)in->vertex_count * 3, sizeof(float));
         for (uint32_t v = 0; v < in->vertex_count; v++) {
-            if (np == pcap) {
-                pcap = pcap ? 2 * pcap : 4096;
-                pts = realloc(pts, pcap * sizeof *pts);
-                if (!pts) abort();
-            }
-            gpoint *g = &pts[np++];
+            gpoint *g = push_point(&pts, &np, &pcap);
             memcpy(g->p, wi[i].p + 3 * v, sizeof g->p);
             memcpy(g->n, wi[i].vn + 3 * v, sizeof g->n);
             if (!(ddot(g->n, g->n) > 0.5)) g->n[0] = 0, g->n[1] = 1, g->n[2] = 0;
