@@ -60,18 +60,18 @@ static void scene_defaults(prw_scene *s, const char *path)
         prw_log(PRW_LOG_INFO, "%s: its environment lights the path tracer only: the rasterizer does not draw "
                 "environment light yet", path);
     if (s->light_count || s->environment.present || s->camera_count == 0 || !s->has_bounds) return;
-    /* Only light sources light the rasterizer today; an environment and emissive surfaces light it once
-     * the GI issue's environment pass and emissive-mesh lights exist.  A scene with an environment or
-     * strong emitters (a lamp, a Cornell-box ceiling) still keeps its lighting as its author made it:
-     * the path tracer renders that light. */
+    /* A scene lit by its emissive surfaces (a lamp, a Cornell-box ceiling) keeps its lighting as its author
+     * made it: the rasterizer lights from emissive meshes as area lights (engine/scene/prw_emissive.h,
+     * listed by `prw info`), the path tracer from the emitting triangles.  An environment lights the path
+     * tracer only, until the GI issue's environment pass exists. */
     prw_emitters em = prw_scene_emitters(s);
     double r = fmax(0.5 * prw_v3_len(prw_v3_sub(s->bounds_max, s->bounds_min)), 1e-6);
     double lux = em.mesh_flux_lm / (4.0 * PRW_PI * r * r);
     char why[160];
     if (em.nurbs_count || lux >= EMISSIVE_LIT_LUX) {
-        prw_log(PRW_LOG_INFO, "%s: lit only by emissive surfaces (%.4g lm%s): the path tracer renders their light, "
-                "the rasterizer does not light from them yet", path, em.mesh_flux_lm,
-                em.nurbs_count ? " from meshes, plus emissive NURBS models" : "");
+        prw_log(PRW_LOG_INFO, "%s: lit only by emissive surfaces (%.4g lm from meshes: area lights in the rasterizer, "
+                "`prw info` says which)%s", path, em.mesh_flux_lm,
+                em.nurbs_count ? "; its emissive NURBS models light the path tracer only" : "");
         return;
     }
     if (em.mesh_count)

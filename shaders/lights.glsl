@@ -43,8 +43,10 @@ float quad_irradiance(vec3 p, vec3 n, vec3 q0, vec3 q1, vec3 q2, vec3 q3, out ve
 // mean cos(v, h).
 #define PRW_RECT_NODES 10
 #define PRW_RECT_SCALE 3.0
+// shape (emissive meshes' lights, view_globals.c): 0 rectangle; 1 parallelogram and 2 triangle (corners c - du - dv,
+// c + du - dv, c + du + dv: the grid's nodes beyond the diagonal dropped) take the grid only.
 vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
-                              float roughness, float specular)
+                              float roughness, float specular, float shape)
 {
     float alpha = prw_alpha_from_roughness(roughness);
     float dist = max(length(c - p), 1e-4);
@@ -56,7 +58,7 @@ vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, 
     // the mirror ray's hit on the light's plane (light coordinates), if it reaches it
     vec3 r = 2.0 * dot(n, v) * n - v;
     float rl = dot(r, ln), tr = dot(c - p, ln) / rl;
-    bool mapped = (nu > PRW_RECT_NODES || nv > PRW_RECT_NODES) && rl < 0.0 && tr > 0.0;
+    bool mapped = (nu > PRW_RECT_NODES || nv > PRW_RECT_NODES) && rl < 0.0 && tr > 0.0 && shape == 0.0;
     float xu = 0.0, xv = 0.0, s = 1.0, tu0 = 0.0, tv0 = 0.0, Tu = 0.0, Tv = 0.0, dtu = 0.0, dtv = 0.0;
     if (mapped) {
         vec3 hit = p + r * tr - c;
@@ -97,7 +99,7 @@ vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, 
         for (int i = 0; i < nu; i++) {
             float su = (float(i) + 0.5) * su_step - 1.0;
             vec3 d = rowv + (mapped ? eu * (xu + s * tu) : du * su);
-            float cw = mapped ? s * (1.0 + tu * tu) * dtu * wv : 1.0;
+            float cw = mapped ? s * (1.0 + tu * tu) * dtu * wv : (shape == 2.0 ? step(sv, su) * (su == sv ? 0.5 : 1.0) : 1.0);
             tu = (tu + Tu) / (1.0 - tu * Tu);
             float d2 = max(dot(d, d), 1e-8);
             float rs = inversesqrt(d2);
@@ -120,7 +122,7 @@ vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, 
     float f_diel = prw_clamp01(specular) * prw_F_dielectric(voh);
     vec3 f = vec3((1.0 - m) * f_diel + m * prw_F_schlick(base.r, voh), (1.0 - m) * f_diel + m * prw_F_schlick(base.g, voh),
                   (1.0 - m) * f_diel + m * prw_F_schlick(base.b, voh));
-    return f * (mapped ? sum : sum * 4.0 * lu * lv / float(nu * nv));
+    return f * (mapped ? sum : sum * 4.0 * (shape == 0.0 ? lu * lv : length(cross(du, dv))) / float(nu * nv));
 }
 
 // The rect light's single-scattering specular: the quadrature above; with PRW_RECT_LTC defined, linearly
@@ -128,12 +130,12 @@ vec3 rect_specular_quadrature(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, 
 // lobe evaluations) but a single LTC does not follow the GGX lobe as closely as the quadrature
 // (materials/tools/rect_quad_study.c prints both errors), so the quadrature is the default.
 vec3 rect_specular_single(vec3 p, vec3 n, vec3 v, vec3 c, vec3 du, vec3 dv, vec3 ln, vec3 base, float metallic,
-                          float roughness, float specular)
+                          float roughness, float specular, float shape)
 {
 #ifdef PRW_RECT_LTC
-    return rect_specular_ltc(p, n, v, c, du, dv, base, metallic, roughness, specular);
+    return rect_specular_ltc(p, n, v, c, du, dv, base, metallic, roughness, specular); // rectangles only
 #else
-    return rect_specular_quadrature(p, n, v, c, du, dv, ln, base, metallic, roughness, specular);
+    return rect_specular_quadrature(p, n, v, c, du, dv, ln, base, metallic, roughness, specular, shape);
 #endif
 }
 
@@ -271,14 +273,15 @@ layout(constant_id = PRW_SC_N_PUNCTUAL) const int prw_n_punctual = 0;
     ((K) < prw_n_rect_shadowed || ((K) >= prw_n_rect_shadowed + prw_n_rect && (K) < PRW_N_BEFORE_POINT + prw_n_point_shadowed))
 #define PRW_SLOT_CUBE(K) ((K) >= PRW_N_BEFORE_POINT && (K) < PRW_N_BEFORE_POINT + prw_n_point_shadowed)
 
-// The corners of a rect light (camera-relative).
+// The corners of a rect light (camera-relative); a triangle (axis_u.w 2, an emissive mesh's) repeats the third,
+// whose Lambert edge term is then 0.
 void rect_corners(prw_gpu_light L, out vec3 q0, out vec3 q1, out vec3 q2, out vec3 q3)
 {
     vec3 c = L.pos_type.xyz;
     q0 = c - L.axis_u.xyz - L.axis_v.xyz;
     q1 = c + L.axis_u.xyz - L.axis_v.xyz;
     q2 = c + L.axis_u.xyz + L.axis_v.xyz;
-    q3 = c - L.axis_u.xyz + L.axis_v.xyz;
+    q3 = L.axis_u.w == 2.0 ? q2 : c - L.axis_u.xyz + L.axis_v.xyz;
 }
 
 // The direct light of the rect light L at p (camera-relative; normal n, towards the eye v).
@@ -299,7 +302,7 @@ vec3 rect_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3
     ggx_terms t = ggx_terms_at(w, min(NoLd, 1.0), roughness);
     vec3 fd = diffuse_rgb(t, base, metallic, specular) + specular_ms(t, base, metallic, specular);
     vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base, metallic,
-                                           roughness, specular);
+                                           roughness, specular, L.axis_u.w);
     return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
 }
 
@@ -388,7 +391,7 @@ vec3 rect_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 
         vec3 fd = diffuse_rgb(tb, base, metallic, specular) + specular_ms(tb, base, metallic, specular);
         float t = prw_coat_transmission(NcV, cc, rc) * prw_coat_transmission(dot(nc, fdir), cc, rc);
         f += t * (fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base,
-                                                metallic, roughness, specular));
+                                                metallic, roughness, specular, L.axis_u.w));
     }
     vec3 fdir_c;
     float Ec = quad_irradiance(p, nc, q0, q1, q2, q3, fdir_c);
@@ -396,7 +399,7 @@ vec3 rect_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 
         float NcLd = max(dot(nc, fdir_c), 1e-4);
         float ms = prw_ggx_ms_shape(min(NcV, 1.0), min(NcLd, 1.0), rc) * prw_F_ms(PRW_DIELECTRIC_F_AVG, prw_ggx_Ec_avg(rc));
         f += cc * (vec3(ms * Ec) + rect_specular_single(p, nc, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz,
-                                                        vec3(0.0), 0.0, rc, 1.0));
+                                                        vec3(0.0), 0.0, rc, 1.0, L.axis_u.w));
     }
     return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
 }

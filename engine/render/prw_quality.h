@@ -45,6 +45,8 @@ typedef struct prw_quality {
                                    view); 16: half floats (cheaper, clips) */
     double lod_pixel_tolerance; /* NURBS LOD: screen-space geometric error, pixels, of every model whose
                                    manifest entry sets no tol_px */
+    uint32_t emissive_lights;   /* emissive meshes: at most this many area lights (polygons; more are merged
+                                   into rectangles or dropped, engine/scene/prw_emissive.h); 0: they light nothing */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */

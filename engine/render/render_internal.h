@@ -24,6 +24,7 @@ struct prw_renderer {
     prw_pipes *pipes;
     prw_scene_gpu *sg;
     prw_shadow_plan plan;
+    prw_emissive_lights emissive; /* the emissive meshes' area lights (the plan takes them while slots are left) */
     prw_tm_gpu *tm;
     prw_drawables drawables;
     prw_graph *graph;

@@ -48,11 +48,16 @@ static void destroy_scene_parts(prw_renderer *r)
     prw_scene_gpu_destroy(r->gpu, r->sg);
     r->sg = NULL;
     r->env.sg = NULL;
+    prw_emissive_lights_free(&r->emissive);
 }
 
 static bool create_scene_parts(prw_renderer *r, prw_error *e)
 {
-    prw_shadow_plan_make(r->scene, &r->plan);
+    /* emissive meshes light like rect lights in the slots the scene's lights leave (prw_emissive.h) */
+    uint32_t free_slots = r->scene->light_count < PRW_MAX_LIGHTS ? PRW_MAX_LIGHTS - r->scene->light_count : 0;
+    uint32_t budget = r->desc.quality.emissive_lights < free_slots ? r->desc.quality.emissive_lights : free_slots;
+    prw_emissive_lights_build(r->scene, budget, &r->emissive);
+    prw_shadow_plan_make_with(r->scene, &r->emissive, &r->plan);
     if (!prw_scene_gpu_create(r->gpu, r->scene, r->pipes->material_layout, r->pool, &r->sg, e)) return false;
     r->env.sg = r->sg;
     if (!prw_drawables_create(&r->drawables, prw_drawables_default, &r->env, e)) return false;

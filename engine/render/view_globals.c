@@ -21,6 +21,7 @@ prw_mat4 prw_view_globals_view_proj(const prw_view *v, prw_dvec3 origin)
 void prw_view_globals_fill(const prw_scene *s, const prw_shadow_plan *plan, uint32_t shadow_size,
                            const prw_view *v, prw_dvec3 o, prw_gpu_globals *g)
 {
+    (void)s; /* the lights come from the plan */
     prw_dmat4 to_origin = translation(o);
     memset(g, 0, sizeof *g);
     g->view_proj = prw_view_globals_view_proj(v, o);
@@ -32,28 +33,25 @@ void prw_view_globals_fill(const prw_scene *s, const prw_shadow_plan *plan, uint
     g->params[1] = (float)shadow_size;
     for (uint32_t k = 0; k < nl; k++) {
         uint32_t i = plan->slot_light[k]; /* slots grouped by shading class (shadow_plan.h) */
-        const prw_light *l = &s->lights[i];
-        const double *m = s->nodes[l->node].world.m;
+        const prw_plan_light *l = &plan->lights[i];
         prw_gpu_light *gl = &g->lights[k];
-        prw_dvec3 dir = prw_v3_norm(prw_v3(-m[8], -m[9], -m[10]));
-        prw_dvec3 ax = prw_v3_norm(prw_v3(m[0], m[1], m[2])), ay = prw_v3_norm(prw_v3(m[4], m[5], m[6]));
-        gl->pos_type[0] = (float)(m[12] - o.x);
-        gl->pos_type[1] = (float)(m[13] - o.y);
-        gl->pos_type[2] = (float)(m[14] - o.z);
+        gl->pos_type[0] = (float)(l->pos.x - o.x);
+        gl->pos_type[1] = (float)(l->pos.y - o.y);
+        gl->pos_type[2] = (float)(l->pos.z - o.z);
         gl->pos_type[3] = (float)l->type;
-        gl->dir_range[0] = (float)dir.x;
-        gl->dir_range[1] = (float)dir.y;
-        gl->dir_range[2] = (float)dir.z;
+        gl->dir_range[0] = (float)l->dir.x;
+        gl->dir_range[1] = (float)l->dir.y;
+        gl->dir_range[2] = (float)l->dir.z;
         gl->dir_range[3] = (float)l->range;
-        for (int c = 0; c < 3; c++) gl->radiance[c] = (float)(l->color[c] * l->intensity);
+        for (int c = 0; c < 3; c++) gl->radiance[c] = l->radiance[c];
         gl->cone_shadow[0] = (float)cos(l->inner_cone);
         gl->cone_shadow[1] = (float)cos(l->outer_cone);
         int first = plan->light_first[i];
         gl->cone_shadow[2] = (float)first;
         gl->cone_shadow[3] = first < 0 ? 0.0f : (l->type == PRW_LIGHT_POINT ? 6.0f : 1.0f);
-        prw_dvec3 u = prw_v3_scale(ax, 0.5 * l->width), w = prw_v3_scale(ay, 0.5 * l->height);
-        gl->axis_u[0] = (float)u.x, gl->axis_u[1] = (float)u.y, gl->axis_u[2] = (float)u.z;
-        gl->axis_v[0] = (float)w.x, gl->axis_v[1] = (float)w.y, gl->axis_v[2] = (float)w.z;
+        gl->axis_u[0] = (float)l->half_u.x, gl->axis_u[1] = (float)l->half_u.y, gl->axis_u[2] = (float)l->half_u.z;
+        gl->axis_v[0] = (float)l->half_v.x, gl->axis_v[1] = (float)l->half_v.y, gl->axis_v[2] = (float)l->half_v.z;
+        gl->axis_u[3] = (float)l->shape; /* lights.glsl rect_corners: rect, parallelogram or triangle */
         if (first >= 0) gl->shadow[0] = (float)(plan->views[first].texel_per_unit / shadow_size);
     }
     for (uint32_t k = 0; k < plan->count; k++)

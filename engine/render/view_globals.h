@@ -1,7 +1,7 @@
 /* view_globals — the per-view uniform block (shaders/common.glsl prw_globals) for a view drawn
- * relative to `origin`: camera-relative view-projection and eye, the scene's first PRW_MAX_LIGHTS
- * lights in the plan's slot order (positions relative to origin; rect-light axes; shadow layers) and the
- * shadow matrices (camera-relative world -> light clip).  Pure CPU, deterministic. */
+ * relative to `origin`: camera-relative view-projection and eye, the plan's lights (shadow_plan.h: the
+ * scene's, then emissive meshes' area lights) in its slot order (positions relative to origin;
+ * rect-light axes and shape; shadow layers) and the shadow matrices (camera-relative world -> light clip).  Pure CPU, deterministic. */
 #ifndef PRW_VIEW_GLOBALS_H
 #define PRW_VIEW_GLOBALS_H
 

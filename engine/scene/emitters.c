@@ -1,15 +1,14 @@
 /* emitters — how much light the scene's emissive surfaces give (prw_scene.h prw_scene_emitters). */
 #include <math.h>
 
-#include "prw_scene.h"
+#include "prw_emissive.h"
 
 static double srgb_decode(double c)
 {
     return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
 }
 
-/* Rec.709 luminance of a material's emission times its emissive texture's mean (sRGB decoded). */
-static double emitted_luminance(const prw_scene *s, const prw_material *m)
+bool prw_material_emitted_rgb(const prw_scene *s, const prw_material *m, double rgb[3])
 {
     double r = m->emission[0], g = m->emission[1], b = m->emission[2];
     int t = m->emissive_tex;
@@ -25,7 +24,18 @@ static double emitted_luminance(const prw_scene *s, const prw_material *m)
         }
         if (n) r *= sr / (double)n, g *= sg / (double)n, b *= sb / (double)n;
     }
-    double y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    rgb[0] = isfinite(r) && r > 0 ? r : 0.0;
+    rgb[1] = isfinite(g) && g > 0 ? g : 0.0;
+    rgb[2] = isfinite(b) && b > 0 ? b : 0.0;
+    return rgb[0] > 0 || rgb[1] > 0 || rgb[2] > 0;
+}
+
+/* Rec.709 luminance of a material's emission times its emissive texture's mean (sRGB decoded). */
+static double emitted_luminance(const prw_scene *s, const prw_material *m)
+{
+    double c[3];
+    prw_material_emitted_rgb(s, m, c);
+    double y = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     return isfinite(y) && y > 0 ? y : 0.0;
 }
 
