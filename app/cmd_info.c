@@ -25,6 +25,35 @@ static const char *light_unit(prw_light_type t)
 }
 
 /* The graph of a renderer for this scene, and one recorded frame from the first camera. */
+/* What each drawn emissive mesh became in the rasterizer (prw_emissive.h). */
+static void print_emissive(const prw_scene *s, const prw_emissive_lights *em)
+{
+    for (uint32_t i = 0; i < em->source_count; i++) {
+        const prw_emissive_source *src = &em->sources[i];
+        const prw_mesh *m = &s->meshes[src->mesh];
+        printf("  emissive mesh '%s' (node '%s', material '%s'): %u triangles, %.4g m^2, %s, (%.4g %.4g %.4g) cd/m^2%s\n",
+               m->name, s->nodes[src->node].name, s->materials[m->material].name, src->triangles, src->area,
+               src->two_sided ? "two-sided" : "one-sided", src->radiance[0], src->radiance[1], src->radiance[2],
+               src->textured ? " = emission x the emissive texture's mean (its variation is not in the light)" : "");
+        printf("    %u polygon%s%s ->", src->polygons, src->polygons == 1 ? "" : "s", src->two_sided ? " a side" : "");
+        bool any = false;
+        if (src->rects) printf(" %u rect light%s (rect-light shading)", src->rects, src->rects == 1 ? "" : "s"), any = true;
+        if (src->parallelograms)
+            printf("%s %u parallelogram light%s (polygon shading)", any ? "," : "", src->parallelograms,
+                   src->parallelograms == 1 ? "" : "s"), any = true;
+        if (src->triangle_lights)
+            printf("%s %u triangle light%s (polygon shading)", any ? "," : "", src->triangle_lights,
+                   src->triangle_lights == 1 ? "" : "s"), any = true;
+        if (src->merged)
+            printf("%s %u polygon%s merged into an equal-area rectangle each (approximate shape: over the budget of %u "
+                   "area lights)", any ? "," : "", src->merged, src->merged == 1 ? "" : "s", em->max_lights), any = true;
+        if (src->dropped)
+            printf("%s %u polygon%s with no light (over the budget of %u area lights)", any ? "," : "", src->dropped,
+                   src->dropped == 1 ? "" : "s", em->max_lights), any = true;
+        printf("%s\n", any ? "" : " nothing");
+    }
+}
+
 static bool print_graph(const prw_scene *s, uint32_t views, uint32_t w, uint32_t h, prw_error *e)
 {
     prw_gpu *gpu = NULL;
@@ -33,6 +62,12 @@ static bool print_graph(const prw_scene *s, uint32_t views, uint32_t w, uint32_t
     prw_render_desc rd = {.width = w, .height = h, .max_views = views};
     ok = ok && prw_renderer_create(gpu, s, &rd, &r, e);
     if (ok) {
+        const prw_emissive_lights *em = prw_renderer_emissive(r);
+        if (em->source_count)
+            printf("emissive meshes as rasterizer lights (%u area light%s; budget %u: the knob emissive_lights, at most "
+                   "the light slots the scene's lights leave):\n",
+                   em->count, em->count == 1 ? "" : "s", em->max_lights);
+        print_emissive(s, em);
         char buf[16384] = "";
         prw_renderer_describe(r, buf, sizeof buf);
         printf("render graph (%ux%u, %u view%s, 4x MSAA, per-view loop):\n%s", w, h, views, views > 1 ? "s" : "", buf);

@@ -31,6 +31,7 @@
 
 #include "prw_gpu.h"
 #include "prw_hmd.h"
+#include "prw_emissive.h"
 #include "prw_image.h"
 #include "prw_quality.h"
 #include "prw_scene.h"
@@ -231,6 +232,9 @@ const char *prw_views_backend_name(prw_views_backend b);
 /* The graph as built for this renderer's scene and settings: passes in order with their resources and
  * why a pass is not in the graph, then the resources (graph.h prw_graph_describe).  Appends to buf. */
 void prw_renderer_describe(const prw_renderer *r, char *buf, size_t cap);
+/* The emissive meshes' area lights this renderer lights with (prw_emissive.h): built at create and
+ * sync with the budget min(quality.emissive_lights, the light slots the scene's lights leave). */
+const prw_emissive_lights *prw_renderer_emissive(const prw_renderer *r);
 /* Re-uploads the scene (edited since create or the last sync) and rebuilds the pass graph. */
 bool prw_renderer_sync_scene(prw_renderer *r, prw_error *e);
 /* Reads back view v's instance of the graph image `name` ("hdr", "depth", "gbuf_normal", "gbuf_id", ...):

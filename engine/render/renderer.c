@@ -142,6 +142,8 @@ void prw_renderer_destroy(prw_renderer *r)
     free(r);
 }
 
+const prw_emissive_lights *prw_renderer_emissive(const prw_renderer *r) { return &r->emissive; }
+
 bool prw_renderer_sync_scene(prw_renderer *r, prw_error *e)
 {
     if (!prw_gpu_wait_idle(r->gpu, e)) return false;
