@@ -35,6 +35,7 @@ static void print_emissive(const prw_scene *s, const prw_emissive_lights *em)
                m->name, s->nodes[src->node].name, s->materials[m->material].name, src->triangles, src->area,
                src->two_sided ? "two-sided" : "one-sided", src->radiance[0], src->radiance[1], src->radiance[2],
                src->textured ? " = emission x the emissive texture's mean (its variation is not in the light)" : "");
+        if (src->coverage < 1) printf("    x its mean alpha coverage %.3g (cut-out / blended: the light is the mean)\n", src->coverage);
         printf("    %u polygon%s%s ->", src->polygons, src->polygons == 1 ? "" : "s", src->two_sided ? " a side" : "");
         bool any = false;
         if (src->rects) printf(" %u rect light%s (rect-light shading)", src->rects, src->rects == 1 ? "" : "s"), any = true;

@@ -210,6 +210,26 @@ static void side_polygons(const tri *t, uint32_t nt, double size, uint32_t sourc
     free(done);
 }
 
+/* The mean coverage of a MASK or BLEND material (1 for OPAQUE), as the path tracer weights an emitter's
+ * light by its coverage at the point: base_color alpha x the base-colour texture's alpha (linear),
+ * MASK kept where alpha >= cutoff (prw_shading.h prw_alpha_mask_keeps), BLEND clamped to [0, 1]. */
+static double mean_coverage(const prw_scene *s, const prw_material *m)
+{
+    if (m->alpha_mode == PRW_ALPHA_OPAQUE) return 1.0;
+    const prw_texture *t = m->base_color_tex >= 0 && (uint32_t)m->base_color_tex < s->texture_count &&
+                                   s->textures[m->base_color_tex].rgba8
+                               ? &s->textures[m->base_color_tex]
+                               : NULL;
+    size_t n = t ? (size_t)t->width * (size_t)t->height : 1;
+    double sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        double a = m->base_color[3] * (t ? t->rgba8[4 * i + 3] / 255.0 : 1.0);
+        sum += m->alpha_mode == PRW_ALPHA_MASK ? (a >= m->alpha_cutoff ? 1.0 : 0.0) : fmin(fmax(a, 0.0), 1.0);
+    }
+    double c = n ? sum / (double)n : 1.0;
+    return isfinite(c) ? c : 0.0;
+}
+
 static void push_light(prw_emissive_lights *o, uint32_t *cap, const prw_area_light *l)
 {
     if (o->count == *cap) {
@@ -326,8 +346,9 @@ void prw_emissive_lights_build(const prw_scene *s, uint32_t max_lights, prw_emis
             const prw_mesh *m = &s->meshes[k];
             if (m->material < 0 || (uint32_t)m->material >= s->material_count) continue;
             const prw_material *mat = &s->materials[m->material];
-            double rgb[3];
-            if (!prw_material_emitted_rgb(s, mat, rgb)) continue;
+            double rgb[3], cov = mean_coverage(s, mat);
+            if (!prw_material_emitted_rgb(s, mat, rgb) || !(cov > 0)) continue;
+            for (int c = 0; c < 3; c++) rgb[c] *= cov;
             uint32_t nt = m->index_count / 3, si = out->source_count;
             tri *t = prw_malloc((nt ? nt : 1) * sizeof *t);
             uint32_t kept = 0;
@@ -369,6 +390,7 @@ void prw_emissive_lights_build(const prw_scene *s, uint32_t max_lights, prw_emis
             src->triangles = kept;
             src->two_sided = mat->double_sided;
             src->textured = mat->emissive_tex >= 0;
+            src->coverage = (float)cov;
             for (int c = 0; c < 3; c++) src->radiance[c] = (float)rgb[c];
             src->area = area;
             double size = fmax(prw_v3_len(prw_v3_sub(hi, lo)), 1e-12);

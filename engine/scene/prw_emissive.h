@@ -2,7 +2,9 @@
  *
  * Promises:
  *  - Emission of a material = emission (cd/m^2, linear RGB) x the emissive texture's mean (sRGB decoded)
- *    when it has one: the texture's variation is not in the light (prw_emissive_source.textured says so).
+ *    when it has one: the texture's variation is not in the light (prw_emissive_source.textured says so);
+ *    a MASK or BLEND material's times its mean coverage (the path tracer weights emission by the
+ *    coverage at the point), so a cut-out or half-transparent emitter sends its mean light.
  *  - Emitting sides as in the path tracer (engine/reference): a single-sided material emits towards the
  *    front (counter-clockwise winding in world space, flipped by a mirroring node transform); a
  *    double-sided one emits to both sides, each side its own lights.
@@ -56,6 +58,7 @@ typedef struct prw_emissive_source {
     uint32_t merged;        /* polygons (all sides) replaced by one equal-area rectangle each (over the budget) */
     uint32_t dropped;       /* polygons (all sides) with no light (over the budget) */
     bool two_sided, textured;
+    float coverage;         /* mean alpha coverage (MASK / BLEND; 1 for OPAQUE), in radiance */
     float radiance[3];      /* cd/m^2 */
     double area;            /* m^2, one side */
 } prw_emissive_source;
