@@ -48,6 +48,10 @@ static void print_emissive(const prw_scene *s, const prw_emissive_lights *em)
         if (src->merged)
             printf("%s %u polygon%s merged into an equal-area rectangle each (approximate shape: over the budget of %u "
                    "area lights)", any ? "," : "", src->merged, src->merged == 1 ? "" : "s", em->max_lights), any = true;
+        if (src->clustered)
+            printf("%s %u polygon%s merged by direction into %u square%s (approximate: over the budget of %u area lights)",
+                   any ? "," : "", src->clustered, src->clustered == 1 ? "" : "s", src->cluster_lights,
+                   src->cluster_lights == 1 ? "" : "s", em->max_lights), any = true;
         if (src->dropped)
             printf("%s %u polygon%s with no light (over the budget of %u area lights)", any ? "," : "", src->dropped,
                    src->dropped == 1 ? "" : "s", em->max_lights), any = true;

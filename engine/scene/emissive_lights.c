@@ -26,7 +26,7 @@ typedef struct poly {
     double area, flux; /* flux: relative (luminance x area) */
     uint32_t source;
     uint32_t lights;   /* exact lights it needs */
-    int mode;          /* 0 exact, 1 merged into a rectangle, 2 dropped */
+    int mode;          /* 0 exact, 1 merged into a rectangle, 2 dropped, 3 in its direction cluster */
 } poly;
 
 typedef struct edge_rec {
@@ -308,6 +308,21 @@ static void exact_lights(const poly *p, prw_area_light proto, prw_emissive_light
     }
 }
 
+/* The direction bin of a normal: its dominant axis, 2 x axis + (negative). */
+static int dominant_bin(prw_dvec3 n)
+{
+    double ax = fabs(n.x), ay = fabs(n.y), az = fabs(n.z);
+    if (ax >= ay && ax >= az) return n.x < 0;
+    if (ay >= az) return 2 + (n.y < 0);
+    return 4 + (n.z < 0);
+}
+
+static prw_dvec3 bin_axis(int b)
+{
+    double s = b % 2 ? -1.0 : 1.0;
+    return b / 2 == 0 ? prw_v3(s, 0, 0) : b / 2 == 1 ? prw_v3(0, s, 0) : prw_v3(0, 0, s);
+}
+
 /* Polygons in budget order: by the lights they need (most first), then flux (least first). */
 typedef struct rank {
     uint32_t lights, index;
@@ -424,13 +439,69 @@ void prw_emissive_lights_build(const prw_scene *s, uint32_t max_lights, prw_emis
             p->mode = 1;
         }
     }
+    /* then per source (the largest saving first) one rectangle per direction cluster: polygons binned by
+     * their normal's dominant axis (+-x, +-y, +-z) */
+    uint32_t nc = 6 * out->source_count;
+    double *cl_area = prw_calloc(nc ? nc : 1, sizeof *cl_area), *cl_flux = prw_calloc(nc ? nc : 1, sizeof *cl_flux);
+    prw_dvec3 *cl_an = prw_calloc(nc ? nc : 1, sizeof *cl_an), *cl_ac = prw_calloc(nc ? nc : 1, sizeof *cl_ac);
+    bool *cl_on = prw_calloc(nc ? nc : 1, sizeof *cl_on);
     if (need > max_lights) {
-        qsort(order, polys.count, sizeof *order, by_flux);
-        for (uint32_t i = 0; i < polys.count && need > max_lights; i++) {
-            poly *p = &polys.v[order[i].index];
-            need -= p->mode == 1 ? 1 : p->lights;
-            p->mode = 2;
+        rank *saving = prw_malloc((out->source_count ? out->source_count : 1) * sizeof *saving);
+        for (uint32_t i = 0; i < out->source_count; i++) saving[i] = (rank){0, i, 0.0};
+        uint32_t *lights_now = prw_calloc(out->source_count ? out->source_count : 1, sizeof *lights_now);
+        bool *bin_used = prw_calloc(nc ? nc : 1, sizeof *bin_used);
+        for (uint32_t i = 0; i < polys.count; i++) {
+            const poly *p = &polys.v[i];
+            lights_now[p->source] += p->mode == 1 ? 1 : p->lights;
+            bin_used[6 * p->source + (uint32_t)dominant_bin(p->n)] = true;
         }
+        for (uint32_t i = 0; i < out->source_count; i++) {
+            uint32_t bins = 0;
+            for (int k = 0; k < 6; k++) bins += bin_used[6 * i + (uint32_t)k];
+            saving[i].lights = lights_now[i] > bins ? lights_now[i] - bins : 0;
+        }
+        qsort(saving, out->source_count, sizeof *saving, by_lights_then_flux);
+        for (uint32_t k = 0; k < out->source_count && need > max_lights && saving[k].lights > 0; k++) {
+            uint32_t si = saving[k].index;
+            need -= saving[k].lights;
+            for (uint32_t i = 0; i < polys.count; i++) {
+                poly *p = &polys.v[i];
+                if (p->source != si) continue;
+                p->mode = 3;
+                uint32_t c = 6 * si + (uint32_t)dominant_bin(p->n);
+                cl_on[c] = true;
+                cl_area[c] += p->area;
+                cl_flux[c] += p->flux;
+                cl_an[c] = prw_v3_add(cl_an[c], prw_v3_scale(p->n, p->area));
+                cl_ac[c] = prw_v3_add(cl_ac[c], prw_v3_scale(poly_centroid(p), p->area));
+            }
+        }
+        free(saving);
+        free(lights_now);
+        free(bin_used);
+    }
+    /* last, the weakest lights go (a polygon's exact lights, its rectangle or a cluster) */
+    if (need > max_lights) {
+        rank *units = prw_malloc((polys.count + nc + 1) * sizeof *units);
+        uint32_t nu = 0;
+        for (uint32_t i = 0; i < polys.count; i++)
+            if (polys.v[i].mode != 3) units[nu++] = (rank){polys.v[i].mode == 1 ? 1 : polys.v[i].lights, i, polys.v[i].flux};
+        for (uint32_t c = 0; c < nc; c++)
+            if (cl_on[c]) units[nu++] = (rank){1, polys.count + c, cl_flux[c]};
+        qsort(units, nu, sizeof *units, by_flux);
+        for (uint32_t i = 0; i < nu && need > max_lights; i++) {
+            need -= units[i].lights;
+            if (units[i].index < polys.count) {
+                polys.v[units[i].index].mode = 2;
+            } else {
+                uint32_t c = units[i].index - polys.count;
+                cl_on[c] = false;
+                for (uint32_t j = 0; j < polys.count; j++)
+                    if (polys.v[j].mode == 3 && 6 * polys.v[j].source + (uint32_t)dominant_bin(polys.v[j].n) == c)
+                        polys.v[j].mode = 2;
+            }
+        }
+        free(units);
     }
     free(order);
     uint32_t cap = 0;
@@ -441,6 +512,8 @@ void prw_emissive_lights_build(const prw_scene *s, uint32_t max_lights, prw_emis
         for (int c = 0; c < 3; c++) proto.radiance[c] = src->radiance[c];
         if (p->mode == 2) {
             src->dropped++;
+        } else if (p->mode == 3) {
+            src->clustered++;
         } else if (p->mode == 1) {
             merged_rect(p, &proto);
             push_light(out, &cap, &proto);
@@ -455,8 +528,39 @@ void prw_emissive_lights_build(const prw_scene *s, uint32_t max_lights, prw_emis
                 else src->triangle_lights++;
             }
         }
-        free(p->p);
     }
+    for (uint32_t c = 0; c < nc; c++) {
+        if (!cl_on[c] || !(cl_area[c] > 0)) continue;
+        prw_emissive_source *src = &out->sources[c / 6];
+        prw_area_light l = {.source = c / 6, .shape = PRW_AREA_RECT, .merged = true};
+        for (int k = 0; k < 3; k++) l.radiance[k] = src->radiance[k];
+        double len = prw_v3_len(cl_an[c]);
+        l.normal = len > 1e-6 * cl_area[c] ? prw_v3_scale(cl_an[c], 1.0 / len) : bin_axis((int)(c % 6));
+        l.centre = l.centroid = prw_v3_scale(cl_ac[c], 1.0 / cl_area[c]);
+        /* on the cluster's supporting plane: a curved emitter's centroid is inside the mesh, whose own
+         * surface would shadow the light */
+        double lift = 0;
+        for (uint32_t i = 0; i < polys.count; i++) {
+            const poly *p = &polys.v[i];
+            if (p->mode != 3 || 6 * p->source + (uint32_t)dominant_bin(p->n) != c) continue;
+            for (uint32_t k = 0; k < p->count; k++) lift = fmax(lift, prw_v3_dot(prw_v3_sub(p->p[k], l.centre), l.normal));
+        }
+        l.centre = l.centroid = prw_v3_add(l.centre, prw_v3_scale(l.normal, lift));
+        /* a square of the cluster's area: the same flux (pi L A) */
+        prw_dvec3 t = fabs(l.normal.x) < 0.9 ? prw_v3(1, 0, 0) : prw_v3(0, 1, 0);
+        prw_dvec3 u = prw_v3_norm(prw_v3_cross(t, l.normal)), v = prw_v3_cross(l.normal, u);
+        double h = 0.5 * sqrt(cl_area[c]);
+        l.half_u = prw_v3_scale(u, h);
+        l.half_v = prw_v3_scale(v, h);
+        push_light(out, &cap, &l);
+        src->cluster_lights++;
+    }
+    for (uint32_t i = 0; i < polys.count; i++) free(polys.v[i].p);
+    free(cl_area);
+    free(cl_flux);
+    free(cl_an);
+    free(cl_ac);
+    free(cl_on);
     free(polys.v);
 }
 

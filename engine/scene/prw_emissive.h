@@ -20,7 +20,11 @@
  *  - Budget: at most `max_lights` lights in all.  When the exact lights need more, polygons are
  *    merged, those with the most lights first, each into one rectangle of the same area, centroid and
  *    principal axes (same flux; the shape is approximate); when one light per polygon is still too many,
- *    the polygons of least flux get none (counted as dropped).  max_lights 0: no lights at all.
+ *    sources (the largest saving first) become one square per direction cluster — their polygons
+ *    binned by the normal's dominant axis (+-x, +-y, +-z), the square at the cluster's area centroid,
+ *    facing its area-weighted mean normal, of its total area (same flux, pi L A); when that is still
+ *    too many, the lights of least flux are dropped (their polygons counted as dropped).
+ *    max_lights 0: no lights at all.
  *  - Deterministic: the same scene and budget give the same lights in the same order (source order =
  *    node order, then mesh order).
  */
@@ -56,6 +60,8 @@ typedef struct prw_emissive_source {
     uint32_t polygons;      /* polygons after merging, per emitting side */
     uint32_t rects, parallelograms, triangle_lights; /* lights made, by shape (exact ones) */
     uint32_t merged;        /* polygons (all sides) replaced by one equal-area rectangle each (over the budget) */
+    uint32_t clustered;     /* polygons (all sides) in direction clusters (over the budget) */
+    uint32_t cluster_lights;/* the clusters' rectangles */
     uint32_t dropped;       /* polygons (all sides) with no light (over the budget) */
     bool two_sided, textured;
     float coverage;         /* mean alpha coverage (MASK / BLEND; 1 for OPAQUE), in radiance */

@@ -38,6 +38,8 @@
 #define SIZE 128u
 #define BOUND 0.03        /* relative difference of the per-channel means */
 #define GLOSSY_BOUND 0.03
+#define MERGED_BOUND 0.03  /* over the budget: approximate shapes */
+#define CLUSTER_BOUND 0.05
 
 static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t emissive_lights, prw_image *hdr, prw_error *e)
 {
@@ -113,7 +115,7 @@ static void write_if(const char *dir, const char *what, const char *name, const 
 }
 
 /* The comparison of one scene; returns the worst relative mean difference with the emissive lights. */
-static void compare_case(const char *what, const prw_scene *s, const prw_view *v, double bound)
+static void compare_case(const char *what, const prw_scene *s, const prw_view *v, uint32_t knob, double bound)
 {
     prw_error e = {{0}};
     const char *spp_env = getenv("PRW_EMR_SPP");
@@ -121,7 +123,7 @@ static void compare_case(const char *what, const prw_scene *s, const prw_view *v
     if (spp < 1) spp = 1;
     if (prw_test_light() && spp > 64) spp = 64;
     prw_image raster = {0}, dark = {0}, ra = {0}, rb = {0}, em = {0};
-    CHECK_OK(render_raster(s, v, 16, &raster, &e), &e);
+    CHECK_OK(render_raster(s, v, knob, &raster, &e), &e);
     CHECK_OK(render_raster(s, v, 0, &dark, &e), &e);
     prw_ref_renderer *ref = NULL;
     CHECK_OK(prw_ref_create(s, v->eye, 0, &ref, &e), &e);
@@ -141,8 +143,8 @@ static void compare_case(const char *what, const prw_scene *s, const prw_view *v
     masked_mean(&ra, mask, mra);
     masked_mean(&rb, mask, mrb);
     double err = worst_rel(mr, mra), noise = worst_rel(mrb, mra), err_dark = worst_rel(md, mra);
-    printf("%s, %ux%u, %zu emitter pixels left out, reference direct %llu spp:\n", what, SIZE, SIZE, masked,
-           (unsigned long long)spp);
+    printf("%s, %ux%u, emissive_lights=%u, %zu emitter pixels left out, reference direct %llu spp:\n", what, SIZE,
+           SIZE, knob, masked, (unsigned long long)spp);
     printf("  mean R/G/B  reference %.5g %.5g %.5g | raster %.5g %.5g %.5g (ratio %.4f %.4f %.4f)\n", mra[0], mra[1],
            mra[2], mr[0], mr[1], mr[2], mr[0] / mra[0], mr[1] / mra[1], mr[2] / mra[2]);
     printf("  worst channel: raster %.4f, reference noise (seed 2 vs 1) %.4f, bound %.2f; without the emissive "
@@ -192,7 +194,7 @@ static void test_cornell(void)
         CHECK(em.count == 1 && em.source_count == 1 && em.lights[0].shape == PRW_AREA_RECT);
         CHECK(em.count == 1 && em.lights[0].normal.y < -0.999);
         prw_emissive_lights_free(&em);
-        compare_case("cornell", s, &v, BOUND);
+        compare_case("cornell", s, &v, 16, BOUND);
     }
     prw_scene_destroy(s);
 }
@@ -282,13 +284,49 @@ static void test_polygons(void)
         }
         CHECK_MSG(em.count == 5 && tris == 5 && em.source_count == 2, "%u lights, %u triangles", em.count, tris);
         prw_emissive_lights_free(&em);
-        compare_case(glossy ? "polygons_glossy" : "polygons", s, &v, glossy ? GLOSSY_BOUND : BOUND);
+        compare_case(glossy ? "polygons_glossy" : "polygons", s, &v, 16, glossy ? GLOSSY_BOUND : BOUND);
         prw_scene_destroy(s);
     }
 }
 
+/* Over the budget: the polygons with emissive_lights=2 (the hexagon becomes one equal-area rectangle),
+ * and a UV sphere of 128 polygons above the floor (one square per direction cluster, 6). */
+static void test_budget(void)
+{
+    prw_view v;
+    prw_scene *s = polygon_scene(false, &v);
+    compare_case("polygons_merged", s, &v, 2, MERGED_BOUND);
+    prw_scene_destroy(s);
+
+    s = prw_scene_create();
+    prw_error e = {{0}};
+    prw_material floor = prw_material_default();
+    floor.base_color[0] = floor.base_color[1] = floor.base_color[2] = 0.7f;
+    floor.specular = 0.0f;
+    int fm = prw_scene_add_material(s, &floor);
+    prw_material glow = prw_material_default();
+    glow.base_color[0] = glow.base_color[1] = glow.base_color[2] = 0.0f;
+    glow.specular = 0.0f;
+    glow.emission[0] = 3000, glow.emission[1] = 2500, glow.emission[2] = 2000;
+    int gm = prw_scene_add_material(s, &glow);
+    CHECK(prw_scene_add_quad(s, "floor", prw_v3(0, 0, 0), prw_v3(1.5, 0, 0), prw_v3(0, 0, -1.5), fm, &e) >= 0);
+    CHECK(prw_scene_add_sphere(s, "globe", prw_v3(0, 0.6, 0), 0.2, 16, 8, gm, &e) >= 0);
+    prw_node cam = prw_node_look_at("cam", prw_v3(0, 1.6, 3.2), prw_v3(0, 0.2, 0), prw_v3(0, 1, 0));
+    prw_camera c = {.yfov = 0.9, .znear = 0.05, .ev100 = 7.0};
+    c.node = prw_scene_add_node(s, &cam);
+    prw_scene_add_camera(s, &c);
+    prw_scene_update(s);
+    CHECK_MSG(prw_ref_view_for_camera(s, NULL, SIZE, SIZE, &v, &e), "%s", e.msg);
+    prw_emissive_lights em;
+    prw_emissive_lights_build(s, 16, &em);
+    CHECK_MSG(em.count == 6 && em.source_count == 1 && em.sources[0].clustered == 128, "%u lights", em.count);
+    prw_emissive_lights_free(&em);
+    compare_case("sphere_clustered", s, &v, 16, CLUSTER_BOUND);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"cornell", test_cornell}, {"polygons", test_polygons}};
+    static const prw_test_case cases[] = {{"cornell", test_cornell}, {"polygons", test_polygons}, {"budget", test_budget}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }

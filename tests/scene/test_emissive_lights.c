@@ -203,6 +203,41 @@ static void test_texture_mean(void)
     prw_scene_destroy(s);
 }
 
+/* Beyond one light per polygon: a UV sphere (16 x 8: 128 polygons) becomes one square per direction
+ * cluster (6), of the clusters' total area (the sphere's), each on its cluster's supporting plane (the
+ * mesh behind it, so its own surface does not shadow it); budget 3 keeps the 3 strongest. */
+static void test_clusters(void)
+{
+    prw_scene *s = prw_scene_create();
+    prw_error e = {{0}};
+    CHECK(prw_scene_add_sphere(s, "globe", prw_v3(1, 2, 3), 0.5, 16, 8, emissive_material(s, false), &e) >= 0);
+    prw_scene_update(s);
+    prw_emissive_lights em;
+    prw_emissive_lights_build(s, 16, &em);
+    CHECK(em.source_count == 1 && em.sources[0].polygons == 128);
+    CHECK_MSG(em.count == 6 && em.sources[0].clustered == 128 && em.sources[0].cluster_lights == 6, "%u lights", em.count);
+    double sum = 0;
+    const prw_mesh *m = &s->meshes[0];
+    for (uint32_t i = 0; i < em.count; i++) {
+        const prw_area_light *l = &em.lights[i];
+        CHECK(l->merged && l->shape == PRW_AREA_RECT);
+        sum += light_area(l);
+        double worst = -1;
+        for (uint32_t k = 0; k < m->vertex_count; k++) {
+            prw_dvec3 p = prw_dm4_point(s->nodes[0].world, prw_v3(m->positions[3 * k], m->positions[3 * k + 1],
+                                                                   m->positions[3 * k + 2]));
+            worst = fmax(worst, prw_v3_dot(prw_v3_sub(p, l->centre), l->normal));
+        }
+        CHECK_MSG(fabs(worst) < 1e-6, "light %u: a sphere vertex %.3g m in front of its plane", i, worst);
+    }
+    CHECK_MSG(fabs(sum - em.sources[0].area) < 1e-9 * sum, "area %.9f, sphere %.9f", sum, em.sources[0].area);
+    prw_emissive_lights_free(&em);
+    prw_emissive_lights_build(s, 3, &em);
+    CHECK(em.count == 3 && em.sources[0].cluster_lights == 3 && em.sources[0].dropped > 0);
+    prw_emissive_lights_free(&em);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -212,6 +247,7 @@ int main(int argc, char **argv)
         {"hexagon_and_budget", test_hexagon_and_budget},
         {"l_shape_and_islands", test_l_shape_and_islands},
         {"texture_mean", test_texture_mean},
+        {"clusters", test_clusters},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
