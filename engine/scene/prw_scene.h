@@ -309,7 +309,7 @@ bool prw_scene_frame_camera(const prw_scene *s, double aspect, prw_framing *out)
 int prw_scene_add_framing_camera(prw_scene *s, double aspect, const char *name);
 
 /* The light the scene's emissive surfaces send out, for deciding whether a scene is lit (the
- * rasterizer does not light from emissive meshes yet).  mesh_flux_lm: luminous flux of the drawn
+ * rasterizer lights from emissive meshes as area lights: prw_emissive.h).  mesh_flux_lm: luminous flux of the drawn
  * meshes with an emissive material, sum of pi x luminance x world area (x 2 when double-sided), the
  * luminance being emission's Rec.709 Y times the emissive texture's mean (sRGB decoded); mesh_count:
  * how many such drawn meshes; nurbs_count: NURBS entries with an emissive material (their area is
