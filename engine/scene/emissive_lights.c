@@ -42,6 +42,12 @@ static int edge_cmp(const void *a, const void *b)
     return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
+static int u64_cmp(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
 static uint32_t uf_find(uint32_t *parent, uint32_t i)
 {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -90,56 +96,79 @@ static void push_poly(poly_list *l, const prw_dvec3 *p, uint32_t count, prw_dvec
     o->lights = para ? 1 : count - 2;
 }
 
+/* A directed edge of a component: its ends' keys and its start corner. */
+typedef struct dedge {
+    int64_t a[3], b[3];
+    prw_dvec3 pa;
+    bool inner;
+} dedge;
+
+static int key_cmp(const int64_t *x, const int64_t *y)
+{
+    for (int i = 0; i < 3; i++)
+        if (x[i] != y[i]) return x[i] < y[i] ? -1 : 1;
+    return 0;
+}
+
+/* by the undirected key (smaller end first, then the larger) */
+static int dedge_undirected_cmp(const void *x, const void *y)
+{
+    const dedge *p = x, *q = y;
+    const int64_t *p0 = key_less(p->a, p->b) ? p->a : p->b, *p1 = key_less(p->a, p->b) ? p->b : p->a;
+    const int64_t *q0 = key_less(q->a, q->b) ? q->a : q->b, *q1 = key_less(q->a, q->b) ? q->b : q->a;
+    int c = key_cmp(p0, q0);
+    return c ? c : key_cmp(p1, q1);
+}
+
+static int dedge_start_cmp(const void *x, const void *y) { return key_cmp(((const dedge *)x)->a, ((const dedge *)y)->a); }
+
 /* The boundary of one component as a convex loop (counter-clockwise about n, collinear corners
- * dropped) in out (capacity cap); returns its corner count, 0 when the boundary is not one convex loop. */
+ * dropped) in out (capacity cap); returns its corner count, 0 when the boundary is not one convex loop.
+ * An edge shared by exactly two of the component's triangles in opposite directions is inner. */
 static uint32_t component_loop(const tri *t, const uint32_t *members, uint32_t m, double q, prw_dvec3 n,
                                prw_dvec3 *out, uint32_t cap)
 {
-    /* directed edges; an inner edge appears twice, in opposite directions */
     uint32_t ne = 3 * m;
-    int64_t(*ka)[3] = prw_malloc(ne * sizeof *ka), (*kb)[3] = prw_malloc(ne * sizeof *kb);
-    prw_dvec3 *pa = prw_malloc(ne * sizeof *pa);
-    bool *inner = prw_calloc(ne, sizeof *inner);
+    dedge *d = prw_malloc(ne * sizeof *d);
     for (uint32_t i = 0; i < m; i++)
         for (int c = 0; c < 3; c++) {
-            uint32_t e = 3 * i + (uint32_t)c;
-            quantise(t[members[i]].p[c], q, ka[e]);
-            quantise(t[members[i]].p[(c + 1) % 3], q, kb[e]);
-            pa[e] = t[members[i]].p[c];
+            dedge *o = &d[3 * i + (uint32_t)c];
+            quantise(t[members[i]].p[c], q, o->a);
+            quantise(t[members[i]].p[(c + 1) % 3], q, o->b);
+            o->pa = t[members[i]].p[c];
+            o->inner = false;
         }
-    for (uint32_t e = 0; e < ne; e++)
-        for (uint32_t f = e + 1; f < ne && !inner[e]; f++)
-            if (!inner[f] && key_eq(ka[e], kb[f]) && key_eq(kb[e], ka[f])) inner[e] = inner[f] = true;
-    uint32_t boundary = 0, start = ne;
-    for (uint32_t e = 0; e < ne; e++)
-        if (!inner[e]) {
-            boundary++;
-            if (start == ne) start = e;
-        }
-    uint32_t count = 0;
-    bool ok = boundary >= 3 && boundary <= cap;
-    /* walk the loop from start */
-    uint32_t e = start, steps = 0;
-    while (ok) {
-        out[count++] = pa[e];
-        inner[e] = true; /* used */
-        steps++;
-        uint32_t next = ne;
-        for (uint32_t f = 0; f < ne; f++)
-            if (!inner[f] && key_eq(ka[f], kb[e])) {
-                if (next != ne) ok = false; /* two ways on: not a simple loop */
-                next = f;
-            }
-        if (next == ne) {
-            ok = ok && key_eq(kb[e], ka[start]) && steps == boundary; /* closed, every boundary edge used */
-            break;
-        }
-        e = next;
+    qsort(d, ne, sizeof *d, dedge_undirected_cmp);
+    for (uint32_t i = 0; i < ne;) {
+        uint32_t j = i + 1;
+        while (j < ne && dedge_undirected_cmp(&d[i], &d[j]) == 0) j++;
+        if (j - i == 2 && key_eq(d[i].a, d[i + 1].b) && key_eq(d[i].b, d[i + 1].a)) d[i].inner = d[i + 1].inner = true;
+        i = j;
     }
-    free(ka);
-    free(kb);
-    free(pa);
-    free(inner);
+    /* the boundary edges sorted by their start: each corner of a simple loop starts exactly one */
+    uint32_t nb = 0;
+    for (uint32_t i = 0; i < ne; i++)
+        if (!d[i].inner) d[nb++] = d[i];
+    qsort(d, nb, sizeof *d, dedge_start_cmp);
+    bool ok = nb >= 3 && nb <= cap;
+    for (uint32_t i = 0; ok && i + 1 < nb; i++)
+        if (key_eq(d[i].a, d[i + 1].a)) ok = false; /* a corner where the boundary meets itself */
+    uint32_t count = 0, e = 0;
+    while (ok && count < nb) {
+        out[count++] = d[e].pa;
+        /* the edge starting where this one ends */
+        uint32_t lo = 0, hi = nb;
+        while (lo < hi) {
+            uint32_t mid = (lo + hi) / 2;
+            if (key_cmp(d[mid].a, d[e].b) < 0) lo = mid + 1;
+            else hi = mid;
+        }
+        if (lo == nb || !key_eq(d[lo].a, d[e].b)) ok = false;
+        else e = lo;
+        if (ok && e == 0 && count < nb) ok = false; /* closed before using every boundary edge: several loops */
+    }
+    ok = ok && e == 0;
+    free(d);
     if (!ok) return 0;
     /* drop collinear corners, then check convexity */
     uint32_t k = 0;
@@ -189,25 +218,27 @@ static void side_polygons(const tri *t, uint32_t nt, double size, uint32_t sourc
         }
     }
     free(er);
+    /* components: triangles sorted by their root */
+    uint64_t *by_root = prw_malloc((nt ? nt : 1) * sizeof *by_root);
+    for (uint32_t i = 0; i < nt; i++) by_root[i] = (uint64_t)uf_find(parent, i) << 32 | i;
+    qsort(by_root, nt, sizeof *by_root, u64_cmp);
     uint32_t *members = prw_malloc((nt ? nt : 1) * sizeof *members);
     prw_dvec3 *loop = prw_malloc((3 * (size_t)nt + 3) * sizeof *loop);
-    bool *done = prw_calloc(nt ? nt : 1, sizeof *done);
-    for (uint32_t i = 0; i < nt; i++) {
-        if (done[i]) continue;
-        uint32_t root = uf_find(parent, i), m = 0;
-        for (uint32_t j = i; j < nt; j++)
-            if (!done[j] && uf_find(parent, j) == root) members[m++] = j, done[j] = true;
-        uint32_t c = m > 1 ? component_loop(t, members, m, q, t[i].n, loop, 3 * m + 3) : 0;
+    for (uint32_t i = 0; i < nt;) {
+        uint32_t m = 0, root = (uint32_t)(by_root[i] >> 32);
+        while (i < nt && (uint32_t)(by_root[i] >> 32) == root) members[m++] = (uint32_t)by_root[i++];
+        const tri *first = &t[members[0]];
+        uint32_t c = m > 1 ? component_loop(t, members, m, q, first->n, loop, 3 * m + 3) : 0;
         if (c) {
-            push_poly(out, loop, c, t[i].n, source, lum);
+            push_poly(out, loop, c, first->n, source, lum);
         } else {
             for (uint32_t j = 0; j < m; j++) push_poly(out, t[members[j]].p, 3, t[members[j]].n, source, lum);
         }
     }
+    free(by_root);
     free(parent);
     free(members);
     free(loop);
-    free(done);
 }
 
 /* The mean coverage of a MASK or BLEND material (1 for OPAQUE), as the path tracer weights an emitter's

@@ -4,6 +4,7 @@
  * sides as the path tracer's (one-sided: the winding's front, a mirroring node's winding flipped back;
  * two-sided: both); the emissive texture's mean; the budget (merged into an equal-area rectangle, then dropped). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "prw_emissive.h"
@@ -184,6 +185,36 @@ static void test_l_shape_and_islands(void)
     prw_scene_destroy(s);
 }
 
+/* A finely tessellated panel (n x n cells, 2 n^2 triangles, shared corners) is still one rectangle. */
+static void test_tessellated_panel(void)
+{
+    enum { N = 64 };
+    float *p = prw_malloc(3 * (N + 1) * (N + 1) * sizeof *p);
+    uint32_t *idx = prw_malloc(6 * N * N * sizeof *idx), k = 0;
+    for (uint32_t j = 0; j <= N; j++)
+        for (uint32_t i = 0; i <= N; i++) {
+            float *v = &p[3 * (j * (N + 1) + i)];
+            v[0] = 2.0f * (float)i / N, v[1] = 0.5f * (float)j / N, v[2] = 0; /* 2 x 0.5 m, facing +z */
+        }
+    for (uint32_t j = 0; j < N; j++)
+        for (uint32_t i = 0; i < N; i++) {
+            uint32_t a = j * (N + 1) + i, b = a + 1, c = a + N + 2, d = a + N + 1;
+            uint32_t q[6] = {a, b, c, a, c, d};
+            memcpy(&idx[k], q, sizeof q);
+            k += 6;
+        }
+    prw_scene *s = prw_scene_create();
+    add_mesh(s, p, (N + 1) * (N + 1), idx, k, emissive_material(s, false), prw_v3(1, 1, 1));
+    prw_emissive_lights em;
+    prw_emissive_lights_build(s, 16, &em);
+    CHECK_MSG(em.count == 1 && em.sources[0].triangles == 2 * N * N && em.sources[0].rects == 1, "%u lights", em.count);
+    CHECK(em.count == 1 && fabs(light_area(&em.lights[0]) - 1.0) < 1e-5 && near3(em.lights[0].normal, prw_v3(0, 0, 1), 1e-9));
+    prw_emissive_lights_free(&em);
+    prw_scene_destroy(s);
+    free(p);
+    free(idx);
+}
+
 /* Emission x the emissive texture's mean (sRGB decoded): a 2 x 1 texture, white and black -> 0.5. */
 static void test_texture_mean(void)
 {
@@ -248,6 +279,7 @@ int main(int argc, char **argv)
         {"l_shape_and_islands", test_l_shape_and_islands},
         {"texture_mean", test_texture_mean},
         {"clusters", test_clusters},
+        {"tessellated_panel", test_tessellated_panel},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
