@@ -365,14 +365,14 @@ static int by_lights_then_flux(const void *a, const void *b)
     const rank *x = a, *y = b;
     if (x->lights != y->lights) return x->lights > y->lights ? -1 : 1;
     if (x->flux != y->flux) return x->flux < y->flux ? -1 : 1;
-    return x->index < y->index ? -1 : 1;
+    return x->index < y->index ? -1 : x->index > y->index;
 }
 
 static int by_flux(const void *a, const void *b)
 {
     const rank *x = a, *y = b;
     if (x->flux != y->flux) return x->flux < y->flux ? -1 : 1;
-    return x->index > y->index ? -1 : 1;
+    return x->index > y->index ? -1 : x->index < y->index;
 }
 
 void prw_emissive_lights_build(const prw_scene *s, uint32_t max_lights, prw_emissive_lights *out)

@@ -18,7 +18,8 @@
  * Each case also renders with the knob emissive_lights=0 (emissive meshes light nothing, as before
  * this issue) and checks that the same criterion then fails: the test cannot pass without the lights.
  *
- * Environment: PRW_EMR_SPP (default 256) reference samples per pixel; PRW_EMR_OUT=DIR writes the
+ * Environment: PRW_EMR_SPP (default 256) reference samples per pixel; PRW_EMR_SIZE image side (default
+ * 128; the issue's must-show uses 256); PRW_EMR_OUT=DIR writes the
  * images (EXR) there for `prw compare`.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -35,7 +36,14 @@
 #include "prw_render.h"
 #include "prw_test.h"
 
-#define SIZE 128u
+/* image side: 128, or PRW_EMR_SIZE (16..1024) */
+static uint32_t image_size(void)
+{
+    const char *v = getenv("PRW_EMR_SIZE");
+    long n = v ? strtol(v, NULL, 10) : 128;
+    return n >= 16 && n <= 1024 ? (uint32_t)n : 128u;
+}
+#define SIZE image_size()
 #define BOUND 0.03        /* relative difference of the per-channel means */
 #define GLOSSY_BOUND 0.03
 #define MERGED_BOUND 0.03  /* over the budget: approximate shapes */
