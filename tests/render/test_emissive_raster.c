@@ -15,6 +15,7 @@
  *  - polygons: a triangle and a hexagon fan (6 triangles merged into one polygon, 4 triangle lights),
  *    single-sided, over a Lambert floor; and the same over a glossy floor (roughness 0.3, dielectric
  *    specular) for the triangle lights' clipped glossy quadrature.
+ *  - two_sided: a double-sided vertical panel lighting the floor from both faces (two rect lights).
  * Each case also renders with the knob emissive_lights=0 (emissive meshes light nothing, as before
  * this issue) and checks that the same criterion then fails: the test cannot pass without the lights.
  *
@@ -333,8 +334,42 @@ static void test_budget(void)
     prw_scene_destroy(s);
 }
 
+/* A two-sided emitter: a vertical panel (doubleSided) above the floor lights it from both faces. */
+static void test_two_sided(void)
+{
+    prw_scene *s = prw_scene_create();
+    prw_error e = {{0}};
+    prw_material floor = prw_material_default();
+    floor.base_color[0] = floor.base_color[1] = floor.base_color[2] = 0.7f;
+    floor.specular = 0.0f;
+    int fm = prw_scene_add_material(s, &floor);
+    prw_material panel = prw_material_default();
+    panel.base_color[0] = panel.base_color[1] = panel.base_color[2] = 0.0f;
+    panel.specular = 0.0f;
+    panel.double_sided = true;
+    panel.emission[0] = 800, panel.emission[1] = 900, panel.emission[2] = 1000;
+    int pm = prw_scene_add_material(s, &panel);
+    CHECK(prw_scene_add_quad(s, "floor", prw_v3(0, 0, 0), prw_v3(1.5, 0, 0), prw_v3(0, 0, -1.5), fm, &e) >= 0);
+    /* normal +x (cross((0,0,-0.3), (0,0.2,0)) = (0.06,0,0)) */
+    CHECK(prw_scene_add_quad(s, "panel", prw_v3(0, 0.5, 0), prw_v3(0, 0, -0.3), prw_v3(0, 0.2, 0), pm, &e) >= 0);
+    prw_node cam = prw_node_look_at("cam", prw_v3(0.4, 1.6, 3.2), prw_v3(0, 0.2, 0), prw_v3(0, 1, 0));
+    prw_camera c = {.yfov = 0.9, .znear = 0.05, .ev100 = 7.0};
+    c.node = prw_scene_add_node(s, &cam);
+    prw_scene_add_camera(s, &c);
+    prw_scene_update(s);
+    prw_view v;
+    CHECK_MSG(prw_ref_view_for_camera(s, NULL, SIZE, SIZE, &v, &e), "%s", e.msg);
+    prw_emissive_lights em;
+    prw_emissive_lights_build(s, 16, &em);
+    CHECK_MSG(em.count == 2 && em.sources[0].two_sided && em.sources[0].rects == 2, "%u lights", em.count);
+    CHECK(em.count == 2 && prw_v3_dot(em.lights[0].normal, em.lights[1].normal) < -0.999);
+    prw_emissive_lights_free(&em);
+    compare_case("two_sided", s, &v, 16, BOUND);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"cornell", test_cornell}, {"polygons", test_polygons}, {"budget", test_budget}};
+    static const prw_test_case cases[] = {{"cornell", test_cornell}, {"polygons", test_polygons}, {"budget", test_budget}, {"two_sided", test_two_sided}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
