@@ -347,10 +347,45 @@ static bool surf_emission(const prw_ref_renderer *r, const surf *s, double Le[3]
 
 typedef struct shade {
     prw_bsdf b;
-    double t[3], bt[3], n[3]; /* local frame, n = shading normal */
+    double t[3], bt[3], n[3]; /* local frame, n = shading normal (BTF kind: the BTF's frame, t along dP/du) */
     double wo[3];             /* local */
     prw_bsdf_lobes lobes;     /* prw_bsdf_lobes_at(b, wo): shared by the BSDF sample and the MIS pdfs */
+    const prw_btf_material *btf; /* the BTF kind: evaluated at texel coordinates xy; NULL: the glTF model */
+    double xy[2];
 } shade;
+
+/* ---- the material kinds behind one interface: f cos theta_i, the sampling density, a sample ----
+ * The BTF kind stores f cos theta_l itself (prw_btf_synth.h: radiance per lux of normal illuminance), so
+ * its value replaces f * cos; it is sampled cosine-weighted (density cos theta_i / pi, positive wherever
+ * the BTF can be non-zero, so the estimator stays unbiased; the path weight is value * pi / cos theta_i). */
+static void shade_fcos(const shade *sh, const double wl[3], double fc[3])
+{
+    if (sh->btf) {
+        float v[3];
+        prw_btf_material_eval(sh->btf, sh->xy[0], sh->xy[1], sh->wo, wl, v);
+        for (int c = 0; c < 3; c++) fc[c] = fmax((double)v[c], 0.0); /* codec ringing below 0: no light */
+        return;
+    }
+    prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fc);
+    for (int c = 0; c < 3; c++) fc[c] *= wl[2];
+}
+
+static double shade_pdf(const shade *sh, const double wl[3])
+{
+    if (sh->btf) return wl[2] > 0 ? wl[2] / PRW_PI : 0;
+    return prw_bsdf_pdf_at(&sh->b, &sh->lobes, sh->wo, wl);
+}
+
+static bool shade_sample(const shade *sh, const double u[3], double wl[3], double *pdf)
+{
+    if (sh->btf) {
+        double r = sqrt(u[0]), ph = 2 * PRW_PI * u[1];
+        wl[0] = r * cos(ph), wl[1] = r * sin(ph), wl[2] = sqrt(fmax(0.0, 1 - u[0]));
+        *pdf = wl[2] / PRW_PI;
+        return true;
+    }
+    return prw_bsdf_sample_at(&sh->b, &sh->lobes, sh->wo, u, wl, pdf);
+}
 
 static void to_local(const shade *sh, const double w[3], double l[3])
 {
@@ -413,6 +448,44 @@ static void bend_normal(double n[3], const double wo[3])
     }
 }
 
+/* The BTF kind's frame and texel coordinates (prw_scene.h, prw_material.btf_file): the triangle's dP/du and
+ * dP/dv (world metres per uv unit, uv set 0) give x = dP/du made tangent to the shading normal, y = n x x
+ * turned towards dP/dv, and texel (u |dP/du|, v |dP/dv|) / texel size.  A triangle without a usable uv
+ * mapping keeps the arbitrary frame and texel (0.5, 0.5). */
+static void btf_frame(const surf *s, shade *sh, const double wo[3])
+{
+    const prw_mesh *m = s->in->mesh;
+    const uint32_t *ix = m->indices + 3 * s->prim;
+    double v[3][3], uv[3][2];
+    tri_verts(s->in, s->prim, v);
+    for (int k = 0; k < 3; k++) uv[k][0] = m->uvs[2 * ix[k]], uv[k][1] = m->uvs[2 * ix[k] + 1];
+    double e1[3], e2[3], du1 = uv[1][0] - uv[0][0], dv1 = uv[1][1] - uv[0][1], du2 = uv[2][0] - uv[0][0],
+                         dv2 = uv[2][1] - uv[0][1];
+    for (int c = 0; c < 3; c++) e1[c] = v[1][c] - v[0][c], e2[c] = v[2][c] - v[0][c];
+    double det = du1 * dv2 - du2 * dv1, texel = s->in->mat->btf_texel_m;
+    sh->xy[0] = sh->xy[1] = 0.5;
+    double dpu[3], dpv[3];
+    for (int c = 0; c < 3; c++) {
+        dpu[c] = (e1[c] * dv2 - e2[c] * dv1) / det;
+        dpv[c] = (e2[c] * du1 - e1[c] * du2) / det;
+    }
+    double lu = sqrt(dot3(dpu, dpu)), lv = sqrt(dot3(dpv, dpv));
+    if (!(fabs(det) > 1e-20) || !isfinite(lu) || !isfinite(lv) || !(lu > 0) || !(lv > 0)) return;
+    double t[3], dn = dot3(dpu, sh->n);
+    for (int c = 0; c < 3; c++) t[c] = dpu[c] - sh->n[c] * dn;
+    double tl = sqrt(dot3(t, t));
+    if (!(tl > 1e-12 * lu)) return;
+    for (int c = 0; c < 3; c++) t[c] /= tl;
+    double b[3];
+    cross3(sh->n, t, b);
+    if (dot3(b, dpv) < 0) b[0] = -b[0], b[1] = -b[1], b[2] = -b[2];
+    memcpy(sh->t, t, sizeof t);
+    memcpy(sh->bt, b, sizeof b);
+    to_local(sh, wo, sh->wo);
+    sh->xy[0] = s->uv[0] * lu / texel;
+    sh->xy[1] = s->uv[1] * lv / texel;
+}
+
 static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], shade *sh)
 {
     const prw_material *mt = s->in->mat;
@@ -471,6 +544,8 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
         norm3(sh->b.coat_n);
     }
     sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
+    sh->btf = ref_btf_of(r, s->in);
+    if (sh->btf) btf_frame(s, sh, wo);
 }
 
 /* Class weight per channel for the (indirect-)diffuse-last / glossy-last filters: the diffuse lobe's share
@@ -478,7 +553,8 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
 static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
 {
     double kd[3];
-    prw_bsdf_eval_diffuse_at(&sh->b, &sh->lobes, sh->wo, wl, kd);
+    if (sh->btf) memcpy(kd, fv, sizeof kd); /* a BTF has no lobes: it counts as diffuse */
+    else prw_bsdf_eval_diffuse_at(&sh->b, &sh->lobes, sh->wo, wl, kd);
     for (int c = 0; c < 3; c++) {
         double x = fv[c] > 0 ? kd[c] / fv[c] : 0;
         x = fmin(fmax(x, 0.0), 1.0);
@@ -514,8 +590,9 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     double wl[3];
     to_local(sh, wi, wl);
     if (!(wl[2] > 0)) return;
-    double fv[3];
-    prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fv);
+    double fv[3]; /* the glTF kind: f; the BTF kind: f cos theta_i (what it stores) */
+    if (sh->btf) shade_fcos(sh, wl, fv);
+    else prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fv);
     if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) return;
     double o[3], sd[3], tmax = INFINITY;
     for (int c = 0; c < 3; c++) o[c] = s->p[c] + s->ng[c] * s->eps;
@@ -530,10 +607,13 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     }
     if (occluded(pa->r, o, sd, tmax, skip_rect, ray_key(pa->rng, pa->k, tag), pa->rays)) return;
     double w = 1;
-    if (pdf_l > 0) w = power_heuristic(pdf_l, prw_bsdf_pdf_at(&sh->b, &sh->lobes, sh->wo, wl)) / pdf_l;
+    if (pdf_l > 0) w = power_heuristic(pdf_l, shade_pdf(sh, wl)) / pdf_l;
     double cw[3] = {1, 1, 1};
     if (pa->k == 1) class_weight(pa->f, sh, wl, fv, cw);
-    for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * wl[2] * Li[c] * w;
+    if (sh->btf)
+        for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * Li[c] * w;
+    else
+        for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * wl[2] * Li[c] * w;
 }
 
 static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
@@ -754,16 +834,20 @@ void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double
         rng->dim = base;
         double u[3] = {ref_rand(rng), ref_rand(rng), ref_rand(rng)};
         double wl[3], pdf;
-        if (!prw_bsdf_sample_at(&sh.b, &sh.lobes, sh.wo, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
+        if (!shade_sample(&sh, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
         double wi[3];
         to_world(&sh, wl, wi);
         norm3(wi);
         if (!(dot3(s.ng, wi) > 0)) break;
-        double fv[3];
-        prw_bsdf_eval_at(&sh.b, &sh.lobes, sh.wo, wl, fv);
+        double fv[3]; /* as in connect: f, or the BTF's f cos theta_i */
+        if (sh.btf) shade_fcos(&sh, wl, fv);
+        else prw_bsdf_eval_at(&sh.b, &sh.lobes, sh.wo, wl, fv);
         if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) break;
         if (pa.k == 1) class_weight(f, &sh, wl, fv, pa.cls);
-        for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] * wl[2] / pdf;
+        if (sh.btf)
+            for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] / pdf;
+        else
+            for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] * wl[2] / pdf;
         pdf_prev = pdf;
         if (pa.k >= RR_START) {
             rng->dim = base + 3;

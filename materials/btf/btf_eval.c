@@ -9,6 +9,7 @@
 #define PRW_BTF_DT_ARGS dt,
 #define PRW_BTF_TRI_INV(i) (dt->tri_inv[(i)])
 #define PRW_BTF_TRI_VERT(i) (dt->tri_vert[(i)])
+#define PRW_BTF_DIR_COS(i) (dt->cos_theta[(i)])
 #include "prw_btf_interp.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -98,7 +99,7 @@ static void hull(const double (*P)[3], uint32_t n, tri_list *out)
 
 void prw_btf_dirtab_free(prw_btf_dirtab *t)
 {
-    free(t->tri_inv), free(t->tri_vert);
+    free(t->tri_inv), free(t->tri_vert), free(t->cos_theta);
     memset(t, 0, sizeof *t);
 }
 
@@ -171,6 +172,8 @@ bool prw_btf_dirtab_build(const float *dirs, uint32_t n, prw_btf_dirtab *out, pr
         if (tl.v[3 * t] != pole && tl.v[3 * t + 1] != pole && tl.v[3 * t + 2] != pole) nt++;
     out->count = n;
     out->tri_count = nt;
+    out->cos_theta = prw_malloc(sizeof(float) * n);
+    for (uint32_t i = 0; i < n; i++) out->cos_theta[i] = (float)P[i][2];
     out->tri_inv = prw_malloc(sizeof(float) * 9 * (nt ? nt : 1));
     out->tri_vert = prw_malloc(sizeof(uint32_t) * 3 * (nt ? nt : 1));
     uint32_t o = 0;
@@ -203,7 +206,8 @@ void prw_btf_dirtab_weights(const prw_btf_dirtab *t, const double d[3], bool lig
 {
     double l = sqrt(dot3(d, d));
     if (!(l > 0)) l = 1;
-    prw_btf_interp_dir(t, (float)(d[0] / l), (float)(d[1] / l), (float)(d[2] / l), t->tri_count, light, idx, w);
+    prw_btf_interp_dir(t, (float)(d[0] / l), (float)(d[1] / l), (float)(d[2] / l), t->tri_count, idx, w);
+    if (light) prw_btf_interp_light(t, (float)(d[2] / l), idx, w);
 }
 
 /* The 4 texels around continuous texel coordinates (x, y) (wrapped in double first). */

@@ -9,7 +9,8 @@
  *    numbers: the BTF tiles, bilinear between the 4 nearest texel centres), view direction wv and
  *    light direction wl (unit or not, in the BTF's frame: x along the texel columns, y along the rows,
  *    z the normal): sum over the 3 x 3 (view, light) directions of prw_btf_interp_dir of
- *    w_view w_light value, value = the raw BTF's or prw_btf_packed_value (the one decode).
+ *    w_view w_light value, value = the raw BTF's or prw_btf_packed_value (the one decode), the light
+ *    weights those of prw_btf_interp_light (the reflectance is interpolated, the cosine is exact).
  *    The value is what the BTF stores: for prw_btf_synth and the Bonn data, reflectance x cos theta_l
  *    (radiance per lux of normal illuminance).  Exact at measured directions and texel centres.
  *  - prw_btf_packed_dirtabs builds the view and light tables of a packed BTF (one table when the two
@@ -35,13 +36,14 @@ typedef struct prw_btf_dirtab {
     uint32_t count;      /* measured directions */
     uint32_t tri_count;  /* upper triangles */
     float *tri_inv;      /* 9 per triangle */
+    float *cos_theta;    /* per measured direction */
     uint32_t *tri_vert;  /* 3 per triangle (PRW_BTF_HORIZON flag: a horizon vertex) */
 } prw_btf_dirtab;
 
 bool prw_btf_dirtab_build(const float *dirs, uint32_t n, prw_btf_dirtab *out, prw_error *e);
 void prw_btf_dirtab_free(prw_btf_dirtab *t);
 
-/* The 3 directions and weights around direction d (prw_btf_interp_dir). */
+/* The 3 directions and weights around direction d (prw_btf_interp_dir; light: then prw_btf_interp_light). */
 void prw_btf_dirtab_weights(const prw_btf_dirtab *t, const double d[3], bool light, uint32_t idx[3], float w[3]);
 
 /* A packed BTF with its direction tables (lights == views when the sets are equal). */

@@ -5,17 +5,20 @@
  *   PRW_BTF_TRI_INV(i)   float i of the triangles' inverse vertex matrices (9 per triangle, row-major),
  *   PRW_BTF_TRI_VERT(i)  vertex i of the triangles (3 per triangle, PRW_BTF_UINT): a measured direction's
  *                        index, or PRW_BTF_HORIZON | index for a horizon vertex standing for that index,
- *   PRW_BTF_DT_PARAMS / PRW_BTF_DT_ARGS  leading parameters the fetches use (e.g. "const prw_btf_dirtab *t,").
+ *   PRW_BTF_DT_PARAMS / PRW_BTF_DT_ARGS  leading parameters the fetches use (e.g. "const prw_btf_dirtab *t,"),
+ *   PRW_BTF_DIR_COS(i)   cos theta of measured direction i (float),
  *
  * The method: the measured directions, plus horizon vertices (the outermost ring's azimuths at theta
  * 90 degrees) and the south pole, are unit points whose convex hull is triangulated (coplanar facets
  * fanned canonically); a direction d (local frame, z up) is interpolated inside the hull triangle its
  * ray from the centre crosses: d = a A + b B + c C, weights (a, b, c) / (a + b + c) — the planar
  * barycentrics of the ray's crossing, exact (weight 1) at a measured direction and a partition of unity.
- * Only the upper triangles (no pole) are stored; z is clamped to >= 1e-6 first.  A horizon vertex takes
- * its measured direction's value for a VIEW (the appearance keeps its grazing value) and the value 0 for
- * a LIGHT (the BTF holds reflectance x cos theta_l, which vanishes at the horizon): the light weights
- * then sum to 1 within the measured cone and fall linearly to 0 beyond it. */
+ * Only the upper triangles (no pole) are stored; z is clamped to >= 1e-6 first.  A horizon vertex stands
+ * for the measured direction of its azimuth on the outermost ring (the value is held beyond the cone).
+ * Views interpolate the stored value.  Lights interpolate the reflectance: the BTF stores f cos theta_l
+ * (prw_btf_synth.h, the Bonn data), so a light weight is w_k cos theta_l / cos theta_k
+ * (prw_btf_interp_light): exact for a Lambertian sample, still exact at measured directions, and the
+ * value vanishes at the horizon as cos theta_l does. */
 #ifndef PRW_BTF_INTERP_H
 #define PRW_BTF_INTERP_H
 
@@ -23,6 +26,7 @@
 #define PRW_BTF_IUINT uint
 #define PRW_BTF_IFN
 #define PRW_BTF_IOUT out
+#define PRW_BTF_IINOUT inout
 #define PRW_BTF_IMAX max
 #define PRW_BTF_IMIN min
 #define PRW_BTF_IBOOL bool
@@ -36,6 +40,7 @@
 #define PRW_BTF_IUINT uint32_t
 #define PRW_BTF_IFN static inline
 #define PRW_BTF_IOUT
+#define PRW_BTF_IINOUT
 #define PRW_BTF_IMAX fmaxf
 #define PRW_BTF_IMIN fminf
 #define PRW_BTF_IBOOL bool
@@ -46,9 +51,9 @@
 
 #define PRW_BTF_HORIZON 0x80000000u
 
-/* The 3 measured directions around (x, y, z) and their weights (zero weights come with a valid index).
- * light: the side of the light (horizon vertices weigh 0).  ntri: the table's triangle count (> 0). */
-PRW_BTF_IFN void prw_btf_interp_dir(PRW_BTF_DT_PARAMS float x, float y, float z, PRW_BTF_IUINT ntri, PRW_BTF_IBOOL light,
+/* The 3 measured directions around the unit direction (x, y, z) and their weights (a partition of unity;
+ * zero weights come with a valid index).  ntri: the table's triangle count (> 0). */
+PRW_BTF_IFN void prw_btf_interp_dir(PRW_BTF_DT_PARAMS float x, float y, float z, PRW_BTF_IUINT ntri,
                                     PRW_BTF_IOUT PRW_BTF_IUINT idx[3], PRW_BTF_IOUT float w[3])
 {
     z = PRW_BTF_IMAX(z, 1e-6f);
@@ -70,11 +75,14 @@ PRW_BTF_IFN void prw_btf_interp_dir(PRW_BTF_DT_PARAMS float x, float y, float z,
     ba = PRW_BTF_IMAX(ba, 0.0f), bb = PRW_BTF_IMAX(bb, 0.0f), bc = PRW_BTF_IMAX(bc, 0.0f);
     float s = ba + bb + bc;
     w[0] = ba / s, w[1] = bb / s, w[2] = bc / s;
-    for (PRW_BTF_IUINT k = 0u; k < 3u; k++) {
-        PRW_BTF_IUINT v = PRW_BTF_TRI_VERT(best * 3u + k);
-        idx[k] = v & ~PRW_BTF_HORIZON;
-        if (light && v >= PRW_BTF_HORIZON) w[k] = 0.0f;
-    }
+    for (PRW_BTF_IUINT k = 0u; k < 3u; k++) idx[k] = PRW_BTF_TRI_VERT(best * 3u + k) & ~PRW_BTF_HORIZON;
+}
+
+/* Light weights from prw_btf_interp_dir's: times cos theta_l / cos theta_k (z: the light's, unit). */
+PRW_BTF_IFN void prw_btf_interp_light(PRW_BTF_DT_PARAMS float z, PRW_BTF_IUINT idx[3], PRW_BTF_IINOUT float w[3])
+{
+    z = PRW_BTF_IMAX(z, 0.0f);
+    for (PRW_BTF_IUINT k = 0u; k < 3u; k++) w[k] *= z / PRW_BTF_DIR_COS(idx[k]);
 }
 
 /* Continuous texel coordinates (x, y) (texel centres at integer + 0.5, wrap: the BTF tiles) of a
