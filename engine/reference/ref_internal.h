@@ -207,6 +207,10 @@ void ref_camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, doub
  * face of a single-sided material (the path ends there).  ref_trace_sample is camera_ray + this. */
 void ref_trace_ray(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, bool camera,
                    prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first);
+/* ref_trace_ray with the pixel's angular size `spread` (radians; 0: none) for the BTF scale rule at the
+ * first hit (prw_material.btf_scale_rule). */
+void ref_trace_ray_px(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, bool camera,
+                      double spread, prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first);
 
 /* Environment radiance towards world direction d (unit) and its sampling density (solid angle). */
 /* The environment of the scene (se) as a light: a uniform colour, or the EXR map read with the

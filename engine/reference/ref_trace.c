@@ -486,7 +486,8 @@ static void btf_frame(const surf *s, shade *sh, const double wo[3])
     sh->xy[1] = s->uv[1] * lv / texel;
 }
 
-static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], shade *sh)
+/* px_m: the pixel footprint across the ray at the hit, metres (0: none) */
+static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], double px_m, shade *sh)
 {
     const prw_material *mt = s->in->mat;
     memset(&sh->b, 0, sizeof sh->b);
@@ -545,6 +546,16 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
     }
     sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
     sh->btf = ref_btf_of(r, s->in);
+    if (sh->btf && mt->btf_scale_rule && sh->btf->p.has_average && px_m > 0 &&
+        px_m > mt->btf_texel_m * fabs(sh->wo[2])) {
+        /* the scale rule: the texel is below the pixel footprint (px_m / |cos theta_v|): the fitted average */
+        const prw_btf_average *av = &sh->btf->p.average;
+        sh->btf = NULL;
+        memset(&sh->b, 0, sizeof sh->b);
+        for (int c = 0; c < 3; c++) sh->b.base[c] = av->base[c];
+        sh->b.metallic = av->metallic, sh->b.roughness = av->roughness, sh->b.specular = av->specular;
+        sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
+    }
     if (sh->btf) btf_frame(s, sh, wo);
 }
 
@@ -742,11 +753,19 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
 {
     double o[3], d[3], tnear;
     ref_camera_ray(r, v, x, y, o, d, &tnear);
-    ref_trace_ray(r, o, d, tnear, true, f, rng, out, rays, NULL);
+    /* the pixel's angular size at the image centre (the BTF scale rule) */
+    double spread = v->height ? (v->tan_top - v->tan_bottom) / v->height : 0;
+    ref_trace_ray_px(r, o, d, tnear, true, fabs(spread), f, rng, out, rays, NULL);
 }
 
 void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double d_in[3], double tnear, bool camera,
                    prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first)
+{
+    ref_trace_ray_px(r, o_in, d_in, tnear, camera, 0, f, rng, out, rays, back_first);
+}
+
+void ref_trace_ray_px(const prw_ref_renderer *r, const double o_in[3], const double d_in[3], double tnear, bool camera,
+                      double spread, prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first)
 {
     if (back_first) *back_first = false;
     path pa;
@@ -826,7 +845,7 @@ void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double
         if (!s.front)
             for (int c = 0; c < 3; c++) s.ng[c] = -s.ng[c];
         shade sh;
-        setup_shade(r, &s, d, &sh);
+        setup_shade(r, &s, d, pa.k == 1 ? spread * s.t : 0, &sh);
         uint32_t base = 2 + (uint32_t)(pa.k - 1) * S;
         /* next-event paths from this vertex have pa.k scattering vertices */
         if (accept(f, pa.k)) next_event(&pa, &s, &sh, base);
@@ -889,7 +908,7 @@ bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *v, double x,
     }
     if (!hit) return false;
     shade sh;
-    setup_shade(r, &s, d, &sh);
+    setup_shade(r, &s, d, 0, &sh);
     out->t = s.t;
     out->position = prw_v3(s.p[0] + r->origin.x, s.p[1] + r->origin.y, s.p[2] + r->origin.z);
     out->normal = prw_v3(sh.n[0], sh.n[1], sh.n[2]);

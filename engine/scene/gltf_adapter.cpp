@@ -513,7 +513,8 @@ struct Importer {
         std::string w = what + ": extras.prw_btf";
         if (!b.IsObject()) fail(w + ": must be an object {\"file\": ..., \"texel_m\": ...}");
         for (const std::string &k : b.Keys())
-            if (k != "file" && k != "texel_m") fail(w + ": unknown key '" + one_line(k, 40) + "'");
+            if (k != "file" && k != "texel_m" && k != "scale_rule") fail(w + ": unknown key '" + one_line(k, 40) + "'");
+        if (b.Has("scale_rule") && !b.Get("scale_rule").IsBool()) fail(w + ".scale_rule: must be true or false");
         if (!b.Has("file") || !b.Get("file").IsString() || b.Get("file").Get<std::string>().empty())
             fail(w + ".file: must be a non-empty string");
         if (!b.Has("texel_m") || !b.Get("texel_m").IsNumber()) fail(w + ".texel_m: must be a number (metres per texel)");
@@ -528,6 +529,7 @@ struct Importer {
         std::snprintf(pm->btf_file, sizeof pm->btf_file, "%s", path.c_str());
         pm->kind = PRW_MATERIAL_BTF;
         pm->btf_texel_m = t;
+        pm->btf_scale_rule = b.Has("scale_rule") && b.Get("scale_rule").Get<bool>();
     }
 
     void import_materials()

@@ -206,8 +206,9 @@ static bool parse_material_btf(ctx *c, const cJSON *o, const char *pl, prw_mater
 {
     const char *file = NULL;
     double texel = 0;
-    bool has_texel = item(o, "btf_texel_m") != NULL;
-    if (!get_str(c, o, "btf", pl, &file, false)) return false;
+    bool has_texel = item(o, "btf_texel_m") != NULL, rule = false;
+    if (!get_str(c, o, "btf", pl, &file, false) || !get_bool(c, o, "btf_scale_rule", pl, &rule)) return false;
+    if (!file && item(o, "btf_scale_rule")) return fail_at(c, pl, "'btf_scale_rule' needs 'btf'");
     if (!file) return has_texel ? fail_at(c, pl, "'btf_texel_m' needs 'btf'") : true;
     char p[PLACE_MAX];
     prw_json_join(p, PLACE_MAX, pl, "btf");
@@ -221,13 +222,14 @@ static bool parse_material_btf(ctx *c, const cJSON *o, const char *pl, prw_mater
     if (!prw_scene_btf_check(m->btf_file, &m->btf_hash, &fe)) return fail_at(c, p, "%s", fe.msg);
     m->kind = PRW_MATERIAL_BTF;
     m->btf_texel_m = texel;
+    m->btf_scale_rule = rule;
     return true;
 }
 
 static bool parse_materials(ctx *c, const cJSON *arr)
 {
     static const char *const keys[] = {"name", "base_color", "metallic", "roughness", "emission_cd_m2",
-                                       "double_sided", "specular", "btf", "btf_texel_m"};
+                                       "double_sided", "specular", "btf", "btf_texel_m", "btf_scale_rule"};
     int i = 0;
     for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
         char pl[PLACE_MAX];

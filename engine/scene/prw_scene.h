@@ -135,6 +135,9 @@ typedef struct prw_material {
     char btf_file[1024];
     uint64_t btf_hash;    /* FNV-1a (prw_hash64) of the file's bytes at load */
     double btf_texel_m;   /* metres per texel, > 0 */
+    bool btf_scale_rule;  /* the path tracer too switches to the file's fitted average BRDF where a texel is
+                             smaller than the pixel footprint (camera-ray hits; the rasterizer's scale rule);
+                             false: it evaluates the BTF everywhere (its pixel samples average the texels) */
 } prw_material;
 
 /* Checks that `path` is a readable compressed BTF (PRWBTFC1: header, sizes, direction set) and hashes

@@ -670,6 +670,7 @@ static uint64_t hash_material_extra(uint64_t h, const prw_material *m)
     if (m->kind == PRW_MATERIAL_BTF) {
         H(h, m->btf_hash);
         H(h, m->btf_texel_m);
+        H(h, m->btf_scale_rule);
     }
     return h;
 }

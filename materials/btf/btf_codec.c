@@ -283,6 +283,9 @@ bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_p
     case PRW_BTF_CODEC_SPARSE: ok = sparse(a, p, out, e); break;
     default: ok = prw_fail(e, "btf compress: unknown codec %d", (int)p->codec);
     }
+    /* the scale rule's average: only for directions above the horizon (a measured BTF's) */
+    prw_error fe;
+    if (ok) out->has_average = prw_btf_fit_average(a, &out->average, &fe);
     if (!ok) prw_btf_packed_free(out);
     return ok;
 }

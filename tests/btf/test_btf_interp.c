@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_bsdf.h"
 #include "prw_btf_codec.h"
 #include "prw_btf_eval.h"
 #include "prw_test.h"
@@ -219,8 +220,72 @@ static void test_refused(void)
     prw_btf_dirtab_free(&t);
 }
 
+/* The scale rule's average: a BTF sampled from the material model itself (every texel the same material,
+ * or half the texels each of two base colours) is fitted back: parameters and rms; the file (version 2)
+ * round-trips it; a version-1 file (no average) still reads. */
+static void test_average(void)
+{
+    float dirs[2 * 81];
+    prw_btf_dirs_ubo81(dirs);
+    static const struct {
+        double base[3], base2[3], metallic, roughness;
+    } cases[] = {
+        {{0.7, 0.3, 0.1}, {0.7, 0.3, 0.1}, 0.0, 0.5},
+        {{0.9, 0.8, 0.5}, {0.9, 0.8, 0.5}, 1.0, 0.3},
+        {{0.6, 0.2, 0.2}, {0.2, 0.2, 0.6}, 0.0, 0.7}, /* two colours: the fit is their mean */
+    };
+    prw_error e;
+    for (size_t k = 0; k < PRW_ARRAY_LEN(cases); k++) {
+        prw_btf b;
+        CHECK_OK(prw_btf_create(2, 1, 81, 81, &b, &e), &e);
+        memcpy(b.view_dirs, dirs, sizeof dirs);
+        memcpy(b.light_dirs, dirs, sizeof dirs);
+        for (uint32_t x = 0; x < 2; x++) {
+            prw_bsdf m = {.metallic = cases[k].metallic, .roughness = cases[k].roughness, .specular = 1};
+            for (int c = 0; c < 3; c++) m.base[c] = x ? cases[k].base2[c] : cases[k].base[c];
+            for (uint32_t v = 0; v < 81; v++)
+                for (uint32_t l = 0; l < 81; l++) {
+                    double wo[3], wi[3], f[3];
+                    prw_btf_dir_vector(dirs[2 * v], dirs[2 * v + 1], wo);
+                    prw_btf_dir_vector(dirs[2 * l], dirs[2 * l + 1], wi);
+                    prw_bsdf_eval(&m, wo, wi, f);
+                    for (int c = 0; c < 3; c++) b.rgb[prw_btf_at(&b, v, l, x, 0) + c] = (float)(f[c] * wi[2]);
+                }
+        }
+        double t0 = prw_now();
+        prw_btf_average av;
+        CHECK_OK(prw_btf_fit_average(&b, &av, &e), &e);
+        double t1 = prw_now();
+        printf("average %zu: base %.3f %.3f %.3f metallic %.2f roughness %.4f, rms %.3f %% (%.2f s)\n", k, av.base[0], av.base[1],
+               av.base[2], av.metallic, av.roughness, av.rms_pct, t1 - t0);
+        for (int c = 0; c < 3; c++) CHECK_NEAR(av.base[c], 0.5 * (cases[k].base[c] + cases[k].base2[c]), 0.01);
+        CHECK_NEAR(av.metallic, cases[k].metallic, 1e-6);
+        CHECK_NEAR(av.roughness, cases[k].roughness, 0.0125);
+        CHECK(av.rms_pct < 1.0);
+        /* the file keeps it (version 2) */
+        prw_btf_codec_params cp = {.codec = PRW_BTF_CODEC_FMF, .components = 2, .seed = 1, .threads = 1};
+        prw_btf_packed p, q;
+        CHECK_OK(prw_btf_compress(&b, &cp, &p, &e), &e);
+        CHECK(p.has_average && p.average.roughness == av.roughness && p.average.base[0] == av.base[0]);
+        char *path = prw_test_path("avg.btfc");
+        CHECK_OK(prw_btf_packed_write(path, &p, &e), &e);
+        CHECK_OK(prw_btf_packed_read(path, &q, &e), &e);
+        CHECK(q.has_average && memcmp(&q.average, &p.average, sizeof p.average) == 0);
+        prw_btf_packed_free(&q);
+        /* without the average: version 1, 24 bytes shorter, read back without one */
+        p.has_average = false;
+        CHECK_OK(prw_btf_packed_write(path, &p, &e), &e);
+        CHECK_OK(prw_btf_packed_read(path, &q, &e), &e);
+        CHECK(!q.has_average);
+        prw_btf_packed_free(&q);
+        prw_btf_packed_free(&p);
+        prw_btf_free(&b);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"weights", test_weights}, {"smooth", test_smooth}, {"refused", test_refused}};
+    static const prw_test_case cases[] = {
+        {"weights", test_weights}, {"smooth", test_smooth}, {"refused", test_refused}, {"average", test_average}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }

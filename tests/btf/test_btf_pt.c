@@ -31,7 +31,8 @@ static void write_text(const char *path, const char *text)
     fclose(f);
 }
 
-static bool write_lambert_btf(const char *path, prw_error *e)
+/* tilt != 0: times (1 + tilt sin theta_v cos phi_v), a view dependence the material model cannot fit */
+static bool write_lambert_btf(const char *path, double tilt, prw_error *e)
 {
     prw_btf b;
     if (!prw_btf_create(4, 4, 81, 81, &b, e)) return false;
@@ -39,7 +40,7 @@ static bool write_lambert_btf(const char *path, prw_error *e)
     prw_btf_dirs_ubo81(b.light_dirs);
     for (uint32_t v = 0; v < 81; v++)
         for (uint32_t l = 0; l < 81; l++) {
-            double cl = cos(b.light_dirs[2 * l]);
+            double cl = cos(b.light_dirs[2 * l]) * (1 + tilt * sin(b.view_dirs[2 * v]) * cos(b.view_dirs[2 * v + 1]));
             for (uint32_t y = 0; y < 4; y++)
                 for (uint32_t x = 0; x < 4; x++)
                     for (int c = 0; c < 3; c++) b.rgb[prw_btf_at(&b, v, l, x, y) + c] = (float)(RHO[c] / PRW_PI * cl);
@@ -113,7 +114,7 @@ static bool render(const prw_scene *s, uint32_t W, uint32_t H, uint64_t spp, uin
 static void test_lambert(void)
 {
     prw_error e;
-    CHECK_OK(write_lambert_btf(prw_test_path("lambert.btfc"), &e), &e);
+    CHECK_OK(write_lambert_btf(prw_test_path("lambert.btfc"), 0, &e), &e);
     char mat[512];
     snprintf(mat, sizeof mat, "{\"name\": \"floor\", \"base_color\": [%g, %g, %g], \"metallic\": 0, \"roughness\": 1, \"specular\": 0}",
              RHO[0], RHO[1], RHO[2]);
@@ -177,7 +178,7 @@ static void test_synthetic(void)
 static void test_refused(void)
 {
     prw_error e;
-    CHECK_OK(write_lambert_btf(prw_test_path("changing.btfc"), &e), &e);
+    CHECK_OK(write_lambert_btf(prw_test_path("changing.btfc"), 0, &e), &e);
     prw_scene *s = floor_scene("{\"name\": \"floor\", \"btf\": \"changing.btfc\", \"btf_texel_m\": 0.01}", &e);
     CHECK_OK(s != NULL, &e);
     write_text(prw_test_path("changing.btfc"), "PRWBTFC1 but no longer the file the scene was loaded with.....");
@@ -189,8 +190,49 @@ static void test_refused(void)
     prw_scene_destroy(s);
 }
 
+/* The scale rule (btf_scale_rule), on a Lambert BTF tilted with the view azimuth (which the model cannot fit):
+ * texels far above the pixel footprint render exactly as without the rule; texels far below it render as
+ * the glTF material with the file's fitted average (same seed: the same paths), visibly unlike the BTF. */
+static void test_scale_rule(void)
+{
+    prw_error e;
+    CHECK_OK(write_lambert_btf(prw_test_path("rule.btfc"), 0.6, &e), &e);
+    prw_btf_packed p;
+    CHECK_OK(prw_btf_packed_read(prw_test_path("rule.btfc"), &p, &e), &e);
+    CHECK(p.has_average);
+    prw_btf_average av = p.average;
+    prw_btf_packed_free(&p);
+    printf("fitted average of the Lambert BTF: base %.4f %.4f %.4f, metallic %.2f, roughness %.4f, specular %.2f, rms %.2f %%\n",
+           av.base[0], av.base[1], av.base[2], av.metallic, av.roughness, av.specular, av.rms_pct);
+    static const char *const mats[4] = {
+        "{\"name\": \"floor\", \"btf\": \"rule.btfc\", \"btf_texel_m\": 0.5}",
+        "{\"name\": \"floor\", \"btf\": \"rule.btfc\", \"btf_texel_m\": 0.5, \"btf_scale_rule\": true}",
+        "{\"name\": \"floor\", \"btf\": \"rule.btfc\", \"btf_texel_m\": 1e-5, \"btf_scale_rule\": true}",
+        NULL};
+    char avg[256];
+    snprintf(avg, sizeof avg,
+             "{\"name\": \"floor\", \"base_color\": [%.9g, %.9g, %.9g], \"metallic\": %.9g, \"roughness\": %.9g, \"specular\": %.9g}",
+             av.base[0], av.base[1], av.base[2], av.metallic, av.roughness, av.specular);
+    img_stats st[4];
+    for (int i = 0; i < 4; i++) {
+        prw_scene *s = floor_scene(mats[i] ? mats[i] : avg, &e);
+        CHECK_OK(s != NULL, &e);
+        CHECK_OK(render(s, 16, 16, (uint64_t)prw_test_scale(64, 4), 9, &st[i], &e), &e);
+        prw_scene_destroy(s);
+    }
+    for (int c = 0; c < 3; c++) {
+        printf("channel %d: BTF %.5f, rule with 0.5 m texels %.5f, rule with 10 um texels %.5f, fitted glTF material %.5f\n", c,
+               st[0].mean[c], st[1].mean[c], st[2].mean[c], st[3].mean[c]);
+        CHECK(st[1].mean[c] == st[0].mean[c]);
+        CHECK_NEAR(st[2].mean[c], st[3].mean[c], 1e-5 * st[3].mean[c]);
+        /* the average is another model (it cannot follow the view tilt): not the BTF's image */
+        CHECK(fabs(st[2].mean[c] - st[0].mean[c]) > 100 * 1e-5 * st[3].mean[c]);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"lambert", test_lambert}, {"synthetic", test_synthetic}, {"refused", test_refused}};
+    static const prw_test_case cases[] = {
+        {"lambert", test_lambert}, {"synthetic", test_synthetic}, {"refused", test_refused}, {"scale_rule", test_scale_rule}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
