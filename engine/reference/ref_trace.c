@@ -372,16 +372,15 @@ static void shade_fcos(const shade *sh, const double wl[3], double fc[3])
 
 static double shade_pdf(const shade *sh, const double wl[3])
 {
-    if (sh->btf) return wl[2] > 0 ? wl[2] / PRW_PI : 0;
+    if (sh->btf) return prw_pdf_cosine(wl);
     return prw_bsdf_pdf_at(&sh->b, &sh->lobes, sh->wo, wl);
 }
 
 static bool shade_sample(const shade *sh, const double u[3], double wl[3], double *pdf)
 {
-    if (sh->btf) {
-        double r = sqrt(u[0]), ph = 2 * PRW_PI * u[1];
-        wl[0] = r * cos(ph), wl[1] = r * sin(ph), wl[2] = sqrt(fmax(0.0, 1 - u[0]));
-        *pdf = wl[2] / PRW_PI;
+    if (sh->btf) { /* the shared cosine sampler (prw_bsdf.h; its chi-square test is in tests/materials) */
+        prw_sample_cosine(u, wl);
+        *pdf = prw_pdf_cosine(wl);
         return true;
     }
     return prw_bsdf_sample_at(&sh->b, &sh->lobes, sh->wo, u, wl, pdf);
