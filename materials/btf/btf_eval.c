@@ -10,6 +10,7 @@
 #define PRW_BTF_TRI_INV(i) (dt->tri_inv[(i)])
 #define PRW_BTF_TRI_VERT(i) (dt->tri_vert[(i)])
 #define PRW_BTF_DIR_COS(i) (dt->cos_theta[(i)])
+#define PRW_BTF_GRID(i) (dt->grid ? dt->grid[(i)] : 0u)
 #include "prw_btf_interp.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -99,7 +100,7 @@ static void hull(const double (*P)[3], uint32_t n, tri_list *out)
 
 void prw_btf_dirtab_free(prw_btf_dirtab *t)
 {
-    free(t->tri_inv), free(t->tri_vert), free(t->cos_theta);
+    free(t->tri_inv), free(t->tri_vert), free(t->cos_theta), free(t->grid);
     memset(t, 0, sizeof *t);
 }
 
@@ -199,6 +200,25 @@ bool prw_btf_dirtab_build(const float *dirs, uint32_t n, prw_btf_dirtab *out, pr
         prw_btf_dirtab_free(out);
         return prw_fail(e, "btf directions: the %u directions give no triangulation", n);
     }
+    /* the lookup grid: the triangle holding each cell's centre direction (found without the grid) */
+    uint32_t *grid = prw_malloc(sizeof(uint32_t) * PRW_BTF_GRID_T * PRW_BTF_GRID_P);
+    for (uint32_t i = 0; i < PRW_BTF_GRID_T; i++)
+        for (uint32_t j = 0; j < PRW_BTF_GRID_P; j++) {
+            double th = (i + 0.5) / PRW_BTF_GRID_T * 1.5707963267948966, ph = -3.14159265358979 + (j + 0.5) / PRW_BTF_GRID_P * 6.283185307179586;
+            float d[3] = {(float)(sin(th) * cos(ph)), (float)(sin(th) * sin(ph)), (float)cos(th)};
+            uint32_t best = 0;
+            float bm = -3e38f;
+            for (uint32_t t = 0; t < nt; t++) {
+                const float *m = out->tri_inv + 9 * t;
+                float a = m[0] * d[0] + m[1] * d[1] + m[2] * d[2], b = m[3] * d[0] + m[4] * d[1] + m[5] * d[2],
+                      c = m[6] * d[0] + m[7] * d[1] + m[8] * d[2], s = a + b + c;
+                if (!(s > 0)) continue;
+                float mn = fminf(a, fminf(b, c)) / s;
+                if (mn > bm) bm = mn, best = t;
+            }
+            grid[i * PRW_BTF_GRID_P + j] = best;
+        }
+    out->grid = grid;
     return true;
 }
 

@@ -7,6 +7,7 @@
  *                        index, or PRW_BTF_HORIZON | index for a horizon vertex standing for that index,
  *   PRW_BTF_DT_PARAMS / PRW_BTF_DT_ARGS  leading parameters the fetches use (e.g. "const prw_btf_dirtab *t,"),
  *   PRW_BTF_DIR_COS(i)   cos theta of measured direction i (float),
+ *   PRW_BTF_GRID(i)      the triangle to try first for grid cell i (prw_btf_interp_cell),
  *
  * The method: the measured directions, plus horizon vertices (the outermost ring's azimuths at theta
  * 90 degrees) and the south pole, are unit points whose convex hull is triangulated (coplanar facets
@@ -33,6 +34,8 @@
 #define PRW_BTF_IFLOOR floor
 #define PRW_BTF_ITOF(v) float(v)
 #define PRW_BTF_ITOU(v) uint(v)
+#define PRW_BTF_IACOS acos
+#define PRW_BTF_IATAN2(y, x) atan(y, x)
 #else
 #include <math.h>
 #include <stdbool.h>
@@ -41,25 +44,44 @@
 #define PRW_BTF_IFN static inline
 #define PRW_BTF_IOUT
 #define PRW_BTF_IINOUT
-#define PRW_BTF_IMAX fmaxf
-#define PRW_BTF_IMIN fminf
+#define PRW_BTF_IMAX(a, b) ((a) > (b) ? (a) : (b)) /* finite arguments: no libm call */
+#define PRW_BTF_IMIN(a, b) ((a) < (b) ? (a) : (b))
 #define PRW_BTF_IBOOL bool
 #define PRW_BTF_IFLOOR floorf
 #define PRW_BTF_ITOF(v) ((float)(v))
 #define PRW_BTF_ITOU(v) ((uint32_t)(v))
+#define PRW_BTF_IACOS acosf
+#define PRW_BTF_IATAN2 atan2f
 #endif
 
 #define PRW_BTF_HORIZON 0x80000000u
+/* The lookup grid: theta in [0, 90] degrees x phi in [-180, 180) degrees, cells of equal angles. */
+#define PRW_BTF_GRID_T 16u
+#define PRW_BTF_GRID_P 64u
+
+/* The grid cell of the unit direction (x, y, z) (z clamped to >= 0). */
+PRW_BTF_IFN PRW_BTF_IUINT prw_btf_interp_cell(float x, float y, float z)
+{
+    float t = PRW_BTF_IACOS(PRW_BTF_IMIN(PRW_BTF_IMAX(z, 0.0f), 1.0f)) * (2.0f / 3.14159265f);
+    float p = (PRW_BTF_IATAN2(y, x) * (0.5f / 3.14159265f) + 0.5f);
+    PRW_BTF_IUINT i = PRW_BTF_ITOU(PRW_BTF_IMAX(t * PRW_BTF_ITOF(PRW_BTF_GRID_T), 0.0f));
+    PRW_BTF_IUINT j = PRW_BTF_ITOU(PRW_BTF_IMAX(p * PRW_BTF_ITOF(PRW_BTF_GRID_P), 0.0f));
+    return PRW_BTF_IMIN(i, PRW_BTF_GRID_T - 1u) * PRW_BTF_GRID_P + PRW_BTF_IMIN(j, PRW_BTF_GRID_P - 1u);
+}
 
 /* The 3 measured directions around the unit direction (x, y, z) and their weights (a partition of unity;
- * zero weights come with a valid index).  ntri: the table's triangle count (> 0). */
+ * zero weights come with a valid index).  ntri: the table's triangle count (> 0).  The triangles are tried
+ * from the grid cell's first (almost always the one), then in order: the first containing the crossing
+ * wins (at a shared edge or vertex the neighbours' weights agree). */
 PRW_BTF_IFN void prw_btf_interp_dir(PRW_BTF_DT_PARAMS float x, float y, float z, PRW_BTF_IUINT ntri,
                                     PRW_BTF_IOUT PRW_BTF_IUINT idx[3], PRW_BTF_IOUT float w[3])
 {
+    PRW_BTF_IUINT start = PRW_BTF_GRID(prw_btf_interp_cell(x, y, z));
     z = PRW_BTF_IMAX(z, 1e-6f);
     PRW_BTF_IUINT best = 0u;
     float best_min = -3.0e38f, ba = 1.0f, bb = 0.0f, bc = 0.0f;
-    for (PRW_BTF_IUINT t = 0u; t < ntri; t++) {
+    for (PRW_BTF_IUINT k = 0u; k < ntri; k++) {
+        PRW_BTF_IUINT t = k == 0u ? start : k - (k <= start ? 1u : 0u); /* start, then the others in order */
         float a = PRW_BTF_TRI_INV(t * 9u + 0u) * x + PRW_BTF_TRI_INV(t * 9u + 1u) * y + PRW_BTF_TRI_INV(t * 9u + 2u) * z;
         float b = PRW_BTF_TRI_INV(t * 9u + 3u) * x + PRW_BTF_TRI_INV(t * 9u + 4u) * y + PRW_BTF_TRI_INV(t * 9u + 5u) * z;
         float c = PRW_BTF_TRI_INV(t * 9u + 6u) * x + PRW_BTF_TRI_INV(t * 9u + 7u) * y + PRW_BTF_TRI_INV(t * 9u + 8u) * z;
