@@ -230,9 +230,91 @@ static void test_scale_rule(void)
     }
 }
 
+/* A width x 1 BTF of reflectance f(x, l) = (rho[x] + k sin theta_l cos phi_l) / pi (the BTF stores f cos theta_l). */
+static bool write_frame_btf(const char *path, uint32_t width, const double *rho, double k, prw_error *e)
+{
+    prw_btf b;
+    if (!prw_btf_create(width, 1, 81, 81, &b, e)) return false;
+    prw_btf_dirs_ubo81(b.view_dirs);
+    prw_btf_dirs_ubo81(b.light_dirs);
+    for (uint32_t v = 0; v < 81; v++)
+        for (uint32_t l = 0; l < 81; l++) {
+            double th = b.light_dirs[2 * l], ph = b.light_dirs[2 * l + 1];
+            for (uint32_t x = 0; x < width; x++)
+                for (int c = 0; c < 3; c++)
+                    b.rgb[prw_btf_at(&b, v, l, x, 0) + c] = (float)((rho[x] + k * sin(th) * cos(ph)) / PRW_PI * cos(th));
+        }
+    prw_btf_codec_params cp = {.codec = PRW_BTF_CODEC_FMF, .components = width, .seed = 1, .threads = 1};
+    prw_btf_packed p;
+    bool ok = prw_btf_compress(&b, &cp, &p, e);
+    prw_btf_free(&b);
+    ok = ok && prw_btf_packed_write(path, &p, e);
+    prw_btf_packed_free(&p);
+    return ok;
+}
+
+/* Radiance straight up from the floor at x (m) under a 10-lux directional light travelling along dir. */
+static double floor_radiance(const char *btf, double texel_m, const double dir[3], double x, prw_error *e, bool *ok)
+{
+    char text[1024];
+    snprintf(text, sizeof text,
+             "{\"prw_manifest\": 1, \"materials\": [{\"name\": \"floor\", \"btf\": \"%s\", \"btf_texel_m\": %g}],"
+             " \"meshes\": [{\"quad\": {\"centre\": [0, 0, 0], \"half_u\": [1, 0, 0], \"half_v\": [0, 0, -1]}, \"material\": \"floor\"}],"
+             " \"lights\": [{\"type\": \"directional\", \"direction\": [%g, %g, %g], \"intensity\": 10}],"
+             " \"cameras\": [{\"position\": [0, 2, 0], \"direction\": [0, -1, 0], \"up\": [0, 0, -1]}]}",
+             btf, texel_m, dir[0], dir[1], dir[2]);
+    char *path = prw_test_path("frame.json");
+    write_text(path, text);
+    prw_scene *s = prw_scene_create();
+    prw_ref_renderer *r = NULL;
+    prw_ref_ray_result res;
+    memset(&res, 0, sizeof res);
+    *ok = prw_scene_load_manifest(s, path, e) && prw_ref_create(s, prw_v3(0, 1, 0), 1, &r, e);
+    if (*ok) {
+        prw_ref_ray ray = {.origin = prw_v3(x, 1, 0.1), .dir = prw_v3(0, -1, 0), .tnear = 0};
+        prw_ref_ray_desc d = {.s0 = 0, .s1 = 1, .seed = 1, .filter = {PRW_REF_ALL, 0}, .camera = true, .threads = 1};
+        *ok = prw_ref_trace_rays(r, &ray, 1, &d, &res, NULL, NULL, e);
+    }
+    prw_ref_destroy(r);
+    prw_scene_destroy(s);
+    return res.mean[0];
+}
+
+/* The BTF's frame and texel mapping on a builder quad (x = dP/du = +X, texel = uv |dP/duv| / texel size),
+ * in closed form: radiance = 10 lux x f cos theta_l exactly at measured directions. */
+static void test_frame(void)
+{
+    prw_error e;
+    bool ok;
+    const double aniso_rho[1] = {1.0}, two[2] = {0.2, 0.8};
+    CHECK_OK(write_frame_btf(prw_test_path("aniso.btfc"), 1, aniso_rho, 0.9, &e), &e);
+    CHECK_OK(write_frame_btf(prw_test_path("two.btfc"), 2, two, 0, &e), &e);
+    /* light from +X (BTF +x) and -X at theta_l 53.13 deg (cos 0.6): f = (1 +- 0.9 * 0.8) / pi; from +Z: 1 / pi */
+    const double from_px[3] = {-0.8, -0.6, 0}, from_nx[3] = {0.8, -0.6, 0}, from_pz[3] = {0, -0.6, -0.8};
+    double lp = floor_radiance("aniso.btfc", 0.01, from_px, 0, &e, &ok);
+    CHECK_OK(ok, &e);
+    double ln = floor_radiance("aniso.btfc", 0.01, from_nx, 0, &e, &ok);
+    double lz = floor_radiance("aniso.btfc", 0.01, from_pz, 0, &e, &ok);
+    double ep = 10 * 1.72 / PRW_PI * 0.6, en = 10 * 0.28 / PRW_PI * 0.6, ez = 10 / PRW_PI * 0.6;
+    printf("anisotropic BTF, light from +X / -X / +Z: %.4f / %.4f / %.4f cd/m2 (closed form %.4f / %.4f / %.4f)\n", lp, ln, lz, ep,
+           en, ez);
+    CHECK(fabs(lp - ep) <= 0.03 * ep && fabs(ln - en) <= 0.03 * ep && fabs(lz - ez) <= 0.03 * ep);
+    /* two texels of 1 m on the 2 m quad: texel 0 centred at X = -0.5, texel 1 at +0.5, blended half-way at 0 */
+    const double down[3] = {0, -1, 0};
+    double a = floor_radiance("two.btfc", 1.0, down, -0.5, &e, &ok);
+    CHECK_OK(ok, &e);
+    double b = floor_radiance("two.btfc", 1.0, down, 0.5, &e, &ok);
+    double m = floor_radiance("two.btfc", 1.0, down, 0.0, &e, &ok);
+    printf("two texels of 1 m, light from above: X = -0.5 / 0 / +0.5: %.4f / %.4f / %.4f cd/m2 (closed form %.4f / %.4f / %.4f)\n", a, m, b,
+           10 * 0.2 / PRW_PI, 10 * 0.5 / PRW_PI, 10 * 0.8 / PRW_PI);
+    CHECK(fabs(a - 2 / PRW_PI) <= 0.002 * 8 / PRW_PI && fabs(b - 8 / PRW_PI) <= 0.002 * 8 / PRW_PI &&
+          fabs(m - 5 / PRW_PI) <= 0.002 * 8 / PRW_PI);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
-        {"lambert", test_lambert}, {"synthetic", test_synthetic}, {"refused", test_refused}, {"scale_rule", test_scale_rule}};
+        {"lambert", test_lambert},         {"synthetic", test_synthetic}, {"refused", test_refused},
+        {"scale_rule", test_scale_rule}, {"frame", test_frame}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
