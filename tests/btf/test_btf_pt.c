@@ -6,8 +6,8 @@
  *               means per channel agree within 0.2 % (the half-float storage); with another seed within
  *               3 sigma + 0.2 % (the light weights interpolate the reflectance, so a Lambert sample is
  *               reproduced exactly between the measured directions, prw_btf_interp.h);
- *  - synthetic: a BTF of the generator (fabric, 8 x 8 texels, 81 x 81 directions, CLUSTER-compressed)
- *               renders without a non-finite sample or pixel and with light on it;
+ *  - synthetic: BTFs of the generator (fabric CLUSTER 16x2 and flakes SPARSE 4x0+4, 8 x 8 texels, 81 x 81
+ *               directions) render without a non-finite sample or pixel and with light on them;
  *  - refused:   a BTF file changed after the scene was loaded is refused by the renderer, naming it. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -148,31 +148,41 @@ static void test_lambert(void)
     prw_scene_destroy(sb);
 }
 
-static void test_synthetic(void)
+static void synthetic_case(prw_btf_synth_kind kind, const prw_btf_codec_params *cp, const char *file)
 {
     prw_error e;
-    prw_btf_synth_params sp = {.kind = PRW_BTF_SYNTH_FABRIC, .size = 8, .dirs = 81, .texel_m = 1e-3, .seed = 3, .threads = 2};
+    prw_btf_synth_params sp = {.kind = kind, .size = 8, .dirs = 81, .texel_m = 1e-3, .seed = 3, .threads = 2};
     prw_btf b;
     double t0 = prw_now();
     CHECK_OK(prw_btf_synthesize(&sp, &b, &e), &e);
-    prw_btf_codec_params cp = {.codec = PRW_BTF_CODEC_CLUSTER, .clusters = 16, .components = 2, .seed = 1, .threads = 2};
     prw_btf_packed p;
-    bool ok = prw_btf_compress(&b, &cp, &p, &e);
+    bool ok = prw_btf_compress(&b, cp, &p, &e);
     prw_btf_free(&b);
     CHECK_OK(ok, &e);
-    ok = prw_btf_packed_write(prw_test_path("fabric.btfc"), &p, &e);
+    ok = prw_btf_packed_write(prw_test_path(file), &p, &e);
     prw_btf_packed_free(&p);
     CHECK_OK(ok, &e);
     double t1 = prw_now();
-    prw_scene *s = floor_scene("{\"name\": \"floor\", \"btf\": \"fabric.btfc\", \"btf_texel_m\": 0.004}", &e);
+    char mat[256];
+    snprintf(mat, sizeof mat, "{\"name\": \"floor\", \"btf\": \"%s\", \"btf_texel_m\": 0.004}", file);
+    prw_scene *s = floor_scene(mat, &e);
     CHECK_OK(s != NULL, &e);
     img_stats a;
     CHECK_OK(render(s, 24, 24, (uint64_t)prw_test_scale(32, 4), 5, &a, &e), &e);
-    printf("fabric 8x8 BTF (synthesis + compression %.1f s): image mean %.4f %.4f %.4f cd/m2, %llu non-finite samples\n",
-           t1 - t0, a.mean[0], a.mean[1], a.mean[2], (unsigned long long)a.nonfinite);
+    printf("%s 8x8 BTF (synthesis + compression %.1f s): image mean %.4f %.4f %.4f cd/m2, %llu non-finite samples\n",
+           prw_btf_synth_name(kind), t1 - t0, a.mean[0], a.mean[1], a.mean[2], (unsigned long long)a.nonfinite);
     CHECK(a.finite && a.nonfinite == 0);
     CHECK(a.mean[0] > 0 && a.mean[1] > 0 && a.mean[2] > 0);
     prw_scene_destroy(s);
+}
+
+static void test_synthetic(void)
+{
+    prw_btf_codec_params fabric = {.codec = PRW_BTF_CODEC_CLUSTER, .clusters = 16, .components = 2, .seed = 1, .threads = 2};
+    synthetic_case(PRW_BTF_SYNTH_FABRIC, &fabric, "fabric.btfc");
+    prw_btf_codec_params flakes = {.codec = PRW_BTF_CODEC_SPARSE, .clusters = 4, .components = 0, .sparse_per_texel = 4,
+                                   .seed = 1, .threads = 2};
+    synthetic_case(PRW_BTF_SYNTH_FLAKES, &flakes, "flakes.btfc");
 }
 
 static void test_refused(void)
