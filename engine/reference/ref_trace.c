@@ -354,20 +354,15 @@ typedef struct shade {
     double xy[2];
 } shade;
 
-/* ---- the material kinds behind one interface: f cos theta_i, the sampling density, a sample ----
- * The BTF kind stores f cos theta_l itself (prw_btf_synth.h: radiance per lux of normal illuminance), so
- * its value replaces f * cos; it is sampled cosine-weighted (density cos theta_i / pi, positive wherever
- * the BTF can be non-zero, so the estimator stays unbiased; the path weight is value * pi / cos theta_i). */
-static void shade_fcos(const shade *sh, const double wl[3], double fc[3])
+/* ---- the BTF kind beside the glTF model: its value, the sampling density, a sample ----
+ * The BTF stores f cos theta_l itself (prw_btf_synth.h: radiance per lux of normal illuminance), so its
+ * value replaces f * cos; it is sampled cosine-weighted (density cos theta_i / pi, positive wherever the
+ * BTF can be non-zero, so the estimator stays unbiased; the path weight is value * pi / cos theta_i). */
+static void btf_fcos(const shade *sh, const double wl[3], double fc[3])
 {
-    if (sh->btf) {
-        float v[3];
-        prw_btf_material_eval(sh->btf, sh->xy[0], sh->xy[1], sh->wo, wl, v);
-        for (int c = 0; c < 3; c++) fc[c] = fmax((double)v[c], 0.0); /* codec ringing below 0: no light */
-        return;
-    }
-    prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fc);
-    for (int c = 0; c < 3; c++) fc[c] *= wl[2];
+    float v[3];
+    prw_btf_material_eval(sh->btf, sh->xy[0], sh->xy[1], sh->wo, wl, v);
+    for (int c = 0; c < 3; c++) fc[c] = fmax((double)v[c], 0.0); /* codec ringing below 0: no light */
 }
 
 static double shade_pdf(const shade *sh, const double wl[3])
@@ -601,7 +596,7 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     to_local(sh, wi, wl);
     if (!(wl[2] > 0)) return;
     double fv[3]; /* the glTF kind: f; the BTF kind: f cos theta_i (what it stores) */
-    if (sh->btf) shade_fcos(sh, wl, fv);
+    if (sh->btf) btf_fcos(sh, wl, fv);
     else prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fv);
     if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) return;
     double o[3], sd[3], tmax = INFINITY;
@@ -858,7 +853,7 @@ void ref_trace_ray_px(const prw_ref_renderer *r, const double o_in[3], const dou
         norm3(wi);
         if (!(dot3(s.ng, wi) > 0)) break;
         double fv[3]; /* as in connect: f, or the BTF's f cos theta_i */
-        if (sh.btf) shade_fcos(&sh, wl, fv);
+        if (sh.btf) btf_fcos(&sh, wl, fv);
         else prw_bsdf_eval_at(&sh.b, &sh.lobes, sh.wo, wl, fv);
         if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) break;
         if (pa.k == 1) class_weight(f, &sh, wl, fv, pa.cls);
