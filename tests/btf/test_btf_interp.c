@@ -292,6 +292,24 @@ static void test_average(void)
         CHECK_OK(prw_btf_packed_read(path, &q, &e), &e);
         CHECK(q.has_average && memcmp(&q.average, &p.average, sizeof p.average) == 0);
         prw_btf_packed_free(&q);
+        if (k == 0) {
+            /* every truncation refused naming the file; an average out of range refused */
+            char *data = NULL;
+            size_t n = 0;
+            CHECK_OK(prw_read_file(path, &data, &n, &e), &e);
+            CHECK(n == prw_btf_packed_bytes(&p));
+            int accepted = 0;
+            for (size_t len = 0; len < n; len++) {
+                if (prw_btf_packed_read_memory(data, len, "cut.btfc", &q, &e)) accepted++, prw_btf_packed_free(&q);
+                else if (strncmp(e.msg, "cut.btfc: ", 10) != 0) accepted += 1000;
+            }
+            CHECK_MSG(accepted == 0, "%d truncations accepted or misnamed", accepted);
+            float two = 2.0f; /* the roughness: the 5th float of the 7 at the end */
+            memcpy(data + n - 28 + 16, &two, 4);
+            CHECK(!prw_btf_packed_read_memory(data, n, "bad.btfc", &q, &e) && strstr(e.msg, "average"));
+            printf("refused: %s\n", e.msg);
+            free(data);
+        }
         /* without the average: version 1, 24 bytes shorter, read back without one */
         p.has_average = false;
         CHECK_OK(prw_btf_packed_write(path, &p, &e), &e);
