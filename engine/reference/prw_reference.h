@@ -8,6 +8,15 @@
  *    finest, smooth shading normals + normal maps, the shared material model through prw_bsdf.h,
  *    base-colour / emissive textures sRGB-decoded then bilinear (repeat wrap), metal-rough and
  *    normal textures linear bilinear.
+ *  - BTF materials (PRW_MATERIAL_BTF, prw_scene.h): the file read once at prw_ref_create (refused, naming
+ *    material and file, when its bytes no longer hash to what the scene loaded); evaluated through
+ *    prw_btf_eval.h (3 x 3 measured directions with barycentric weights, bilinear texels, the shared
+ *    decode) in the frame and texel mapping prw_scene.h states; its value is f cos theta_l, used as such in
+ *    next-event estimation and path weights; BSDF samples are cosine-weighted (prw_sample_cosine), so the
+ *    estimate stays unbiased; light-path filters count it as diffuse.  With btf_scale_rule, a camera
+ *    ray's first hit where the pixel footprint exceeds a texel uses the file's fitted average (glTF model)
+ *    instead; prw_ref_trace_rays passes no footprint, so its bit-equality with prw_ref_render below does
+ *    not hold for such materials.
  *  - Lights as the rasterizer models them (shaders/base.frag): point/spot in cd with the range
  *    window clamp(1 - (d^2/range^2)^2, 0, 1) (range > 0) and the spot factor
  *    clamp((cos - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0, 1)^2; directional in lux; these

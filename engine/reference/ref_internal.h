@@ -5,6 +5,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "prw_btf_eval.h"
 #include "prw_reference.h"
 
 /* One mesh drawn by one node: world-space, camera-relative float vertices given to Embree. */
@@ -97,7 +98,18 @@ struct prw_ref_renderer {
     prw_mesh *nurbs_meshes; /* level-0 tessellation per NURBS entry (ref_nurbs.c) */
     uint32_t nurbs_mesh_count;
     double *nurbs_err;      /* its error bound, model metres */
+    /* BTF materials (ref_btf.c): per scene material its loaded BTF (NULL: another kind); each file once */
+    const prw_btf_material **btf_of;
+    prw_btf_material *btf_owned;
+    uint32_t btf_count;
 };
+
+/* ref_btf.c: loads the scene's BTF materials (each file once; refused when the file changed since the
+ * scene was loaded, by its hash), naming the material and the file. */
+bool ref_btf_load(prw_ref_renderer *r, prw_error *e);
+void ref_btf_free(prw_ref_renderer *r);
+/* The BTF of an instance's material, or NULL. */
+const prw_btf_material *ref_btf_of(const prw_ref_renderer *r, const ref_inst *in);
 
 bool ref_add_instance(prw_ref_renderer *r, const prw_node *n, const prw_mesh *m, prw_error *e);
 /* ref_nurbs.c */
@@ -195,6 +207,10 @@ void ref_camera_ray(const prw_ref_renderer *r, const prw_view *v, double x, doub
  * face of a single-sided material (the path ends there).  ref_trace_sample is camera_ray + this. */
 void ref_trace_ray(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, bool camera,
                    prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first);
+/* ref_trace_ray with the pixel's angular size `spread` (radians; 0: none) for the BTF scale rule at the
+ * first hit (prw_material.btf_scale_rule). */
+void ref_trace_ray_px(const prw_ref_renderer *r, const double o[3], const double d[3], double tnear, bool camera,
+                      double spread, prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first);
 
 /* Environment radiance towards world direction d (unit) and its sampling density (solid angle). */
 /* The environment of the scene (se) as a light: a uniform colour, or the EXR map read with the

@@ -192,6 +192,7 @@ void prw_ref_destroy(prw_ref_renderer *r)
     free(r->deltas);
     ref_env_free(&r->env);
     ref_nurbs_free(r);
+    ref_btf_free(r);
     free(r);
 }
 
@@ -446,7 +447,7 @@ bool prw_ref_create(const prw_scene *s, prw_dvec3 origin, int threads, prw_ref_r
     }
     build_emitters(r);
     build_lights(r);
-    if (!ref_env_build(&s->environment, &r->env, e)) {
+    if (!ref_env_build(&s->environment, &r->env, e) || !ref_btf_load(r, e)) {
         prw_ref_destroy(r);
         return false;
     }

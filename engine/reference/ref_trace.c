@@ -347,10 +347,39 @@ static bool surf_emission(const prw_ref_renderer *r, const surf *s, double Le[3]
 
 typedef struct shade {
     prw_bsdf b;
-    double t[3], bt[3], n[3]; /* local frame, n = shading normal */
+    double t[3], bt[3], n[3]; /* local frame, n = shading normal (BTF kind: the BTF's frame, t along dP/du) */
     double wo[3];             /* local */
     prw_bsdf_lobes lobes;     /* prw_bsdf_lobes_at(b, wo): shared by the BSDF sample and the MIS pdfs */
+    const prw_btf_material *btf; /* the BTF kind: evaluated at texel coordinates xy; NULL: the glTF model */
+    double xy[2];
 } shade;
+
+/* ---- the BTF kind beside the glTF model: its value, the sampling density, a sample ----
+ * The BTF stores f cos theta_l itself (prw_btf_synth.h: radiance per lux of normal illuminance), so its
+ * value replaces f * cos; it is sampled cosine-weighted (density cos theta_i / pi, positive wherever the
+ * BTF can be non-zero, so the estimator stays unbiased; the path weight is value * pi / cos theta_i). */
+static void btf_fcos(const shade *sh, const double wl[3], double fc[3])
+{
+    float v[3];
+    prw_btf_material_eval(sh->btf, sh->xy[0], sh->xy[1], sh->wo, wl, v);
+    for (int c = 0; c < 3; c++) fc[c] = fmax((double)v[c], 0.0); /* codec ringing below 0: no light */
+}
+
+static double shade_pdf(const shade *sh, const double wl[3])
+{
+    if (sh->btf) return prw_pdf_cosine(wl);
+    return prw_bsdf_pdf_at(&sh->b, &sh->lobes, sh->wo, wl);
+}
+
+static bool shade_sample(const shade *sh, const double u[3], double wl[3], double *pdf)
+{
+    if (sh->btf) { /* the shared cosine sampler (prw_bsdf.h; its chi-square test is in tests/materials) */
+        prw_sample_cosine(u, wl);
+        *pdf = prw_pdf_cosine(wl);
+        return true;
+    }
+    return prw_bsdf_sample_at(&sh->b, &sh->lobes, sh->wo, u, wl, pdf);
+}
 
 static void to_local(const shade *sh, const double w[3], double l[3])
 {
@@ -413,7 +442,46 @@ static void bend_normal(double n[3], const double wo[3])
     }
 }
 
-static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], shade *sh)
+/* The BTF kind's frame and texel coordinates (prw_scene.h, prw_material.btf_file): the triangle's dP/du and
+ * dP/dv (world metres per uv unit, uv set 0) give x = dP/du made tangent to the shading normal, y = n x x
+ * turned towards dP/dv, and texel (u |dP/du|, v |dP/dv|) / texel size.  A triangle without a usable uv
+ * mapping keeps the arbitrary frame and texel (0.5, 0.5). */
+static void btf_frame(const surf *s, shade *sh, const double wo[3])
+{
+    const prw_mesh *m = s->in->mesh;
+    const uint32_t *ix = m->indices + 3 * s->prim;
+    double v[3][3], uv[3][2];
+    tri_verts(s->in, s->prim, v);
+    for (int k = 0; k < 3; k++) uv[k][0] = m->uvs[2 * ix[k]], uv[k][1] = m->uvs[2 * ix[k] + 1];
+    double e1[3], e2[3], du1 = uv[1][0] - uv[0][0], dv1 = uv[1][1] - uv[0][1], du2 = uv[2][0] - uv[0][0],
+                         dv2 = uv[2][1] - uv[0][1];
+    for (int c = 0; c < 3; c++) e1[c] = v[1][c] - v[0][c], e2[c] = v[2][c] - v[0][c];
+    double det = du1 * dv2 - du2 * dv1, texel = s->in->mat->btf_texel_m;
+    sh->xy[0] = sh->xy[1] = 0.5;
+    double dpu[3], dpv[3];
+    for (int c = 0; c < 3; c++) {
+        dpu[c] = (e1[c] * dv2 - e2[c] * dv1) / det;
+        dpv[c] = (e2[c] * du1 - e1[c] * du2) / det;
+    }
+    double lu = sqrt(dot3(dpu, dpu)), lv = sqrt(dot3(dpv, dpv));
+    if (!(fabs(det) > 1e-20) || !isfinite(lu) || !isfinite(lv) || !(lu > 0) || !(lv > 0)) return;
+    double t[3], dn = dot3(dpu, sh->n);
+    for (int c = 0; c < 3; c++) t[c] = dpu[c] - sh->n[c] * dn;
+    double tl = sqrt(dot3(t, t));
+    if (!(tl > 1e-12 * lu)) return;
+    for (int c = 0; c < 3; c++) t[c] /= tl;
+    double b[3];
+    cross3(sh->n, t, b);
+    if (dot3(b, dpv) < 0) b[0] = -b[0], b[1] = -b[1], b[2] = -b[2];
+    memcpy(sh->t, t, sizeof t);
+    memcpy(sh->bt, b, sizeof b);
+    to_local(sh, wo, sh->wo);
+    sh->xy[0] = s->uv[0] * lu / texel;
+    sh->xy[1] = s->uv[1] * lv / texel;
+}
+
+/* px_m: the pixel footprint across the ray at the hit, metres (0: none) */
+static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d[3], double px_m, shade *sh)
 {
     const prw_material *mt = s->in->mat;
     memset(&sh->b, 0, sizeof sh->b);
@@ -471,6 +539,18 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
         norm3(sh->b.coat_n);
     }
     sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
+    sh->btf = ref_btf_of(r, s->in);
+    if (sh->btf && mt->btf_scale_rule && sh->btf->p.has_average && px_m > 0 &&
+        px_m > mt->btf_texel_m * fabs(sh->wo[2])) {
+        /* the scale rule: the texel is below the pixel footprint (px_m / |cos theta_v|): the fitted average */
+        const prw_btf_average *av = &sh->btf->p.average;
+        sh->btf = NULL;
+        memset(&sh->b, 0, sizeof sh->b);
+        for (int c = 0; c < 3; c++) sh->b.base[c] = av->base[c];
+        sh->b.metallic = av->metallic, sh->b.roughness = av->roughness, sh->b.specular = av->specular;
+        sh->lobes = prw_bsdf_lobes_at(&sh->b, sh->wo);
+    }
+    if (sh->btf) btf_frame(s, sh, wo);
 }
 
 /* Class weight per channel for the (indirect-)diffuse-last / glossy-last filters: the diffuse lobe's share
@@ -478,7 +558,8 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
 static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
 {
     double kd[3];
-    prw_bsdf_eval_diffuse_at(&sh->b, &sh->lobes, sh->wo, wl, kd);
+    if (sh->btf) memcpy(kd, fv, sizeof kd); /* a BTF has no lobes: it counts as diffuse */
+    else prw_bsdf_eval_diffuse_at(&sh->b, &sh->lobes, sh->wo, wl, kd);
     for (int c = 0; c < 3; c++) {
         double x = fv[c] > 0 ? kd[c] / fv[c] : 0;
         x = fmin(fmax(x, 0.0), 1.0);
@@ -514,8 +595,9 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     double wl[3];
     to_local(sh, wi, wl);
     if (!(wl[2] > 0)) return;
-    double fv[3];
-    prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fv);
+    double fv[3]; /* the glTF kind: f; the BTF kind: f cos theta_i (what it stores) */
+    if (sh->btf) btf_fcos(sh, wl, fv);
+    else prw_bsdf_eval_at(&sh->b, &sh->lobes, sh->wo, wl, fv);
     if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) return;
     double o[3], sd[3], tmax = INFINITY;
     for (int c = 0; c < 3; c++) o[c] = s->p[c] + s->ng[c] * s->eps;
@@ -530,10 +612,13 @@ static void connect(path *pa, const surf *s, const shade *sh, const double wi[3]
     }
     if (occluded(pa->r, o, sd, tmax, skip_rect, ray_key(pa->rng, pa->k, tag), pa->rays)) return;
     double w = 1;
-    if (pdf_l > 0) w = power_heuristic(pdf_l, prw_bsdf_pdf_at(&sh->b, &sh->lobes, sh->wo, wl)) / pdf_l;
+    if (pdf_l > 0) w = power_heuristic(pdf_l, shade_pdf(sh, wl)) / pdf_l;
     double cw[3] = {1, 1, 1};
     if (pa->k == 1) class_weight(pa->f, sh, wl, fv, cw);
-    for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * wl[2] * Li[c] * w;
+    if (sh->btf)
+        for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * Li[c] * w;
+    else
+        for (int c = 0; c < 3; c++) pa->L[c] += pa->beta[c] * pa->cls[c] * cw[c] * fv[c] * wl[2] * Li[c] * w;
 }
 
 static void next_event(path *pa, const surf *s, const shade *sh, uint32_t base)
@@ -662,11 +747,19 @@ void ref_trace_sample(const prw_ref_renderer *r, const prw_view *v, prw_ref_filt
 {
     double o[3], d[3], tnear;
     ref_camera_ray(r, v, x, y, o, d, &tnear);
-    ref_trace_ray(r, o, d, tnear, true, f, rng, out, rays, NULL);
+    /* the pixel's angular size at the image centre (the BTF scale rule) */
+    double spread = v->height ? (v->tan_top - v->tan_bottom) / v->height : 0;
+    ref_trace_ray_px(r, o, d, tnear, true, fabs(spread), f, rng, out, rays, NULL);
 }
 
 void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double d_in[3], double tnear, bool camera,
                    prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first)
+{
+    ref_trace_ray_px(r, o_in, d_in, tnear, camera, 0, f, rng, out, rays, back_first);
+}
+
+void ref_trace_ray_px(const prw_ref_renderer *r, const double o_in[3], const double d_in[3], double tnear, bool camera,
+                      double spread, prw_ref_filter f, ref_rng *rng, double out[3], uint64_t *rays, bool *back_first)
 {
     if (back_first) *back_first = false;
     path pa;
@@ -746,7 +839,7 @@ void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double
         if (!s.front)
             for (int c = 0; c < 3; c++) s.ng[c] = -s.ng[c];
         shade sh;
-        setup_shade(r, &s, d, &sh);
+        setup_shade(r, &s, d, pa.k == 1 ? spread * s.t : 0, &sh);
         uint32_t base = 2 + (uint32_t)(pa.k - 1) * S;
         /* next-event paths from this vertex have pa.k scattering vertices */
         if (accept(f, pa.k)) next_event(&pa, &s, &sh, base);
@@ -754,16 +847,20 @@ void ref_trace_ray(const prw_ref_renderer *r, const double o_in[3], const double
         rng->dim = base;
         double u[3] = {ref_rand(rng), ref_rand(rng), ref_rand(rng)};
         double wl[3], pdf;
-        if (!prw_bsdf_sample_at(&sh.b, &sh.lobes, sh.wo, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
+        if (!shade_sample(&sh, u, wl, &pdf) || !(pdf > 0) || !(wl[2] > 0)) break;
         double wi[3];
         to_world(&sh, wl, wi);
         norm3(wi);
         if (!(dot3(s.ng, wi) > 0)) break;
-        double fv[3];
-        prw_bsdf_eval_at(&sh.b, &sh.lobes, sh.wo, wl, fv);
+        double fv[3]; /* as in connect: f, or the BTF's f cos theta_i */
+        if (sh.btf) btf_fcos(&sh, wl, fv);
+        else prw_bsdf_eval_at(&sh.b, &sh.lobes, sh.wo, wl, fv);
         if (!(fv[0] > 0 || fv[1] > 0 || fv[2] > 0)) break;
         if (pa.k == 1) class_weight(f, &sh, wl, fv, pa.cls);
-        for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] * wl[2] / pdf;
+        if (sh.btf)
+            for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] / pdf;
+        else
+            for (int c = 0; c < 3; c++) pa.beta[c] *= fv[c] * wl[2] / pdf;
         pdf_prev = pdf;
         if (pa.k >= RR_START) {
             rng->dim = base + 3;
@@ -805,7 +902,7 @@ bool prw_ref_primary_hit(const prw_ref_renderer *r, const prw_view *v, double x,
     }
     if (!hit) return false;
     shade sh;
-    setup_shade(r, &s, d, &sh);
+    setup_shade(r, &s, d, 0, &sh);
     out->t = s.t;
     out->position = prw_v3(s.p[0] + r->origin.x, s.p[1] + r->origin.y, s.p[2] + r->origin.z);
     out->normal = prw_v3(sh.n[0], sh.n[1], sh.n[2]);

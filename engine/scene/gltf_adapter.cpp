@@ -504,6 +504,34 @@ struct Importer {
             slot(tex[2].index, tex[2].tex_coord, tex[2].xf, false, w + tex_keys[2], pm, PRW_TEX_CLEARCOAT_NORMAL);
     }
 
+    // extras.prw_btf = {"file": "<PRWBTFC1 file, relative to the glTF file>", "texel_m": metres per texel}:
+    // the BTF material kind (engine/scene/manifest.md).  Malformed: an error (the material would look wrong).
+    void btf(const tinygltf::Material &g, const std::string &what, prw_material *pm)
+    {
+        if (!g.extras.IsObject() || !g.extras.Has("prw_btf")) return;
+        const tinygltf::Value &b = g.extras.Get("prw_btf");
+        std::string w = what + ": extras.prw_btf";
+        if (!b.IsObject()) fail(w + ": must be an object {\"file\": ..., \"texel_m\": ...}");
+        for (const std::string &k : b.Keys())
+            if (k != "file" && k != "texel_m" && k != "scale_rule") fail(w + ": unknown key '" + one_line(k, 40) + "'");
+        if (b.Has("scale_rule") && !b.Get("scale_rule").IsBool()) fail(w + ".scale_rule: must be true or false");
+        if (!b.Has("file") || !b.Get("file").IsString() || b.Get("file").Get<std::string>().empty())
+            fail(w + ".file: must be a non-empty string");
+        if (!b.Has("texel_m") || !b.Get("texel_m").IsNumber()) fail(w + ".texel_m: must be a number (metres per texel)");
+        double t = b.Get("texel_m").GetNumberAsDouble();
+        if (!(std::isfinite(t) && t > 0 && t <= 1)) fail(w + ".texel_m: must be a finite number > 0 and <= 1");
+        std::string f = b.Get("file").Get<std::string>();
+        size_t slash = file.find_last_of('/');
+        std::string path = f[0] == '/' || slash == std::string::npos ? f : file.substr(0, slash + 1) + f;
+        if (path.size() >= sizeof pm->btf_file) fail(w + ".file: path too long");
+        prw_error fe;
+        if (!prw_scene_btf_check(path.c_str(), &pm->btf_hash, &fe)) fail(w + ".file: " + fe.msg);
+        std::snprintf(pm->btf_file, sizeof pm->btf_file, "%s", path.c_str());
+        pm->kind = PRW_MATERIAL_BTF;
+        pm->btf_texel_m = t;
+        pm->btf_scale_rule = b.Has("scale_rule") && b.Get("scale_rule").Get<bool>();
+    }
+
     void import_materials()
     {
         for (size_t i = 0; i < m.materials.size(); i++) {
@@ -565,6 +593,7 @@ struct Importer {
                 fail(what + ": alphaCutoff must be a finite number >= 0");
             pm.alpha_cutoff = (float)g.alphaCutoff;
             clearcoat(g, what, &pm);
+            btf(g, what, &pm);
             materials.push_back(prw_scene_add_material(s, &pm));
         }
     }

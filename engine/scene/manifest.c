@@ -201,10 +201,35 @@ static bool up_ok(ctx *c, const char *place, prw_dvec3 pos, prw_dvec3 target, pr
 
 /* ---- sections ---- */
 
+/* "btf" (a PRWBTFC1 file, relative to the manifest) and "btf_texel_m" (metres per texel): the BTF kind. */
+static bool parse_material_btf(ctx *c, const cJSON *o, const char *pl, prw_material *m)
+{
+    const char *file = NULL;
+    double texel = 0;
+    bool has_texel = item(o, "btf_texel_m") != NULL, rule = false;
+    if (!get_str(c, o, "btf", pl, &file, false) || !get_bool(c, o, "btf_scale_rule", pl, &rule)) return false;
+    if (!file && item(o, "btf_scale_rule")) return fail_at(c, pl, "'btf_scale_rule' needs 'btf'");
+    if (!file) return has_texel ? fail_at(c, pl, "'btf_texel_m' needs 'btf'") : true;
+    char p[PLACE_MAX];
+    prw_json_join(p, PLACE_MAX, pl, "btf");
+    if (!file[0]) return fail_at(c, p, "must not be empty");
+    if (!has_texel) return fail_at(c, pl, "'btf' needs 'btf_texel_m' (metres per BTF texel)");
+    if (!get_num(c, o, "btf_texel_m", pl, &texel, true, 0, true, 1, false)) return false;
+    int n = file[0] == '/' ? snprintf(m->btf_file, sizeof m->btf_file, "%s", file)
+                           : snprintf(m->btf_file, sizeof m->btf_file, "%s%s", c->dir, file);
+    if (n < 0 || (size_t)n >= sizeof m->btf_file) return fail_at(c, p, "path longer than %zu bytes", sizeof m->btf_file - 1);
+    prw_error fe;
+    if (!prw_scene_btf_check(m->btf_file, &m->btf_hash, &fe)) return fail_at(c, p, "%s", fe.msg);
+    m->kind = PRW_MATERIAL_BTF;
+    m->btf_texel_m = texel;
+    m->btf_scale_rule = rule;
+    return true;
+}
+
 static bool parse_materials(ctx *c, const cJSON *arr)
 {
     static const char *const keys[] = {"name", "base_color", "metallic", "roughness", "emission_cd_m2",
-                                       "double_sided", "specular"};
+                                       "double_sided", "specular", "btf", "btf_texel_m", "btf_scale_rule"};
     int i = 0;
     for (const cJSON *o = arr ? arr->child : NULL; o; o = o->next, i++) {
         char pl[PLACE_MAX];
@@ -235,6 +260,7 @@ static bool parse_materials(ctx *c, const cJSON *arr)
         m.specular = (float)spec;
         for (int k = 0; k < 3; k++) m.emission[k] = (float)em[k];
         m.double_sided = ds;
+        if (!parse_material_btf(c, o, pl, &m)) return false;
         prw_scene_add_material(c->s, &m);
     }
     return true;

@@ -91,9 +91,11 @@ void prw_tex_transform_apply(const prw_tex_transform *t, const float uv[2], floa
 bool prw_tex_transform_is_identity(const prw_tex_transform *t);
 
 /* How a material is evaluated: each kind has its model in materials/ (C and one GLSL include, shared by
- * the rasterizer and the path tracer).  The BTF kind arrives with the BTF issue. */
+ * the rasterizer and the path tracer). */
 typedef enum prw_material_kind {
     PRW_MATERIAL_GLTF_MR = 0, /* glTF metallic-roughness (materials/prw_brdf.h, shaders/material_gltf.glsl) */
+    PRW_MATERIAL_BTF,         /* a measured BTF (materials/btf: a PRWBTFC1 file, prw_btf_eval.h); the path tracer
+                                 evaluates it, the rasterizer has no shader for it yet */
     PRW_MATERIAL_KIND_COUNT
 } prw_material_kind;
 
@@ -124,7 +126,23 @@ typedef struct prw_material {
     int clearcoat_roughness_tex; /* -1: none; linear */
     int clearcoat_normal_tex;    /* -1: none; linear */
     float clearcoat_normal_scale;/* 1 */
+    /* PRW_MATERIAL_BTF: the file (resolved path; the scene holds the path and a hash of its bytes,
+     * renderers read it) and the size of one BTF texel on the surface.  The BTF tiles the surface in the
+     * uv set 0 parametrisation at that size: texel (x, y) = (u |dP/du|, v |dP/dv|) / btf_texel_m with
+     * dP/du, dP/dv the triangle's metres per uv unit (world space); its frame: x along dP/du, y along
+     * dP/dv (rows), z the shading normal.  The fields above other than emission, double_sided and the
+     * alpha mode are not used by the BTF kind. */
+    char btf_file[1024];
+    uint64_t btf_hash;    /* FNV-1a (prw_hash64) of the file's bytes at load */
+    double btf_texel_m;   /* metres per texel, > 0 */
+    bool btf_scale_rule;  /* the path tracer too switches to the file's fitted average BRDF where a texel is
+                             smaller than the pixel footprint (camera-ray hits; the rasterizer's scale rule);
+                             false: it evaluates the BTF everywhere (its pixel samples average the texels) */
 } prw_material;
+
+/* Checks that `path` is a readable compressed BTF (PRWBTFC1: header, sizes, direction set) and hashes
+ * its bytes; errors are "<path>: <problem>". */
+bool prw_scene_btf_check(const char *path, uint64_t *hash, prw_error *e);
 
 typedef struct prw_node {
     char name[PRW_NAME_MAX];

@@ -667,6 +667,11 @@ static uint64_t hash_material_extra(uint64_t h, const prw_material *m)
     H(h, m->clearcoat_roughness_tex);
     H(h, m->clearcoat_normal_tex);
     H(h, m->clearcoat_normal_scale);
+    if (m->kind == PRW_MATERIAL_BTF) {
+        H(h, m->btf_hash);
+        H(h, m->btf_texel_m);
+        H(h, m->btf_scale_rule);
+    }
     return h;
 }
 

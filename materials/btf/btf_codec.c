@@ -1,6 +1,7 @@
 /* btf_codec.c — the BTF codecs, the decode definition and the error figures (prw_btf_codec.h). */
 #include <float.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -8,7 +9,15 @@
 #include "prw_btf_codec.h"
 
 static uint16_t h16(double v) { return prw_btf_float_to_half((float)v); }
-static float f16(uint16_t h) { return prw_btf_half_to_float(h); }
+
+/* prw_btf_half_to_float of every half, for the decode (the path tracer decodes ~100 halves per shading
+ * point: the conversion was a third of its instructions); filled once, the same values to the bit. */
+static float half_table[65536];
+static pthread_once_t half_once = PTHREAD_ONCE_INIT;
+static void half_fill(void)
+{
+    for (uint32_t h = 0; h < 65536; h++) half_table[h] = prw_btf_half_to_float((uint16_t)h);
+}
 
 static void progress(const prw_btf_codec_params *p, const char *stage, double f)
 {
@@ -283,21 +292,24 @@ bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_p
     case PRW_BTF_CODEC_SPARSE: ok = sparse(a, p, out, e); break;
     default: ok = prw_fail(e, "btf compress: unknown codec %d", (int)p->codec);
     }
+    /* the scale rule's average: only for directions above the horizon (a measured BTF's) */
+    prw_error fe;
+    if (ok) out->has_average = prw_btf_fit_average(a, &out->average, &fe);
     if (!ok) prw_btf_packed_free(out);
     return ok;
 }
 
 /* the shared decode (prw_btf_decode.h) on the packed struct */
 #define PRW_BTF_PARAMS const prw_btf_packed *p,
-#define PRW_BTF_U(i) f16(p->u[i])
-#define PRW_BTF_W(i) f16(p->w[i])
-#define PRW_BTF_MEAN(i) f16(p->mean[i])
-#define PRW_BTF_BASIS(i) f16(p->basis[i])
+#define PRW_BTF_U(i) half_table[p->u[i]]
+#define PRW_BTF_W(i) half_table[p->w[i]]
+#define PRW_BTF_MEAN(i) half_table[p->mean[i]]
+#define PRW_BTF_BASIS(i) half_table[p->basis[i]]
 #define PRW_BTF_INDEX(t) p->index[t]
 #define PRW_BTF_ARGS p,
 #define PRW_BTF_SP_START(t) p->sp_start[t]
 #define PRW_BTF_SP_PAIR(j) p->sp_pair[j]
-#define PRW_BTF_SP_VAL(i) f16(p->sp_val[i])
+#define PRW_BTF_SP_VAL(i) half_table[p->sp_val[i]]
 #include "prw_btf_decode.h"
 
 /* SPARSE: log2 energy in 1/64 octave bins from 2^-100 (bin 0: below, or zero) */
@@ -415,6 +427,7 @@ static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_pack
 float prw_btf_packed_value(const prw_btf_packed *p, uint32_t v, uint32_t l, uint32_t x, uint32_t y, uint32_t c)
 {
     uint32_t N = p->width * p->height, t = y * p->width + x, d = (v * p->lights + l) * 3 + c;
+    pthread_once(&half_once, half_fill);
     switch (p->codec) {
     case PRW_BTF_CODEC_FMF: return prw_btf_decode_fmf(p, d, t, p->components);
     case PRW_BTF_CODEC_CLUSTER: return prw_btf_decode_cluster(p, d, t, p->components, p->views * p->lights * 3);

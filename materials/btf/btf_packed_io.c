@@ -1,10 +1,11 @@
 /* btf_packed_io.c — the file of our compressed BTF form (prw_btf_codec.h):
- *   "PRWBTFC1", u32 version (1), u32 codec, u32 width, height, views, lights, components, clusters,
+ *   "PRWBTFC1", u32 version (1, or 2 with the average), u32 codec, u32 width, height, views, lights, components, clusters,
  *   f32 view (theta, phi) x views, f32 light (theta, phi) x lights, then the codec's arrays:
  *   FMF u (D x k halves), w (N x k); CLUSTER u32 index (N), mean (c x D), basis (c x k x D),
  *   w (N x k); PVF mean (V x 3L), basis (V x k x 3L), w (V x N x k); SPARSE u32 M (residual entries),
  *   u16 index (N), mean, basis, w as CLUSTER, u16 entries per texel (N, summing to M), u16 pair (M),
- *   residual (M x 3 halves); little-endian, nothing after. */
+ *   residual (M x 3 halves); version 2 then the scale rule's average: f32 base r, g, b, metallic,
+ *   roughness, specular, fit rms % (prw_btf_average); little-endian, nothing after. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +15,7 @@
 #include "prw_btf_codec.h"
 
 #define MAGIC "PRWBTFC1"
+#define AVG_BYTES 28u
 
 typedef struct sizes {
     uint64_t u, w, mean, basis, index; /* element counts */
@@ -51,7 +53,7 @@ uint64_t prw_btf_packed_bytes(const prw_btf_packed *p)
 {
     sizes s;
     sizes_of(p, &s);
-    uint64_t b = 8 + 9 * 4 + 8 * ((uint64_t)p->views + p->lights);
+    uint64_t b = 8 + 9 * 4 + 8 * ((uint64_t)p->views + p->lights) + (p->has_average ? AVG_BYTES : 0);
     return prw_add_sat(prw_add_sat(b, s.sparse_bytes),
                        prw_add_sat(prw_mul_sat(prw_add_sat(prw_add_sat(s.u, s.w), prw_add_sat(s.mean, s.basis)), 2),
                                    prw_mul_sat(s.index, s.index_bytes)));
@@ -85,7 +87,7 @@ bool prw_btf_packed_write(const char *path, const prw_btf_packed *p, prw_error *
     if (!prw_mem_check(bytes, path, "the compressed BTF file", e)) return false;
     uint8_t *buf = prw_malloc((size_t)bytes), *o = buf;
     put(&o, MAGIC, 8);
-    uint32_t hdr[9] = {1, (uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters, 0};
+    uint32_t hdr[9] = {p->has_average ? 2u : 1u, (uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters, 0};
     for (int i = 0; i < 8; i++) put_u32(&o, hdr[i]);
     put_u32(&o, 0); /* reserved */
     for (uint64_t i = 0; i < 2 * (uint64_t)p->views; i++) {
@@ -115,6 +117,15 @@ bool prw_btf_packed_write(const char *path, const prw_btf_packed *p, prw_error *
         put_halves(&o, p->mean, s.mean);
         put_halves(&o, p->basis, s.basis);
         put_halves(&o, p->w, s.w);
+    }
+    if (p->has_average) {
+        const float *av = p->average.base;
+        float f[7] = {av[0], av[1], av[2], p->average.metallic, p->average.roughness, p->average.specular, p->average.rms_pct};
+        for (int i = 0; i < 7; i++) {
+            uint32_t u;
+            memcpy(&u, &f[i], 4);
+            put_u32(&o, u);
+        }
     }
     bool ok = prw_write_file_atomic(path, buf, (size_t)bytes, e);
     free(buf);
@@ -161,8 +172,9 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
         out->width = get_u32(&c), out->height = get_u32(&c), out->views = get_u32(&c), out->lights = get_u32(&c);
         out->components = get_u32(&c), out->clusters = get_u32(&c);
         uint32_t reserved = get_u32(&c);
+        out->has_average = version == 2;
         if (reserved != 0) ok = btf_cur_fail(&c, "reserved", "%u where version 1 has 0", reserved);
-        else if (version != 1) ok = btf_cur_fail(&c, "version", "version %u (this reader knows 1)", version);
+        else if (version != 1 && version != 2) ok = btf_cur_fail(&c, "version", "version %u (this reader knows 1 and 2)", version);
         else if (out->codec < PRW_BTF_CODEC_FMF || out->codec > PRW_BTF_CODEC_SPARSE)
             ok = btf_cur_fail(&c, "codec", "unknown codec %d", (int)out->codec);
         else if (!out->width || !out->height || !out->views || !out->lights || out->width > PRW_BTF_UBO_MAX_SIDE ||
@@ -247,6 +259,19 @@ bool prw_btf_packed_read_memory(const void *data, size_t size, const char *name,
         }
         if (ok) ok = halves(&c, &out->mean, s.mean, "means") && halves(&c, &out->basis, s.basis, "bases") &&
                      halves(&c, &out->w, s.w, "weights");
+    }
+    if (ok && out->has_average && (ok = btf_cur_need(&c, 7, 4, "average"))) {
+        float f[7];
+        for (int i = 0; i < 7; i++) {
+            uint32_t u = get_u32(&c);
+            memcpy(&f[i], &u, 4);
+        }
+        bool in = true;
+        for (int i = 0; i < 6; i++) in = in && f[i] >= 0 && f[i] <= 1;
+        if (!in || !(f[6] >= 0 && f[6] <= 1e6))
+            ok = btf_cur_fail(&c, "average", "base, metallic, roughness, specular outside [0, 1] or a bad rms");
+        memcpy(out->average.base, f, sizeof(float) * 3);
+        out->average.metallic = f[3], out->average.roughness = f[4], out->average.specular = f[5], out->average.rms_pct = f[6];
     }
     if (ok && c.at != c.n) ok = btf_cur_fail(&c, "end", "%zu bytes after the data", c.n - c.at);
     if (!ok) prw_btf_packed_free(out);

@@ -26,7 +26,9 @@
  *
  * Promises:
  *  - prw_btf_compress is deterministic for a given seed and thread count; it reports progress
- *    through the callback (may be NULL) and checks its working memory against the budget first.
+ *    through the callback (may be NULL) and checks its working memory against the budget first.  It
+ *    also fits the scale rule's average (prw_btf_fit_average) into out->average (has_average false when
+ *    a direction is at or below the horizon).
  *  - prw_btf_packed_value is the one decode definition (the GPU and path-tracer decodes must equal
  *    it); it reads indices in range only.
  *  - The file ("PRWBTFC1", little-endian) round-trips exactly; its reader refuses with one line
@@ -69,6 +71,16 @@ typedef struct prw_btf_codec_params {
     void *user;
 } prw_btf_codec_params;
 
+/* The scale rule's average (issue 17): the BTF averaged over its texels, fitted by the project's material
+ * model (prw_bsdf.h: base colour, metallic, roughness, specular; no coat) in least squares over every
+ * measured (view, light) pair of f cos theta_l; rms_pct = 100 |fit - mean| / |mean| over those pairs. */
+typedef struct prw_btf_average {
+    float base[3], metallic, roughness, specular, rms_pct;
+} prw_btf_average;
+
+/* Fits the average of a (raw) BTF; errors only for directions at or below the horizon. */
+bool prw_btf_fit_average(const prw_btf *a, prw_btf_average *out, prw_error *e);
+
 typedef struct prw_btf_packed {
     prw_btf_codec codec;
     uint32_t width, height, views, lights;
@@ -83,6 +95,8 @@ typedef struct prw_btf_packed {
     uint32_t *sp_start;    /* SPARSE: N + 1 offsets: texel t's entries are [sp_start[t], sp_start[t + 1]) */
     uint16_t *sp_pair;     /* SPARSE: M direction pairs v * lights + l, ascending within a texel */
     uint16_t *sp_val;      /* SPARSE: M x 3 halves, the RGB residual */
+    bool has_average;      /* prw_btf_compress fits it (file version 2 stores it; version 1 files have none) */
+    prw_btf_average average;
 } prw_btf_packed;
 
 bool prw_btf_compress(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_packed *out, prw_error *e);

@@ -1,10 +1,11 @@
 /* btf_corpus_gen UBO_DIR PACKED_DIR RAW_DIR — writes the seed corpora of fuzz_btf_ubo
  * (tests/fuzz_readers/corpus_btf_ubo: every sample kind of btf_samples.h and the closed-form tensor in
  * each format, at small sizes) and of fuzz_btf_packed (tests/fuzz_readers/corpus_btf_packed: the
- * tensor compressed by each codec) and of fuzz_btf_raw (tests/fuzz_readers/corpus_btf_raw: the tensor's
+ * tensor compressed by each codec, and the FMF one with an average: version 2) and of fuzz_btf_raw (tests/fuzz_readers/corpus_btf_raw: the tensor's
  * raw dump).  regress_* files in the corpora are fuzzer finds, kept by hand.
  * Regenerate: build/tests/btf/btf_corpus_gen tests/fuzz_readers/corpus_btf_ubo tests/fuzz_readers/corpus_btf_packed \
  *             tests/fuzz_readers/corpus_btf_raw */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -54,9 +55,20 @@ int main(int argc, char **argv)
         prw_btf_packed pk;
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", argv[2], pn[i]);
-        if (!prw_btf_compress(&t, &p, &pk, &e) || !prw_btf_packed_write(path, &pk, &e)) {
+        bool ok = prw_btf_compress(&t, &p, &pk, &e);
+        pk.has_average = false; /* these four: version 1 */
+        if (!ok || !prw_btf_packed_write(path, &pk, &e)) {
             fprintf(stderr, "%s\n", e.msg);
             rc = 1;
+        }
+        if (ok && i == 0) { /* version 2: the FMF file with the scale rule's average */
+            pk.has_average = true;
+            pk.average = (prw_btf_average){{0.5f, 0.25f, 0.125f}, 0.0f, 0.5f, 1.0f, 2.5f};
+            snprintf(path, sizeof path, "%s/fmf_average.btfc", argv[2]);
+            if (!prw_btf_packed_write(path, &pk, &e)) {
+                fprintf(stderr, "%s\n", e.msg);
+                rc = 1;
+            }
         }
         prw_btf_packed_free(&pk);
     }
