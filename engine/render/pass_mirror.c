@@ -132,7 +132,7 @@ static double reflector_pixels(const reflector *r, const prw_view *v, const char
     for (uint32_t k = 1; k < r->corner_count; k++) extent = fmax(extent, prw_v3_len(prw_v3_sub(r->corners[k], r->corners[0])));
     if (fabs(s) <= 1e-9 * fmax(extent, 1.0)) return (*why = "eye in the mirror's plane"), 0;
     if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), 0;
-    prw_dmat4 vp = prw_view_proj(v);
+    prw_dmat4 vp = prw_dm4_mul(prw_view_proj(v), v->view); /* absolute world -> clip */
     double x0 = DBL_MAX, y0 = DBL_MAX, x1 = -DBL_MAX, y1 = -DBL_MAX;
     uint32_t behind = 0;
     for (uint32_t k = 0; k < r->corner_count; k++) {

@@ -58,8 +58,12 @@ static prw_scene *load_room(prw_error *e)
     return s;
 }
 
-static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t recursion, prw_image *hdr, prw_error *e)
+/* status (may be NULL): "ran" or the mirror pass's reason for skipping, after the frame */
+static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t recursion, prw_image *hdr, char *status,
+                          prw_error *e)
 {
+    prw_frame_stats st;
+    memset(&st, 0, sizeof st);
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
@@ -68,8 +72,14 @@ static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t recurs
     rd.quality.shadow_size = 2048;
     rd.quality.mirror_recursion = recursion;
     bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
-              prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
+              prw_renderer_render(r, v, 1, &st, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);
+    if (status) {
+        snprintf(status, 96, "not in the frame");
+        for (uint32_t k = 0; k < st.pass_count; k++)
+            if (st.passes[k].name && strcmp(st.passes[k].name, "mirror") == 0)
+                snprintf(status, 96, "%s", st.passes[k].skipped ? st.passes[k].reason : "ran");
+    }
     if (gpu) {
         prw_gpu_destroy(gpu);
         uint32_t msgs = prw_gpu_validation_total();
@@ -189,8 +199,10 @@ static void test_term(void)
     CHECK_MSG(nm > 500, "%zu mirror pixels", nm);
 
     prw_image on = {0}, off = {0}, term = {0};
-    CHECK_OK(render_raster(s, &v, 1, &on, &e), &e);
-    CHECK_OK(render_raster(s, &v, 0, &off, &e), &e);
+    char status[96];
+    CHECK_OK(render_raster(s, &v, 1, &on, status, &e), &e);
+    CHECK_MSG(strcmp(status, "ran") == 0, "mirror pass: %s", status);
+    CHECK_OK(render_raster(s, &v, 0, &off, NULL, &e), &e);
     CHECK_OK(prw_image_alloc(&term, W, H, &e), &e);
     size_t outside = 0, nonfinite = 0;
     for (size_t i = 0; i < (size_t)W * H; i++) {
@@ -272,7 +284,8 @@ static void test_term(void)
     prw_scene_destroy(s);
 }
 
-/* Degenerate views of the mirror: every value of the frame finite. */
+/* Degenerate views of the mirror: every value of the frame finite; and the views where the pass must
+ * be skipped (needed() false) say so. */
 static void test_finite(void)
 {
     prw_error e = {{0}};
@@ -282,21 +295,30 @@ static void test_finite(void)
     struct {
         const char *what;
         prw_dvec3 eye, target;
+        int runs; /* 1: the mirror pass must run, 0: must be skipped, -1: either */
     } cases[] = {
-        {"eye in the mirror's plane, looking along it", prw_v3(0.5, 1.5, z), prw_v3(2.5, 1.5, z)},
-        {"eye in the mirror's plane, on the mirror", prw_v3(1.7, 1.5, z), prw_v3(1.7, 1.5, 2.0)},
-        {"edge-on from 1e-6 m in front", prw_v3(0.5, 1.5, z + 1e-6), prw_v3(2.5, 1.5, z + 1e-6)},
-        {"grazing, 1 degree", prw_v3(-2.5, 1.5, z + 5.0 * tan(PI / 180.0)), prw_v3(2.5, 1.5, z)},
-        {"close up, facing it", prw_v3(1.7, 1.5, z + 0.06), prw_v3(1.7, 1.5, z)},
+        {"eye in the mirror's plane, looking along it", prw_v3(0.5, 1.5, z), prw_v3(2.5, 1.5, z), 0},
+        {"eye in the mirror's plane, on the mirror", prw_v3(1.7, 1.5, z), prw_v3(1.7, 1.5, 2.0), 0},
+        {"edge-on from 1e-6 m in front", prw_v3(0.5, 1.5, z + 1e-6), prw_v3(2.5, 1.5, z + 1e-6), -1},
+        {"1 mm in front, looking across it", prw_v3(1.0, 1.5, z + 1e-3), prw_v3(3.0, 1.5, z - 0.5), 1},
+        {"grazing, 1 degree", prw_v3(-2.5, 1.5, z + 5.0 * tan(PI / 180.0)), prw_v3(2.5, 1.5, z), -1},
+        {"grazing, 10 degrees", prw_v3(-2.5, 1.5, z + 5.0 * tan(10.0 * PI / 180.0)), prw_v3(2.5, 1.5, z), 1},
+        {"close up, facing it", prw_v3(1.7, 1.5, z + 0.06), prw_v3(1.7, 1.5, z), 1},
+        {"mirror behind the camera", prw_v3(1.7, 1.5, 0.5), prw_v3(1.7, 1.5, 2.5), 0},
+        {"mirror outside the frustum", prw_v3(-2.6, 1.5, 2.2), prw_v3(-3.0, 1.0, 0.0), 0},
+        {"mirror seen from its back", prw_v3(1.7, 1.5, -2.6), prw_v3(1.7, 1.5, 2.0), 0},
     };
     for (size_t k = 0; k < PRW_ARRAY_LEN(cases); k++) {
         prw_view v = prw_view_look_at(cases[k].eye, cases[k].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05, 64,
                                       36, 7.0);
         prw_image on = {0};
-        CHECK_OK(render_raster(s, &v, 1, &on, &e), &e);
+        char status[96];
+        CHECK_OK(render_raster(s, &v, 1, &on, status, &e), &e);
         size_t bad = 0;
         for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on.rgba[i]);
-        printf("%-48s %zu non-finite values\n", cases[k].what, bad);
+        printf("%-44s mirror pass: %-40s %zu non-finite values\n", cases[k].what, status, bad);
+        bool ran = strcmp(status, "ran") == 0;
+        CHECK_MSG(cases[k].runs < 0 || ran == (cases[k].runs == 1), "%s: mirror pass %s", cases[k].what, status);
         CHECK_MSG(bad == 0, "%s: %zu non-finite values", cases[k].what, bad);
         prw_image_free(&on);
     }
