@@ -296,6 +296,10 @@ static bool mirror_record(prw_pass_ctx *c, prw_error *e)
     prw_cmd_viewport(c->cmd, hdr->width, hdr->height);
     vkCmdPushConstants(c->cmd, env->pipes->base_layout, VK_SHADER_STAGE_ALL, PRW_CLIP_PUSH_OFFSET, 16, dv.clip_plane);
     prw_drawables_record(env->drawables, env, &dc);
+    if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces, sorted from the reflected eye */
+        dc.kind = PRW_DRAW_BLEND;
+        prw_drawables_record(env->drawables, env, &dc);
+    }
     prw_pass_end_rendering(c);
     return !dc.failed || prw_fail(e, "%s", dc.err.msg);
 }
