@@ -15,8 +15,8 @@
  * every triangle of which lies in one plane (within 1e-5 of the extent).  A material drawn on two
  * planes or curved is not a reflector.  One reflector is rendered per view: the one covering the most
  * of the view's pixels (a bounding-rectangle estimate); the others show only their direct term.
- * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size) or
- * multi-view frames; needed() is false for a view when the reflector is behind the eye, outside the
+ * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
+ * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is behind the eye, outside the
  * frustum, seen edge-on or from its back, or its footprint holds no pixel centre (the rectangle
  * bounding its vertices' projections, clipped to the view, tested against the pixel centres: a
  * conservative test — a vertex behind the eye counts the whole view as covered). */
@@ -247,7 +247,7 @@ static void mirror_destroy(const prw_pass_init *in, void *state)
 static bool mirror_needed(const prw_pass_ctx *c, const char **why)
 {
     const mirror_state *m = c->state;
-    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multi-view frames not yet"), false;
+    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
     return reflector_pick(&m->set, &c->frame->views[c->view], why) >= 0;
 }
 
@@ -393,7 +393,7 @@ static void add_destroy(const prw_pass_init *in, void *state)
 static bool add_needed(const prw_pass_ctx *c, const char **why)
 {
     const add_state *a = c->state;
-    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multi-view frames not yet"), false;
+    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
     return reflector_pick(&a->set, &c->frame->views[c->view], why) >= 0;
 }
 
