@@ -16,8 +16,8 @@
  * planes or curved is not a reflector.  One reflector is rendered per view: the one covering the most
  * of the view's pixels (a bounding-rectangle estimate); the others show only their direct term.
  * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
- * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is behind the eye, outside the
- * frustum, seen edge-on or from its back, or its footprint holds no pixel centre (the rectangle
+ * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is
+ * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel centre (the rectangle
  * bounding its vertices' projections, clipped to the view, tested against the pixel centres: a
  * conservative test — a vertex behind the eye counts the whole view as covered). */
 #include <float.h>
@@ -129,7 +129,8 @@ static double reflector_pixels(const reflector *r, const prw_view *v, const char
 {
     double s = prw_v3_dot(r->n, v->eye) - r->d;
     double extent = 0;
-    for (uint32_t k = 1; k < r->corner_count; k++) extent = fmax(extent, prw_v3_len(prw_v3_sub(r->corners[k], r->corners[0])));
+    for (uint32_t k = 1; k < r->corner_count; k++)
+        extent = fmax(extent, prw_v3_len(prw_v3_sub(r->corners[k], r->corners[0])));
     if (fabs(s) <= 1e-9 * fmax(extent, 1.0)) return (*why = "eye in the mirror's plane"), 0;
     if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), 0;
     prw_dmat4 vp = prw_dm4_mul(prw_view_proj(v), v->view); /* absolute world -> clip */
