@@ -17,9 +17,9 @@
  * of the view's pixels (a bounding-rectangle estimate); the others show only their direct term.
  * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
  * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is
- * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel centre (the rectangle
- * bounding its vertices' projections, clipped to the view, tested against the pixel centres: a
- * conservative test — a vertex behind the eye counts the whole view as covered). */
+ * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel
+ * centre (the rectangle bounding its vertices' projections, clipped to the view, tested against the
+ * pixel centres: a conservative test — a vertex behind the eye counts the whole view as covered). */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
