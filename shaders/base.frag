@@ -49,7 +49,8 @@ void main()
     float bend = prw_normal_bend(dot(n, v));
     if (bend > 0.0) n = normalize(n + v * bend);
 
-    vec3 radiance = S.emission;
+    // a mirror image (params.z = 1) leaves emission out: a light seen in a mirror is the direct term's
+    vec3 radiance = S.emission * (1.0 - g.params.z);
     ggx_view w = prw_material_ggx_view(dot(n, v), S.roughness);
 #ifdef PRW_GLTF_EXT
 #ifdef PRW_GLTF_COAT

@@ -19,7 +19,7 @@ struct prw_gpu_light {
 layout(std140, set = 0, binding = 0) uniform prw_globals {
     mat4 view_proj;           // camera-relative world -> clip
     vec4 eye_rel;             // eye position in the camera-relative frame
-    vec4 params;              // x: light count, y: shadow map size, z, w: unused (0)
+    vec4 params;              // x: light count, y: shadow map size, z: 1 drops emission (mirror images), w: unused (0)
     prw_gpu_light lights[PRW_MAX_LIGHTS];
     mat4 shadow_mats[PRW_MAX_SHADOW_VIEWS]; // camera-relative world -> light clip
 } g;

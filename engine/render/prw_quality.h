@@ -47,6 +47,8 @@ typedef struct prw_quality {
                                    manifest entry sets no tol_px */
     uint32_t emissive_lights;   /* emissive meshes: at most this many area lights (polygons; more are merged
                                    into rectangles or dropped, engine/scene/prw_emissive.h); 0: they light nothing */
+    uint32_t mirror_recursion;  /* planar mirrors (pass_mirror.c): reflection bounces rendered; 0: the pass is off,
+                                   1: one (mirrors seen in a mirror show no reflection of their own) */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */

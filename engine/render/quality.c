@@ -29,6 +29,7 @@ static const prw_knob_info g_knobs[] = {
         "NURBS LOD screen-space error, pixels (models whose manifest entry sets no tol_px)"),
     U32(emissive_lights, 0, PRW_MAX_LIGHTS, true,
         "emissive meshes: at most this many area lights (polygons; beyond, merged into rectangles); 0 = no light"),
+    U32(mirror_recursion, 0, 1, true, "planar mirrors: reflection bounces rendered (0 = off; deeper not implemented)"),
     U32(btf_clusters, 1, 65536, false, "BTF clusters"),
     U32(btf_components, 1, 1024, false, "BTF components per cluster"),
     U32(ssdo_samples, 0, 1024, false, "SSDO samples per pixel"),
@@ -88,16 +89,16 @@ static const struct {
     const char *name;
     prw_quality q;
 } g_presets[] = {
-    {"low", {.emissive_lights = 4, .msaa = 1, .shadow_size = 256, .supersample = 1, .radiance_bits = 16, .lod_pixel_tolerance = 4, .btf_clusters = 8,
+    {"low", {.mirror_recursion = 1, .emissive_lights = 4, .msaa = 1, .shadow_size = 256, .supersample = 1, .radiance_bits = 16, .lod_pixel_tolerance = 4, .btf_clusters = 8,
              .btf_components = 2, .ssdo_samples = 4, .ssdo_radius = 0.25, .vpl_count = 64, .ism_size = 64,
              .kernel_taps = 8, .envmap_size = 128, .billboard_error = 8, .radiosity_size = 64}},
-    {"medium", {.emissive_lights = 8, .msaa = 4, .shadow_size = 512, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 2, .btf_clusters = 16,
+    {"medium", {.mirror_recursion = 1, .emissive_lights = 8, .msaa = 4, .shadow_size = 512, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 2, .btf_clusters = 16,
                 .btf_components = 4, .ssdo_samples = 8, .ssdo_radius = 0.5, .vpl_count = 256, .ism_size = 128,
                 .kernel_taps = 16, .envmap_size = 256, .billboard_error = 4, .radiosity_size = 128}},
-    {"high", {.emissive_lights = 16, .msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
+    {"high", {.mirror_recursion = 1, .emissive_lights = 16, .msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
               .btf_components = 8, .ssdo_samples = 16, .ssdo_radius = 0.5, .vpl_count = 1024, .ism_size = 256,
               .kernel_taps = 32, .envmap_size = 512, .billboard_error = 2, .radiosity_size = 256}},
-    {"ultra", {.emissive_lights = 16, .msaa = 4, .shadow_size = 4096, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
+    {"ultra", {.mirror_recursion = 1, .emissive_lights = 16, .msaa = 4, .shadow_size = 4096, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
                .btf_components = 16, .ssdo_samples = 32, .ssdo_radius = 1, .vpl_count = 4096, .ism_size = 512,
                .kernel_taps = 64, .envmap_size = 1024, .billboard_error = 1, .radiosity_size = 512}},
 };

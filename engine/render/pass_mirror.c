@@ -1,0 +1,454 @@
+/* pass_mirror — planar mirrors (DESIGN.md §4: the specular term of a reflector of roughness ~0), two
+ * passes per view:
+ *   mirror      the scene's drawables re-rendered from the view reflected in the reflector's plane
+ *               (camera-relative to the reflected eye, double until then), winding flipped, with a user
+ *               clip plane just in front of the mirror (gl_ClipDistance: what lies behind it is not
+ *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size, one sample);
+ *               emission left out (globals params.z): a light seen in the mirror is carried by the
+ *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2.
+ *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
+ *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag).
+ * So the final image = base pass + this term.
+ *
+ * Reflectors (found when the graph is built): the drawn meshes of a material of roughness <= 0.05
+ * without roughness or normal textures, opaque, with a specular lobe (metallic > 0 or specular > 0),
+ * every triangle of which lies in one plane (within 1e-5 of the extent).  A material drawn on two
+ * planes or curved is not a reflector.  One reflector is rendered per view: the one covering the most
+ * of the view's pixels (a bounding-rectangle estimate); the others show only their direct term.
+ * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
+ * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is
+ * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel
+ * centre (the rectangle bounding its vertices' projections, clipped to the view, tested against the
+ * pixel centres: a conservative test — a vertex behind the eye counts the whole view as covered). */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gpu_types.h"
+#include "pipes.h"
+#include "prw_shaders.h"
+#include "scene_gpu.h"
+#include "view_globals.h"
+
+#define MIRROR_MAX_ROUGHNESS 0.05
+#define MIRROR_MAX_REFLECTORS 8
+#define MIRROR_MAX_CORNERS 64 /* more vertices: the corners of their bounding box in the plane's frame */
+#define MIRROR_PLANARITY 1e-5 /* of the reflector's extent */
+#define MIRROR_CLIP_OFFSET 1e-4 /* metres in front of the mirror: the mirror's own surface is clipped */
+
+typedef struct reflector {
+    int material;
+    uint32_t slot;      /* material slot (G-buffer id - 1) */
+    prw_dvec3 n;        /* unit normal (the front faces' side) */
+    double d;           /* plane n.x = d */
+    bool two_sided;
+    prw_dvec3 corners[MIRROR_MAX_CORNERS];
+    uint32_t corner_count;
+} reflector;
+
+typedef struct reflector_set {
+    reflector r[MIRROR_MAX_REFLECTORS];
+    uint32_t count;
+} reflector_set;
+
+static bool mirror_like(const prw_material *m)
+{
+    return m->kind == 0 && m->roughness <= MIRROR_MAX_ROUGHNESS && m->metal_rough_tex < 0 && m->normal_tex < 0 &&
+           m->alpha_mode == PRW_ALPHA_OPAQUE && (m->metallic > 0 || m->specular > 0);
+}
+
+/* The reflector of material mi, if its drawn triangles are coplanar. */
+static bool reflector_of(const prw_scene *s, int mi, reflector *out)
+{
+    memset(out, 0, sizeof *out);
+    out->material = mi;
+    bool have_plane = false;
+    uint32_t tri = 0;
+    prw_dvec3 lo = prw_v3(DBL_MAX, DBL_MAX, DBL_MAX), hi = prw_v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
+    /* two sweeps: the plane from the largest triangle, then every vertex against it */
+    double best = 0;
+    for (int sweep = 0; sweep < 2; sweep++)
+        for (uint32_t ni = 0; ni < s->node_count; ni++) {
+            const prw_node *nd = &s->nodes[ni];
+            if (nd->mesh_group < 0) continue;
+            const prw_mesh_group *g = &s->groups[nd->mesh_group];
+            bool flip = prw_draw_mirrors(nd->world);
+            for (uint32_t k = g->first; k < g->first + g->count; k++) {
+                const prw_mesh *me = &s->meshes[k];
+                if (me->material != mi) continue;
+                for (uint32_t t = 0; t + 2 < me->index_count; t += 3) {
+                    prw_dvec3 p[3];
+                    for (int j = 0; j < 3; j++) {
+                        const float *q = &me->positions[3 * me->indices[t + j]];
+                        p[j] = prw_dm4_point(nd->world, prw_v3(q[0], q[1], q[2]));
+                    }
+                    if (sweep == 0) {
+                        prw_dvec3 c = prw_v3_cross(prw_v3_sub(p[1], p[0]), prw_v3_sub(p[2], p[0]));
+                        double a = prw_v3_len(c);
+                        if (a > best) {
+                            best = a;
+                            out->n = prw_v3_scale(c, (flip ? -1.0 : 1.0) / a);
+                            out->d = prw_v3_dot(out->n, p[0]);
+                            have_plane = true;
+                        }
+                        for (int j = 0; j < 3; j++) lo = prw_v3_min(lo, p[j]), hi = prw_v3_max(hi, p[j]);
+                        tri++;
+                    } else {
+                        double tol = MIRROR_PLANARITY * fmax(prw_v3_len(prw_v3_sub(hi, lo)), 1e-9);
+                        for (int j = 0; j < 3; j++) {
+                            if (fabs(prw_v3_dot(out->n, p[j]) - out->d) > tol) return false;
+                            if (out->corner_count < MIRROR_MAX_CORNERS) out->corners[out->corner_count] = p[j];
+                            out->corner_count++;
+                        }
+                    }
+                }
+            }
+        }
+    if (!have_plane || tri == 0) return false;
+    if (out->corner_count > MIRROR_MAX_CORNERS) { /* the world box's corners: conservative */
+        out->corner_count = 8;
+        for (int c = 0; c < 8; c++)
+            out->corners[c] = prw_v3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    }
+    out->two_sided = s->materials[mi].double_sided;
+    out->slot = prw_scene_gpu_slot(s, mi);
+    return true;
+}
+
+static void reflectors_find(const prw_scene *s, reflector_set *set)
+{
+    set->count = 0;
+    for (uint32_t mi = 0; mi < s->material_count && set->count < MIRROR_MAX_REFLECTORS; mi++)
+        if (mirror_like(&s->materials[mi]) && reflector_of(s, (int)mi, &set->r[set->count])) set->count++;
+}
+
+/* The pixels of view v the reflector may cover (bounding rectangle of its projected vertices, clipped to
+ * the view); 0 when none (behind the eye, outside, edge-on, its back seen, or between pixel centres). */
+static double reflector_pixels(const reflector *r, const prw_view *v, const char **why)
+{
+    double s = prw_v3_dot(r->n, v->eye) - r->d;
+    double extent = 0;
+    for (uint32_t k = 1; k < r->corner_count; k++)
+        extent = fmax(extent, prw_v3_len(prw_v3_sub(r->corners[k], r->corners[0])));
+    if (fabs(s) <= 1e-9 * fmax(extent, 1.0)) return (*why = "eye in the mirror's plane"), 0;
+    if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), 0;
+    prw_dmat4 vp = prw_dm4_mul(prw_view_proj(v), v->view); /* absolute world -> clip */
+    double x0 = DBL_MAX, y0 = DBL_MAX, x1 = -DBL_MAX, y1 = -DBL_MAX;
+    uint32_t behind = 0;
+    for (uint32_t k = 0; k < r->corner_count; k++) {
+        prw_dvec3 p = r->corners[k];
+        const double *m = vp.m;
+        double cx = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
+        double cy = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
+        double cw = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
+        if (cw <= v->znear * 1e-3) {
+            behind++;
+            continue;
+        }
+        double px = (cx / cw * 0.5 + 0.5) * v->width, py = (cy / cw * 0.5 + 0.5) * v->height;
+        x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
+    }
+    if (behind == r->corner_count) return (*why = "mirror behind the eye"), 0;
+    if (behind) x0 = y0 = 0, x1 = v->width, y1 = v->height; /* it crosses the eye's plane */
+    x0 = fmax(x0, 0), y0 = fmax(y0, 0), x1 = fmin(x1, v->width), y1 = fmin(y1, v->height);
+    /* pixel centres i + 0.5 inside [x0, x1) */
+    double nx = ceil(x1 - 0.5) - ceil(x0 - 0.5), ny = ceil(y1 - 0.5) - ceil(y0 - 0.5);
+    if (nx <= 0 || ny <= 0) return (*why = "mirror off-screen or covering no pixel"), 0;
+    return nx * ny;
+}
+
+/* The reflector rendered for view v: the one covering the most pixels; -1 (why set) when none. */
+static int reflector_pick(const reflector_set *set, const prw_view *v, const char **why)
+{
+    int best = -1;
+    double most = 0;
+    *why = "no reflector";
+    for (uint32_t k = 0; k < set->count; k++) {
+        double px = reflector_pixels(&set->r[k], v, why);
+        if (px > most) most = px, best = (int)k;
+    }
+    return best;
+}
+
+static bool in_graph(prw_setup *s)
+{
+    const prw_render_env *env = prw_setup_env(s);
+    reflector_set set;
+    reflectors_find(env->scene, &set);
+    if (set.count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), false;
+    if (env->desc->quality.mirror_recursion == 0) return prw_setup_skip(s, "mirror_recursion=0"), false;
+    if (env->desc->quality.supersample > 1) return prw_setup_skip(s, "not with supersampling yet"), false;
+    return true;
+}
+
+/* ---- mirror: the reflected view ---- */
+
+typedef struct mirror_state {
+    reflector_set set;
+    prw_pipe_recipe recipe; /* the base recipe at one sample */
+    prw_buffer globals[PRW_MAX_VIEWS];
+    VkDescriptorSet sets[PRW_MAX_VIEWS];
+} mirror_state;
+
+static void mirror_setup(prw_setup *s)
+{
+    if (!in_graph(s)) return;
+    prw_image_decl hdr = {.format = prw_pipes_radiance_format(prw_setup_env(s)), .size = PRW_SIZE_INTERNAL};
+    prw_image_decl depth = {.format = PRW_DEPTH_FORMAT, .size = PRW_SIZE_INTERNAL};
+    prw_setup_image(s, "mirror_hdr", &hdr);
+    prw_setup_image(s, "mirror_depth", &depth);
+    prw_setup_use(s, "mirror_hdr", PRW_USE_COLOR);
+    prw_setup_use(s, "mirror_depth", PRW_USE_DEPTH);
+    prw_setup_use(s, "shadow_map", PRW_USE_SAMPLED);
+}
+
+static bool mirror_describe(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
+                            prw_graphics_desc *d, prw_error *e)
+{
+    if (!prw_pipes_describe_base(env, k, r->layout, d, e)) return false;
+    d->samples = VK_SAMPLE_COUNT_1_BIT;
+    return true;
+}
+
+static bool mirror_create(const prw_pass_init *in, void **state, prw_error *e)
+{
+    const prw_render_env *env = in->env;
+    mirror_state *m = prw_calloc(1, sizeof *m);
+    *state = m;
+    reflectors_find(env->scene, &m->set);
+    m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe};
+    prw_gpu_image *shadow = prw_graph_image(in->graph, "shadow_map", 0);
+    for (uint32_t v = 0; v < env->desc->max_views; v++) {
+        if (!prw_buffer_create(env->gpu, sizeof(prw_gpu_globals), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
+                               &m->globals[v], e) ||
+            !prw_desc_alloc(env->gpu, env->pool, env->pipes->globals_layout, &m->sets[v], e))
+            return false;
+        prw_desc_write_buffer(env->gpu, m->sets[v], 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &m->globals[v], 0,
+                              sizeof(prw_gpu_globals));
+        prw_pipes_write_globals(env->pipes, m->sets[v]);
+        prw_desc_write_image(env->gpu, m->sets[v], 1, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
+                             prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        prw_desc_write_image(env->gpu, m->sets[v], 2, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
+                             prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW_DEPTH),
+                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    }
+    return true;
+}
+
+static void mirror_destroy(const prw_pass_init *in, void *state)
+{
+    mirror_state *m = state;
+    if (!m) return;
+    prw_pipes_forget(in->env->pipes, &m->recipe);
+    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(in->env->gpu, &m->globals[v]);
+    free(m);
+}
+
+static bool mirror_needed(const prw_pass_ctx *c, const char **why)
+{
+    const mirror_state *m = c->state;
+    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
+    return reflector_pick(&m->set, &c->frame->views[c->view], why) >= 0;
+}
+
+static bool mirror_record(prw_pass_ctx *c, prw_error *e)
+{
+    const prw_render_env *env = c->env;
+    mirror_state *m = c->state;
+    const prw_view *v = &c->frame->views[c->view];
+    const char *why;
+    int ri = reflector_pick(&m->set, v, &why);
+    if (ri < 0) return prw_fail(e, "mirror: %s", why);
+    const reflector *r = &m->set.r[ri];
+    /* reflection in the plane n.x = d: x' = x - 2 (n.x - d) n, in double */
+    prw_dmat4 R = prw_dm4_identity();
+    double nn[3] = {r->n.x, r->n.y, r->n.z};
+    for (int col = 0; col < 3; col++)
+        for (int row = 0; row < 3; row++) R.m[col * 4 + row] -= 2 * nn[row] * nn[col];
+    for (int row = 0; row < 3; row++) R.m[12 + row] = 2 * r->d * nn[row];
+    prw_view mv = *v;
+    mv.view = prw_dm4_mul(v->view, R);
+    double s = prw_v3_dot(r->n, v->eye) - r->d;
+    mv.eye = prw_v3_sub(v->eye, prw_v3_scale(r->n, 2 * s));
+    prw_gpu_globals g;
+    prw_view_globals_fill(env->scene, env->shadows, env->desc->quality.shadow_size, &mv, mv.eye, &g);
+    g.params[2] = 1.0f; /* no emission in the mirror image */
+    memcpy(m->globals[c->view].mapped, &g, sizeof g);
+    /* keep what lies on the real eye's side, MIRROR_CLIP_OFFSET in front of the mirror (camera-relative to
+     * the reflected eye, whose distance to the plane is -s) */
+    double sign = s >= 0 ? 1.0 : -1.0;
+    prw_draw_view dv = {.origin = mv.eye, .eye = mv.eye, .globals = m->sets[c->view], .mirrored = true, .clip = true};
+    dv.clip_plane[0] = (float)(sign * r->n.x), dv.clip_plane[1] = (float)(sign * r->n.y);
+    dv.clip_plane[2] = (float)(sign * r->n.z);
+    dv.clip_plane[3] = (float)(sign * (prw_v3_dot(r->n, mv.eye) - r->d) - MIRROR_CLIP_OFFSET);
+    prw_gpu_image *hdr = prw_pass_image(c, "mirror_hdr"), *depth = prw_pass_image(c, "mirror_depth");
+    VkRenderingAttachmentInfo ca = prw_pipes_color_attachment(hdr, NULL, VK_RESOLVE_MODE_NONE, 0);
+    VkRenderingAttachmentInfo da = prw_pipes_depth_attachment(depth);
+    VkRenderingInfo rinfo = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                             .renderArea = {{0, 0}, {hdr->width, hdr->height}},
+                             .layerCount = 1,
+                             .colorAttachmentCount = 1,
+                             .pColorAttachments = &ca,
+                             .pDepthAttachment = &da};
+    prw_draw_ctx dc = {.cmd = c->cmd, .kind = PRW_DRAW_COLOR, .view = &dv, .pipes = env->pipes, .recipe = &m->recipe,
+                       .sg = env->sg, .layout = env->pipes->base_layout};
+    prw_pass_begin_rendering(c, &rinfo);
+    prw_cmd_viewport(c->cmd, hdr->width, hdr->height);
+    vkCmdPushConstants(c->cmd, env->pipes->base_layout, VK_SHADER_STAGE_ALL, PRW_CLIP_PUSH_OFFSET, 16, dv.clip_plane);
+    prw_drawables_record(env->drawables, env, &dc);
+    if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces, sorted from the reflected eye */
+        dc.kind = PRW_DRAW_BLEND;
+        prw_drawables_record(env->drawables, env, &dc);
+    }
+    prw_pass_end_rendering(c);
+    return !dc.failed || prw_fail(e, "%s", dc.err.msg);
+}
+
+const prw_pass prw_pass_mirror = {
+    .name = "mirror",
+    .flags = PRW_PASS_RADIANCE,
+    .scope = PRW_SCOPE_VIEW,
+    .setup = mirror_setup,
+    .create = mirror_create,
+    .destroy = mirror_destroy,
+    .needed = mirror_needed,
+    .record = mirror_record,
+};
+
+/* ---- mirror_add: Fresnel x the mirror image, into the radiance ---- */
+
+typedef struct mirror_push {
+    float inv_view_proj[16];
+    float base[4]; /* rgb base colour, a metallic */
+    float misc[4]; /* specular, id, width, height */
+} mirror_push;
+
+typedef struct add_state {
+    reflector_set set;
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipe;
+    VkDescriptorSet sets[PRW_MAX_VIEWS];
+} add_state;
+
+static const char *out_name(const prw_render_env *env) { return env->desc->quality.supersample > 1 ? "hdr_ss" : "hdr"; }
+
+static void add_setup(prw_setup *s)
+{
+    if (!in_graph(s)) return;
+    prw_setup_use(s, "mirror_hdr", PRW_USE_SAMPLED);
+    prw_setup_use(s, "gbuf_normal", PRW_USE_SAMPLED);
+    prw_setup_use(s, "gbuf_id", PRW_USE_SAMPLED);
+    prw_setup_use(s, out_name(prw_setup_env(s)), PRW_USE_COLOR_ADD);
+}
+
+static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
+{
+    const prw_render_env *env = in->env;
+    add_state *a = prw_calloc(1, sizeof *a);
+    *state = a;
+    reflectors_find(env->scene, &a->set);
+    VkDescriptorSetLayoutBinding b[3] = {
+        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    };
+    if (!prw_desc_layout_create(env->gpu, b, 3, &a->set_layout, e) ||
+        !prw_pipeline_layout_create(env->gpu, &a->set_layout, 1, sizeof(mirror_push), &a->layout, e))
+        return false;
+    prw_graphics_desc d = {
+        .vs = prw_shader_tonemap_fs_vert(),
+        .fs = prw_shader_mirror_add_frag(),
+        .layout = a->layout,
+        .color_formats = {prw_pipes_radiance_format(env)},
+        .color_count = 1,
+        .blend_additive = true,
+    };
+    if (!prw_pipeline_graphics(env->gpu, &d, &a->pipe, e)) return false;
+    VkSampler smp = prw_gpu_sampler(env->gpu, PRW_SAMPLER_NEAREST_CLAMP);
+    for (uint32_t v = 0; v < env->desc->max_views; v++) {
+        if (!prw_desc_alloc(env->gpu, env->pool, a->set_layout, &a->sets[v], e)) return false;
+        const char *names[3] = {"mirror_hdr", "gbuf_normal", "gbuf_id"};
+        for (uint32_t k = 0; k < 3; k++) {
+            prw_gpu_image *img = prw_graph_image(in->graph, names[k], v);
+            if (!img) return prw_fail(e, "mirror_add: graph image %s missing", names[k]);
+            prw_desc_write_image(env->gpu, a->sets[v], k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view, smp,
+                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        }
+    }
+    return true;
+}
+
+static void add_destroy(const prw_pass_init *in, void *state)
+{
+    add_state *a = state;
+    if (!a) return;
+    VkDevice dev = prw_gpu_device(in->env->gpu);
+    if (a->pipe) vkDestroyPipeline(dev, a->pipe, NULL);
+    if (a->layout) vkDestroyPipelineLayout(dev, a->layout, NULL);
+    if (a->set_layout) vkDestroyDescriptorSetLayout(dev, a->set_layout, NULL);
+    free(a);
+}
+
+static bool add_needed(const prw_pass_ctx *c, const char **why)
+{
+    const add_state *a = c->state;
+    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
+    return reflector_pick(&a->set, &c->frame->views[c->view], why) >= 0;
+}
+
+static bool add_record(prw_pass_ctx *c, prw_error *e)
+{
+    const prw_render_env *env = c->env;
+    add_state *a = c->state;
+    const prw_view *v = &c->frame->views[c->view];
+    const char *why;
+    int ri = reflector_pick(&a->set, v, &why);
+    if (ri < 0) return prw_fail(e, "mirror_add: %s", why);
+    const reflector *r = &a->set.r[ri];
+    const prw_material *mat = &env->scene->materials[r->material];
+    prw_gpu_image *out = prw_pass_image(c, out_name(env));
+    mirror_push pc;
+    prw_dmat4 inv;
+    prw_mat4 vp = prw_view_globals_view_proj(v, v->eye); /* camera-relative, as the base pass draws */
+    prw_dmat4 vpd;
+    for (int k = 0; k < 16; k++) vpd.m[k] = vp.m[k];
+    if (!prw_dm4_inverse(vpd, &inv)) return prw_fail(e, "mirror_add: singular view-projection");
+    for (int k = 0; k < 16; k++) pc.inv_view_proj[k] = (float)inv.m[k];
+    for (int k = 0; k < 3; k++) pc.base[k] = mat->base_color[k];
+    pc.base[3] = mat->metallic;
+    pc.misc[0] = mat->specular, pc.misc[1] = (float)(r->slot + 1), pc.misc[2] = (float)out->width;
+    pc.misc[3] = (float)out->height;
+    VkRenderingAttachmentInfo ca = {
+        .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+        .imageView = out->view,
+        .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_LOAD,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+    };
+    VkRenderingInfo rinfo = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                             .renderArea = {{0, 0}, {out->width, out->height}},
+                             .layerCount = 1,
+                             .colorAttachmentCount = 1,
+                             .pColorAttachments = &ca};
+    prw_pass_begin_rendering(c, &rinfo);
+    prw_cmd_viewport(c->cmd, out->width, out->height);
+    vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->pipe);
+    vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->layout, 0, 1, &a->sets[c->view], 0, NULL);
+    vkCmdPushConstants(c->cmd, a->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+    vkCmdDraw(c->cmd, 3, 1, 0, 0);
+    prw_pass_end_rendering(c);
+    return true;
+}
+
+const prw_pass prw_pass_mirror_add = {
+    .name = "mirror_add",
+    .flags = PRW_PASS_RADIANCE,
+    .scope = PRW_SCOPE_VIEW,
+    .setup = add_setup,
+    .create = add_create,
+    .destroy = add_destroy,
+    .needed = add_needed,
+    .record = add_record,
+};
