@@ -16,6 +16,9 @@
 static const prw_knob_info g_knobs[] = {
     U32(msaa, 1, 4, true, "samples per pixel, 1 or 4 (resolved in linear HDR)"),
     U32(shadow_size, 16, 8192, true, "shadow-map resolution, texels a side"),
+    U32(soft_shadows, 0, 8, true,
+        "rect-light shadows: 0 = hard (one shadow-map lookup, 3x3 PCF), 2..8 = soft: N x N blocker search and "
+        "N x N filter taps sized by the rectangle (penumbra)"),
     U32(supersample, 1, 8, true, "N x N supersampling, box-filtered in linear HDR"),
     U32(tonemap, 0, PRW_TM_OP_COUNT - 1, true,
         "tone-mapping operator: exposure, reinhard, neutral, adaptive, absolute, local, selective (or 0-6)"),
@@ -71,6 +74,8 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
             return prw_fail(e, "knob msaa=%g: lavapipe offers 1 or 4", value);
         if (strcmp(k->name, "radiance_bits") == 0 && value != 16 && value != 32)
             return prw_fail(e, "knob radiance_bits=%g: 16 or 32", value);
+        if (strcmp(k->name, "soft_shadows") == 0 && value == 1)
+            return prw_fail(e, "knob soft_shadows=1: 0 (hard) or 2..8 taps a side");
         *(uint32_t *)(void *)p = (uint32_t)value;
     } else {
         *(double *)(void *)p = value;
