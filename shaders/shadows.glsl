@@ -112,7 +112,7 @@ float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset, bool may_be_c
 //     receiver's distance, at most PRW_SOFT_SEARCH_UV wide), keeping the smallest depth difference k of
 //     the texels inside the pyramid (so the receiver's own plane and the floor at a wall's foot, which
 //     are not between it and the light, are not blockers);
-//  2. filter: the rectangle's points (s, t) on an N x N grid, each at uv + J (s, t) k (where the ray to
+//  2. filter: the rectangle's points (s, t) on an M x M grid (M = max(2, N - 1)), each at uv + J (s, t) k (where the ray to
 //     (s, t) crosses the depth d_r + k: exact for a blocker plane parallel to the light), a bilinear
 //     compare against d_r + k max(|s|, |t|): the texel counts when it is inside the pyramid.  k is the
 //     blocker nearest the receiver, not the mean: the map holds a solid's face towards the light, while
@@ -121,6 +121,10 @@ float shadow_factor(prw_gpu_light L, vec3 p, vec3 n, float offset, bool may_be_c
 // The footprint is at least PRW_SOFT_MIN_TEXELS texels a side (today's 3x3 PCF) so that contact shadows
 // stay filtered.
 layout(constant_id = PRW_SC_SOFT_SHADOWS) const int prw_soft_shadows = 0;
+// search rings (and gathers per ring) and filter taps a side: the search decides the quality (on the demo
+// N x N search gathers with (N - 1)^2 filter taps err as little as N x N of each)
+const int prw_soft_search = prw_soft_shadows;
+const int prw_soft_filter = prw_soft_shadows > 3 ? prw_soft_shadows - 1 : 2;
 #define PRW_SOFT_SEARCH_UV 0.04
 #define PRW_SOFT_MIN_TEXELS 1.5
 
@@ -145,19 +149,23 @@ float shadow_factor_soft(prw_gpu_light L, vec3 p, vec3 n, float offset)
     mat2 Jinv = mat2(jv.y, -ju.y, -jv.x, ju.x) / det; // columns: J^-1 = (1/det) [jv.y -jv.x; -ju.y ju.x]
     vec2 ext = abs(ju) + abs(jv);                    // uv half-extent of J [-1, 1]^2
     float D = min(3.0 * dr, PRW_SOFT_SEARCH_UV / max(ext.x, ext.y));
-    float step_n = 2.0 / float(prw_soft_shadows);
+    float step_n = 2.0 / float(prw_soft_filter);
     // 1. blocker search: N square rings (max(|s|, |t|) = r) of N gathers each, the radii geometric from
     // about PRW_SOFT_MIN_TEXELS texels to D (a near blocker is inside the pyramid only close to the
     // receiver's own texel), each ring turned by half a step against the previous one
     float k = 1e30; // the smallest depth difference of a blocker inside the pyramid
     float r0 = clamp(PRW_SOFT_MIN_TEXELS * inv / (max(ext.x, ext.y) * D), 0.02, 1.0);
-    float grow = prw_soft_shadows > 1 ? pow(1.0 / r0, 1.0 / float(prw_soft_shadows - 1)) : 1.0;
-    float r = prw_soft_shadows > 1 ? r0 : 1.0;
-    for (int j = 0; j < prw_soft_shadows; j++, r *= grow)
-        for (int i = 0; i < prw_soft_shadows; i++) {
-            float a = 6.28318531 * (float(i) + 0.5 * float(j & 1)) / float(prw_soft_shadows) + 0.785398163;
-            vec2 st = vec2(cos(a), sin(a));
-            st *= r / max(abs(st.x), abs(st.y));
+    float grow = prw_soft_search > 1 ? pow(1.0 / r0, 1.0 / float(prw_soft_search - 1)) : 1.0;
+    float r = prw_soft_search > 1 ? r0 : 1.0;
+    // directions by rotation (the angles are constants after specialisation: no sin / cos per fragment)
+    float a_step = 6.28318531 / float(prw_soft_search);
+    mat2 rot = mat2(cos(a_step), sin(a_step), -sin(a_step), cos(a_step));
+    mat2 half_rot = mat2(cos(0.5 * a_step), sin(0.5 * a_step), -sin(0.5 * a_step), cos(0.5 * a_step));
+    vec2 ring_dir = vec2(0.70710678);
+    for (int j = 0; j < prw_soft_search; j++, r *= grow, ring_dir = half_rot * ring_dir) {
+        vec2 dir = ring_dir;
+        for (int i = 0; i < prw_soft_search; i++, dir = rot * dir) {
+            vec2 st = dir * (r / max(abs(dir.x), abs(dir.y)));
             vec2 gp = uv + (ju * st.x + jv * st.y) * D;
             vec2 i0 = floor(gp * size - 0.5);
             vec4 z4 = textureGather(shadow_depth, vec3((i0 + 1.0) * inv, float(layer)));
@@ -171,20 +179,21 @@ float shadow_factor_soft(prw_gpu_light L, vec3 p, vec3 n, float offset)
             vec4 dzi = mix(vec4(1e30), dz, inside);
             k = min(k, min(min(dzi.x, dzi.y), min(dzi.z, dzi.w)));
         }
+    }
     bool blocked = k < 1e30;
     // 2. filter over the rectangle's points
     float kf = max(k, PRW_SOFT_MIN_TEXELS * inv / max(ext.x, ext.y));
     float lit = 0.0;
     // a loop bound that is 0 for fully lit fragments: lavapipe runs a loop while any fragment of the
     // SIMD group is still in it, so groups without blockers skip the filter (a branch would not)
-    int rows = blocked ? prw_soft_shadows : 0;
+    int rows = blocked ? prw_soft_filter : 0;
     for (int j = 0; j < rows; j++)
-        for (int i = 0; i < prw_soft_shadows; i++) {
+        for (int i = 0; i < prw_soft_filter; i++) {
             vec2 st = vec2(float(i) + 0.5, float(j) + 0.5) * step_n - 1.0;
             vec2 tp = uv + (ju * st.x + jv * st.y) * kf;
             lit += texture(shadow_map, vec4(tp, float(layer), dr + kf * max(abs(st.x), abs(st.y))));
         }
-    return blocked ? lit / float(prw_soft_shadows * prw_soft_shadows) : 1.0;
+    return blocked ? lit / float(prw_soft_filter * prw_soft_filter) : 1.0;
 }
 
 // A rect light's visibility: soft when the knob is on (a specialisation constant: the other branch is
