@@ -162,6 +162,7 @@ float shadow_factor_soft(prw_gpu_light L, vec3 p, vec3 n, float offset)
     mat2 rot = mat2(cos(a_step), sin(a_step), -sin(a_step), cos(a_step));
     mat2 half_rot = mat2(cos(0.5 * a_step), sin(0.5 * a_step), -sin(0.5 * a_step), cos(0.5 * a_step));
     vec2 ring_dir = vec2(0.70710678);
+    vec2 sx = Jinv[0] * inv, sy = Jinv[1] * inv; // (s, t) per texel step in x and y
     for (int j = 0; j < prw_soft_search; j++, r *= grow, ring_dir = half_rot * ring_dir) {
         vec2 dir = ring_dir;
         for (int i = 0; i < prw_soft_search; i++, dir = rot * dir) {
@@ -171,7 +172,7 @@ float shadow_factor_soft(prw_gpu_light L, vec3 p, vec3 n, float offset)
             vec4 z4 = textureGather(shadow_depth, vec3((i0 + 1.0) * inv, float(layer)));
             // the gathered texels' centres relative to uv: x (i0.x, i0.y + 1), y (+1, +1), z (+1, i0.y), w (i0)
             vec2 o = (i0 + 0.5) * inv - uv;
-            vec2 s0 = Jinv * o, sx = Jinv * vec2(inv, 0.0), sy = Jinv * vec2(0.0, inv);
+            vec2 s0 = Jinv * o;
             vec4 mx = vec4(max(abs(s0 + sy).x, abs(s0 + sy).y), max(abs(s0 + sx + sy).x, abs(s0 + sx + sy).y),
                            max(abs(s0 + sx).x, abs(s0 + sx).y), max(abs(s0).x, abs(s0).y));
             vec4 dz = z4 - vec4(dr);

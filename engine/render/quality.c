@@ -85,7 +85,8 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
 
 /* Presets: points in the knob space.  Unimplemented knobs get plausible values so the presets are
  * already ordered along every axis.  "high" is every command's default: 4x MSAA, 1024^2 shadow maps,
- * 0.5 px LOD error (the renderer's own defaults before the knobs reached it), float32 radiance. */
+ * 0.5 px LOD error (the renderer's own defaults before the knobs reached it), float32 radiance, hard
+ * rect-light shadows (soft_shadows costs base-pass time: only "ultra" turns it on). */
 static const struct {
     const char *name;
     prw_quality q;
@@ -99,7 +100,7 @@ static const struct {
     {"high", {.msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
               .btf_components = 8, .ssdo_samples = 16, .ssdo_radius = 0.5, .vpl_count = 1024, .ism_size = 256,
               .kernel_taps = 32, .envmap_size = 512, .billboard_error = 2, .radiosity_size = 256}},
-    {"ultra", {.msaa = 4, .shadow_size = 4096, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
+    {"ultra", {.msaa = 4, .shadow_size = 4096, .soft_shadows = 4, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
                .btf_components = 16, .ssdo_samples = 32, .ssdo_radius = 1, .vpl_count = 4096, .ism_size = 512,
                .kernel_taps = 64, .envmap_size = 1024, .billboard_error = 1, .radiosity_size = 512}},
 };
