@@ -2,7 +2,9 @@
 // layer of the light (a point light's cube face by the major axis), a receiver offset along the normal
 // (texels at the receiver's distance), fully dark when the occluder is more than a texel in front, else
 // 3x3 PCF of bilinear compares with reversed Z (lit where the receiver's depth is >= the stored occluder
-// depth), computed from gathered depths (binding 2) as a compare sampler would filter them.  Needs common.glsl (the globals) declared before it.
+// depth), computed from gathered depths (binding 2) as a compare sampler would filter them; for rect
+// lights, soft shadows with the quality knob soft_shadows (shadow_factor_soft, below).  Needs common.glsl
+// (the globals) declared before it.
 #ifndef PRW_SHADOWS_GLSL
 #define PRW_SHADOWS_GLSL
 

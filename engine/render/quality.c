@@ -18,7 +18,7 @@ static const prw_knob_info g_knobs[] = {
     U32(shadow_size, 16, 8192, true, "shadow-map resolution, texels a side"),
     U32(soft_shadows, 0, 8, true,
         "rect-light shadows: 0 = hard (one shadow-map lookup, 3x3 PCF), 2..8 = soft: N x N blocker search and "
-        "N x N filter taps sized by the rectangle (penumbra)"),
+        "max(2, N-1)^2 filter taps sized by the rectangle (penumbra); costs base-pass time"),
     U32(supersample, 1, 8, true, "N x N supersampling, box-filtered in linear HDR"),
     U32(tonemap, 0, PRW_TM_OP_COUNT - 1, true,
         "tone-mapping operator: exposure, reinhard, neutral, adaptive, absolute, local, selective (or 0-6)"),
