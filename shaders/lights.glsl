@@ -5,8 +5,8 @@
 //  - rect area lights: diffuse (and the multiple-scattering specular) from Lambert's polygon formula
 //    (exact irradiance, clipped to the receiver's hemisphere), single-scattering specular by a
 //    lobe-resolving quadrature over the rectangle (rect_specular_single; linearly transformed cosines,
-//    ltc.glsl, with PRW_RECT_LTC defined), visibility from one shadow map
-//    at the rectangle's centre (hard shadows: the main remaining difference to the reference).
+//    ltc.glsl, with PRW_RECT_LTC defined), visibility from the shadow map at the rectangle's centre:
+//    hard, or soft with the quality knob soft_shadows (shadows.glsl, shadow_factor_rect).
 // Needs common.glsl, shadows.glsl, prw_brdf.h and prw_shading.h included before it.
 #include "polygon.glsl"
 #include "ltc.glsl"
@@ -303,7 +303,7 @@ vec3 rect_light(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 n, vec3
     vec3 fd = diffuse_rgb(t, base, metallic, specular) + specular_ms(t, base, metallic, specular);
     vec3 f = fd * E + rect_specular_single(p, n, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz, base, metallic,
                                            roughness, specular, L.axis_u.w);
-    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
+    return f * L.radiance.rgb * (shadowed ? shadow_factor_rect(L, p, n, shadow_offset) : 1.0);
 }
 
 // The direct light of the point, spot or directional light L at p.
@@ -401,7 +401,7 @@ vec3 rect_light_coated(prw_gpu_light L, bool shadowed, ggx_view w, vec3 p, vec3 
         f += cc * (vec3(ms * Ec) + rect_specular_single(p, nc, v, c, L.axis_u.xyz, L.axis_v.xyz, L.dir_range.xyz,
                                                         vec3(0.0), 0.0, rc, 1.0, L.axis_u.w));
     }
-    return f * L.radiance.rgb * (shadowed ? shadow_factor(L, p, n, shadow_offset, false) : 1.0);
+    return f * L.radiance.rgb * (shadowed ? shadow_factor_rect(L, p, n, shadow_offset) : 1.0);
 }
 
 vec3 punctual_light_coated(prw_gpu_light L, bool shadowed, bool may_be_cube, ggx_view w, vec3 p, vec3 n, vec3 nc, vec3 v, vec3 base,

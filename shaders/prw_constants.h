@@ -34,6 +34,9 @@
  * into the material block, nor evaluates lobes of weight 0 (material_gltf.glsl).  0: everything from
  * the textures and the shader. */
 #define PRW_SC_MAT 6
+/* The base fragment shaders' soft-shadow specialisation (int, the quality knob soft_shadows): 0 = the rect
+ * lights' hard shadow, N = their soft shadow with N x N search and filter taps (shadows.glsl). */
+#define PRW_SC_SOFT_SHADOWS 7
 #define PRW_GPU_MAT_NO_BASE_TEX 1     /* the base colour is the factor (white fallback texture) */
 #define PRW_GPU_MAT_NO_MR_TEX 2       /* metallic and roughness are the factors; the block's ggx rows are theirs */
 #define PRW_GPU_MAT_NO_NORMAL_TEX 4   /* no normal map */

@@ -103,7 +103,8 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         d->fs_spec[PRW_SC_LIGHTS_SORTED] = 1;
         for (int c = 0; c < PRW_LIGHT_CLASSES; c++) d->fs_spec[PRW_SC_LIGHT_CLASS0 + c] = (k->light_classes >> (5 * c)) & 31u;
         d->fs_spec[PRW_SC_MAT] = (k->features >> PRW_PIPE_LACKS_SHIFT) & PRW_GPU_MAT_MASK;
-        d->fs_spec_count = PRW_SC_MAT + 1;
+        d->fs_spec[PRW_SC_SOFT_SHADOWS] = env->desc->quality.soft_shadows;
+        d->fs_spec_count = PRW_SC_SOFT_SHADOWS + 1;
     }
     return true;
 }

@@ -37,6 +37,9 @@ typedef struct prw_quality {
     /* used by the renderer */
     uint32_t msaa;             /* 1 or 4 samples per pixel, resolved in linear HDR */
     uint32_t shadow_size;      /* shadow-map resolution, texels a side */
+    uint32_t soft_shadows;     /* rect lights' shadows: 0 = hard (one 3x3 PCF lookup at the rectangle's centre);
+                                  N = 2..8: soft (shadows.glsl: N x N blocker-search gathers and max(2, N - 1)^2
+                                  filter taps sized by the rectangle and the blocker / receiver depths) */
     uint32_t supersample;      /* N x N supersampling (box filter in linear HDR) */
     uint32_t tonemap;          /* tone-mapping operator (prw_tm_op; on the command line also by name) */
     uint32_t stereo_reuse;     /* prw_stereo_reuse: off (0) | reproject (1); changes pixels, FLIP reported by

@@ -17,6 +17,9 @@
 static const prw_knob_info g_knobs[] = {
     U32(msaa, 1, 4, true, "samples per pixel, 1 or 4 (resolved in linear HDR)"),
     U32(shadow_size, 16, 8192, true, "shadow-map resolution, texels a side"),
+    U32(soft_shadows, 0, 8, true,
+        "rect-light shadows: 0 = hard (one shadow-map lookup, 3x3 PCF), 2..8 = soft: N x N blocker search and "
+        "max(2, N-1)^2 filter taps sized by the rectangle (penumbra); costs base-pass time"),
     U32(supersample, 1, 8, true, "N x N supersampling, box-filtered in linear HDR"),
     U32(tonemap, 0, PRW_TM_OP_COUNT - 1, true,
         "tone-mapping operator: exposure, reinhard, neutral, adaptive, absolute, local, selective (or 0-6)"),
@@ -75,6 +78,8 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
             return prw_fail(e, "knob msaa=%g: lavapipe offers 1 or 4", value);
         if (strcmp(k->name, "radiance_bits") == 0 && value != 16 && value != 32)
             return prw_fail(e, "knob radiance_bits=%g: 16 or 32", value);
+        if (strcmp(k->name, "soft_shadows") == 0 && value == 1)
+            return prw_fail(e, "knob soft_shadows=1: 0 (hard) or 2..8 taps a side");
         *(uint32_t *)(void *)p = (uint32_t)value;
     } else {
         *(double *)(void *)p = value;
@@ -84,7 +89,8 @@ bool prw_quality_set(prw_quality *q, const prw_knob_info *k, double value, prw_e
 
 /* Presets: points in the knob space.  Unimplemented knobs get plausible values so the presets are
  * already ordered along every axis.  "high" is every command's default: 4x MSAA, 1024^2 shadow maps,
- * 0.5 px LOD error (the renderer's own defaults before the knobs reached it), float32 radiance. */
+ * 0.5 px LOD error (the renderer's own defaults before the knobs reached it), float32 radiance, hard
+ * rect-light shadows (soft_shadows costs base-pass time: only "ultra" turns it on). */
 static const struct {
     const char *name;
     prw_quality q;
@@ -98,7 +104,7 @@ static const struct {
     {"high", {.mirror_recursion = 1, .emissive_lights = 16, .msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
               .btf_components = 8, .ssdo_samples = 16, .ssdo_radius = 0.5, .vpl_count = 1024, .ism_size = 256,
               .kernel_taps = 32, .envmap_size = 512, .billboard_error = 2, .radiosity_size = 256}},
-    {"ultra", {.mirror_recursion = 1, .emissive_lights = 16, .msaa = 4, .shadow_size = 4096, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
+    {"ultra", {.mirror_recursion = 1, .emissive_lights = 16, .msaa = 4, .shadow_size = 4096, .soft_shadows = 4, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
                .btf_components = 16, .ssdo_samples = 32, .ssdo_radius = 1, .vpl_count = 4096, .ism_size = 512,
                .kernel_taps = 64, .envmap_size = 1024, .billboard_error = 1, .radiosity_size = 512}},
 };
