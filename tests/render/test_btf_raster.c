@@ -1,0 +1,199 @@
+/* The BTF material kind in the rasterizer's base pass (shaders/base_btf.frag) against the path
+ * tracer's direct light (`prw reference --filter direct`), 4x MSAA, validation layer on.
+ *
+ * Scene: a floor quad and a UV sphere on it, both of one BTF (closed form, 4 x 2 texels of 0.1 m: a
+ * checker of two albedos per channel, times cos theta_l and a per-channel term of the view and light
+ * azimuths, so a wrong frame, texel mapping, light / view table or decode changes the channels
+ * differently), under a point light (shadowed), no environment.  For a point light the reference's
+ * direct light has no sampling noise other than its pixel filter; its own noise is printed (seed 2 vs
+ * 1).  Criteria: the mean per channel over all pixels within BOUND, and the mean per-pixel absolute
+ * difference (over the pixels the reference lights) within PIXEL_BOUND of the mean radiance: the
+ * latter catches a texel mapping or frame error that the means average away.  What remains is the
+ * rasterizer's shadow map against exact visibility, MSAA against the reference's pixel filter, and
+ * float against double in the BTF's frame.  A BTF that differs only in its azimuthal term (the
+ * decode or the direction interpolation going wrong) is checked to fail the same criteria. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "prw_btf_codec.h"
+#include "prw_image.h"
+#include "prw_reference.h"
+#include "prw_render.h"
+#include "prw_test.h"
+
+enum { SIZE = 64 };
+#define BOUND 0.01
+#define PIXEL_BOUND 0.04
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) return;
+    fputs(text, f);
+    fclose(f);
+}
+
+/* The closed-form BTF; a: per-channel weight of the azimuthal term (sin_l sin_v cos(phi_l - phi_v)). */
+static bool write_btf(const char *path, const double a[3], prw_error *e)
+{
+    prw_btf b;
+    if (!prw_btf_create(4, 2, 81, 81, &b, e)) return false;
+    prw_btf_dirs_ubo81(b.view_dirs);
+    prw_btf_dirs_ubo81(b.light_dirs);
+    static const double alb[2][3] = {{0.7, 0.5, 0.3}, {0.2, 0.4, 0.6}};
+    for (uint32_t v = 0; v < 81; v++)
+        for (uint32_t l = 0; l < 81; l++) {
+            double dv[3], dl[3];
+            prw_btf_dir_vector(b.view_dirs[2 * v], b.view_dirs[2 * v + 1], dv);
+            prw_btf_dir_vector(b.light_dirs[2 * l], b.light_dirs[2 * l + 1], dl);
+            double az = dv[0] * dl[0] + dv[1] * dl[1];
+            for (uint32_t y = 0; y < 2; y++)
+                for (uint32_t x = 0; x < 4; x++)
+                    for (int c = 0; c < 3; c++)
+                        b.rgb[prw_btf_at(&b, v, l, x, y) + (size_t)c] =
+                            (float)(alb[(x + y) & 1][c] / 3.14159265358979 * dl[2] * (1 + a[c] * az));
+        }
+    prw_btf_codec_params cp = {.codec = PRW_BTF_CODEC_CLUSTER, .components = 4, .clusters = 2, .seed = 1, .threads = 2};
+    prw_btf_packed p;
+    bool ok = prw_btf_compress(&b, &cp, &p, e);
+    prw_btf_free(&b);
+    ok = ok && prw_btf_packed_write(path, &p, e);
+    if (ok) prw_btf_packed_free(&p);
+    return ok;
+}
+
+/* file: relative to the manifest (both in the test directory) */
+static prw_scene *btf_scene(const char *file, prw_error *e)
+{
+    char text[4096];
+    snprintf(text, sizeof text,
+             "{\"prw_manifest\": 1, \"materials\": [{\"name\": \"cloth\", \"btf\": \"%s\", \"btf_texel_m\": 0.1}],"
+             " \"meshes\": [{\"name\": \"floor\", \"quad\": {\"centre\": [0, 0, 0], \"half_u\": [1, 0, 0], \"half_v\": [0, 0, -1]},"
+             " \"material\": \"cloth\"},"
+             " {\"name\": \"ball\", \"sphere\": {\"centre\": [-0.2, 0.3, 0.1], \"radius\": 0.3, \"slices\": 32, \"stacks\": 16},"
+             " \"material\": \"cloth\"}],"
+             " \"lights\": [{\"type\": \"point\", \"position\": [0.5, 1.2, 0.4], \"intensity\": 3}],"
+             " \"cameras\": [{\"position\": [0, 1.3, 1.6], \"target\": [0, 0.1, 0], \"yfov_deg\": 55}]}",
+             file);
+    char *path = prw_test_path("btf_raster.json");
+    write_text(path, text);
+    prw_scene *s = prw_scene_create();
+    if (!prw_scene_load_manifest(s, path, e)) {
+        prw_scene_destroy(s);
+        return NULL;
+    }
+    prw_scene_update(s);
+    return s;
+}
+
+static bool render_raster(const prw_scene *s, const prw_view *v, prw_image *hdr, prw_error *e)
+{
+    prw_gpu *gpu = NULL;
+    prw_renderer *r = NULL;
+    prw_gpu_desc gd = {.device_index = -1, .validation = true};
+    prw_render_desc rd = {.width = SIZE, .height = SIZE, .quality = prw_quality_default()};
+    rd.quality.msaa = 4;
+    rd.quality.shadow_size = 2048;
+    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
+              prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
+    prw_renderer_destroy(r);
+    if (gpu) {
+        prw_gpu_destroy(gpu);
+        uint32_t msgs = prw_gpu_validation_total();
+        if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
+    }
+    return ok;
+}
+
+static bool render_ref(const prw_scene *s, const prw_view *v, uint64_t spp, uint64_t seed, prw_image *out, prw_error *e)
+{
+    prw_ref_renderer *ref = NULL;
+    if (!prw_ref_create(s, v->eye, 2, &ref, e)) return false;
+    prw_ref_desc d = {.s0 = 0, .s1 = spp, .seed = seed, .filter = {.kind = PRW_REF_DIRECT}};
+    prw_ref_acc acc = {0};
+    prw_ref_stats st;
+    float *mean = NULL, *var = NULL;
+    bool ok = prw_ref_render(ref, v, &d, &acc, &st, e) && prw_ref_acc_images(&acc, &mean, &var, e);
+    if (ok) ok = prw_image_alloc(out, SIZE, SIZE, e);
+    if (ok) memcpy(out->rgba, mean, (size_t)SIZE * SIZE * 4 * sizeof(float));
+    free(mean), free(var);
+    prw_ref_acc_free(&acc);
+    prw_ref_destroy(ref);
+    return ok;
+}
+
+/* worst relative difference of the channel means; mean |a - b| over lit pixels / mean of b */
+static void compare(const prw_image *a, const prw_image *b, double *mean_rel, double *pixel_rel, double ma[3], double mb[3])
+{
+    double sa[3] = {0, 0, 0}, sb[3] = {0, 0, 0}, sd = 0, sl = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+        for (int c = 0; c < 3; c++) {
+            double x = a->rgba[4 * i + (size_t)c], y = b->rgba[4 * i + (size_t)c];
+            sa[c] += x, sb[c] += y;
+            if (y > 0) sd += fabs(x - y), sl += y;
+        }
+    *mean_rel = 0;
+    for (int c = 0; c < 3; c++) {
+        ma[c] = sa[c] / (SIZE * SIZE), mb[c] = sb[c] / (SIZE * SIZE);
+        *mean_rel = fmax(*mean_rel, fabs(sa[c] / sb[c] - 1));
+    }
+    *pixel_rel = sl > 0 ? sd / sl : INFINITY;
+}
+
+static void test_floor_sphere(void)
+{
+    prw_error e = {{0}};
+    const double a[3] = {0.8, 0.0, -0.6}, a_broken[3] = {-0.8, 0.6, 0.6};
+    char *good = prw_test_path("btf_raster.btfc"), *broken = prw_test_path("btf_raster_broken.btfc");
+    CHECK_OK(write_btf(good, a, &e), &e);
+    CHECK_OK(write_btf(broken, a_broken, &e), &e);
+    prw_scene *s = btf_scene("btf_raster.btfc", &e), *sb = btf_scene("btf_raster_broken.btfc", &e); /* beside the manifest */
+    CHECK_MSG(s && sb, "%s", e.msg);
+    if (!s || !sb) return;
+    prw_view v;
+    CHECK_OK(prw_ref_view_for_camera(s, NULL, SIZE, SIZE, &v, &e), &e);
+    v.ev100 = 2.0;
+    uint64_t spp = prw_test_light() ? 16 : 64;
+    prw_image raster = {0}, other = {0}, ra = {0}, rb = {0};
+    CHECK_OK(render_raster(s, &v, &raster, &e), &e);
+    CHECK_OK(render_raster(sb, &v, &other, &e), &e);
+    CHECK_OK(render_ref(s, &v, spp, 1, &ra, &e), &e);
+    CHECK_OK(render_ref(s, &v, spp, 2, &rb, &e), &e);
+    if (raster.rgba && other.rgba && ra.rgba && rb.rgba) {
+        double m, px, mn, pxn, mo, pxo, mr[3], mref[3], tmp[3];
+        size_t bad = 0;
+        for (size_t i = 0; i < (size_t)SIZE * SIZE * 4; i++) bad += !isfinite(raster.rgba[i]);
+        compare(&raster, &ra, &m, &px, mr, mref);
+        compare(&rb, &ra, &mn, &pxn, tmp, tmp);
+        compare(&other, &ra, &mo, &pxo, tmp, tmp);
+        printf("btf floor + sphere, %dx%d, reference direct %llu spp:\n  mean R/G/B reference %.5g %.5g %.5g | raster "
+               "%.5g %.5g %.5g\n",
+               SIZE, SIZE, (unsigned long long)spp, mref[0], mref[1], mref[2], mr[0], mr[1], mr[2]);
+        printf("  worst channel mean: raster %.4f (bound %.2f), reference noise %.4f, other BTF %.4f\n", m, BOUND, mn, mo);
+        printf("  mean |pixel difference| / mean: raster %.4f (bound %.2f), reference noise %.4f, other BTF %.4f\n", px,
+               PIXEL_BOUND, pxn, pxo);
+        CHECK(bad == 0);
+        CHECK_MSG(m <= BOUND, "channel means off by %.4f", m);
+        CHECK_MSG(px <= PIXEL_BOUND, "pixels off by %.4f", px);
+        CHECK_MSG(mo > BOUND || pxo > PIXEL_BOUND, "a different BTF passes too (%.4f, %.4f)", mo, pxo);
+        const char *dir = getenv("PRW_BTF_RASTER_OUT");
+        if (dir && *dir) {
+            char path[4096];
+            snprintf(path, sizeof path, "%s/btf_raster.exr", dir);
+            if (prw_exr_write(path, &raster, NULL, 0, &e)) printf("wrote %s\n", path);
+            snprintf(path, sizeof path, "%s/btf_ref.exr", dir);
+            if (prw_exr_write(path, &ra, NULL, 0, &e)) printf("wrote %s\n", path);
+        }
+    }
+    prw_image_free(&raster), prw_image_free(&other), prw_image_free(&ra), prw_image_free(&rb);
+    prw_scene_destroy(s), prw_scene_destroy(sb);
+}
+
+int main(int argc, char **argv)
+{
+    static const prw_test_case cases[] = {{"floor_sphere", test_floor_sphere}};
+    return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+}
