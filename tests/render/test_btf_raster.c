@@ -4,9 +4,10 @@
  * Scene: a floor quad and a UV sphere on it, both of one BTF (closed form, 4 x 2 texels of 0.1 m: a
  * checker of two albedos per channel, times cos theta_l and a per-channel term of the view and light
  * azimuths, so a wrong frame, texel mapping, light / view table or decode changes the channels
- * differently), under a point light (shadowed), no environment.  For a point light the reference's
+ * differently), under a point light (case point) or a 0.5 x 0.3 m rect light (case rect), both
+ * shadowed, no environment.  For a point light the reference's
  * direct light has no sampling noise other than its pixel filter; its own noise is printed (seed 2 vs
- * 1).  Criteria: the mean per channel over all pixels within BOUND, and the mean per-pixel absolute
+ * 1) and must be below a quarter of the bound.  Criteria: the mean per channel over all pixels within BOUND, and the mean per-pixel absolute
  * difference (over the pixels the reference lights) within PIXEL_BOUND of the mean radiance: the
  * latter catches a texel mapping or frame error that the means average away.  What remains is the
  * rasterizer's shadow map against exact visibility, MSAA against the reference's pixel filter, and
@@ -27,6 +28,8 @@
 enum { SIZE = 64 };
 #define BOUND 0.01
 #define PIXEL_BOUND 0.04
+#define RECT_BOUND 0.015 /* rect lights: the reference has sampling noise */
+#define RECT_PIXEL_BOUND 0.06
 
 static void write_text(const char *path, const char *text)
 {
@@ -66,7 +69,11 @@ static bool write_btf(const char *path, const double a[3], prw_error *e)
 }
 
 /* file: relative to the manifest (both in the test directory) */
-static prw_scene *btf_scene(const char *file, prw_error *e)
+static const char *k_point = "{\"type\": \"point\", \"position\": [0.5, 1.2, 0.4], \"intensity\": 3}";
+static const char *k_rect = "{\"type\": \"rect\", \"position\": [0.6, 1.1, 0.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0],"
+                            " \"width\": 0.5, \"height\": 0.3, \"intensity\": 20, \"unit\": \"cd/m2\"}";
+
+static prw_scene *btf_scene(const char *file, const char *light, prw_error *e)
 {
     char text[4096];
     snprintf(text, sizeof text,
@@ -75,9 +82,9 @@ static prw_scene *btf_scene(const char *file, prw_error *e)
              " \"material\": \"cloth\"},"
              " {\"name\": \"ball\", \"sphere\": {\"centre\": [-0.2, 0.3, 0.1], \"radius\": 0.3, \"slices\": 32, \"stacks\": 16},"
              " \"material\": \"cloth\"}],"
-             " \"lights\": [{\"type\": \"point\", \"position\": [0.5, 1.2, 0.4], \"intensity\": 3}],"
+             " \"lights\": [%s],"
              " \"cameras\": [{\"position\": [0, 1.3, 1.6], \"target\": [0, 0.1, 0], \"yfov_deg\": 55}]}",
-             file);
+             file, light);
     char *path = prw_test_path("btf_raster.json");
     write_text(path, text);
     prw_scene *s = prw_scene_create();
@@ -143,14 +150,14 @@ static void compare(const prw_image *a, const prw_image *b, double *mean_rel, do
     *pixel_rel = sl > 0 ? sd / sl : INFINITY;
 }
 
-static void test_floor_sphere(void)
+static void run_case(const char *what, const char *light, double bound, double pixel_bound)
 {
     prw_error e = {{0}};
     const double a[3] = {0.8, 0.0, -0.6}, a_broken[3] = {-0.8, 0.6, 0.6};
     char *good = prw_test_path("btf_raster.btfc"), *broken = prw_test_path("btf_raster_broken.btfc");
     CHECK_OK(write_btf(good, a, &e), &e);
     CHECK_OK(write_btf(broken, a_broken, &e), &e);
-    prw_scene *s = btf_scene("btf_raster.btfc", &e), *sb = btf_scene("btf_raster_broken.btfc", &e); /* beside the manifest */
+    prw_scene *s = btf_scene("btf_raster.btfc", light, &e), *sb = btf_scene("btf_raster_broken.btfc", light, &e); /* beside the manifest */
     CHECK_MSG(s && sb, "%s", e.msg);
     if (!s || !sb) return;
     prw_view v;
@@ -169,22 +176,23 @@ static void test_floor_sphere(void)
         compare(&raster, &ra, &m, &px, mr, mref);
         compare(&rb, &ra, &mn, &pxn, tmp, tmp);
         compare(&other, &ra, &mo, &pxo, tmp, tmp);
-        printf("btf floor + sphere, %dx%d, reference direct %llu spp:\n  mean R/G/B reference %.5g %.5g %.5g | raster "
+        printf("btf floor + sphere, %s light, %dx%d, reference direct %llu spp:\n  mean R/G/B reference %.5g %.5g %.5g | raster "
                "%.5g %.5g %.5g\n",
-               SIZE, SIZE, (unsigned long long)spp, mref[0], mref[1], mref[2], mr[0], mr[1], mr[2]);
-        printf("  worst channel mean: raster %.4f (bound %.2f), reference noise %.4f, other BTF %.4f\n", m, BOUND, mn, mo);
+               what, SIZE, SIZE, (unsigned long long)spp, mref[0], mref[1], mref[2], mr[0], mr[1], mr[2]);
+        printf("  worst channel mean: raster %.4f (bound %.3f), reference noise %.4f, other BTF %.4f\n", m, bound, mn, mo);
         printf("  mean |pixel difference| / mean: raster %.4f (bound %.2f), reference noise %.4f, other BTF %.4f\n", px,
-               PIXEL_BOUND, pxn, pxo);
+               pixel_bound, pxn, pxo);
         CHECK(bad == 0);
-        CHECK_MSG(m <= BOUND, "channel means off by %.4f", m);
-        CHECK_MSG(px <= PIXEL_BOUND, "pixels off by %.4f", px);
-        CHECK_MSG(mo > BOUND || pxo > PIXEL_BOUND, "a different BTF passes too (%.4f, %.4f)", mo, pxo);
+        CHECK_MSG(m <= bound, "%s: channel means off by %.4f", what, m);
+        CHECK_MSG(px <= pixel_bound, "%s: pixels off by %.4f", what, px);
+        CHECK_MSG(mn < bound / 4, "%s: the reference noise %.4f is too large for the bound", what, mn);
+        CHECK_MSG(mo > bound || pxo > pixel_bound, "%s: a different BTF passes too (%.4f, %.4f)", what, mo, pxo);
         const char *dir = getenv("PRW_BTF_RASTER_OUT");
         if (dir && *dir) {
             char path[4096];
-            snprintf(path, sizeof path, "%s/btf_raster.exr", dir);
+            snprintf(path, sizeof path, "%s/btf_raster_%s.exr", dir, what);
             if (prw_exr_write(path, &raster, NULL, 0, &e)) printf("wrote %s\n", path);
-            snprintf(path, sizeof path, "%s/btf_ref.exr", dir);
+            snprintf(path, sizeof path, "%s/btf_ref_%s.exr", dir, what);
             if (prw_exr_write(path, &ra, NULL, 0, &e)) printf("wrote %s\n", path);
         }
     }
@@ -192,8 +200,11 @@ static void test_floor_sphere(void)
     prw_scene_destroy(s), prw_scene_destroy(sb);
 }
 
+static void test_point(void) { run_case("point", k_point, BOUND, PIXEL_BOUND); }
+static void test_rect(void) { run_case("rect", k_rect, RECT_BOUND, RECT_PIXEL_BOUND); }
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"floor_sphere", test_floor_sphere}};
+    static const prw_test_case cases[] = {{"point", test_point}, {"rect", test_rect}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
