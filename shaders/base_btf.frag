@@ -23,7 +23,9 @@ layout(location = 2) in vec2 v_uv;
 layout(location = 3) in vec4 v_tangent;
 
 // the leading members of the material block (engine/render/gpu_types.h prw_gpu_material); the BTF kind's
-// alpha.z: word offset of the material in the BTF buffer (its bits), alpha.w: 1 / texel size (1/m)
+// alpha.z: word offset of the material in the BTF buffer (its bits), alpha.w: 1 / texel size (1/m),
+// alpha.y: 1 when base_color.rgb, mr.xy (metallic, roughness) and extra.x (specular) hold the file's
+// fitted average BRDF (the scale rule)
 layout(std140, set = 1, binding = 0) uniform prw_material_block {
     vec4 base_color;
     vec4 emission;
@@ -78,7 +80,25 @@ void main()
         F.b = cross(n, F.t);
     }
     vec3 radiance = mat.emission.rgb;
-    prw_btf_direct_light(radiance, floatBitsToUint(mat.alpha.z), F, v_pos, v, 1.5);
+    // The scale rule (the path tracer's with btf_scale_rule, ref_trace.c setup_shade): where the pixel
+    // footprint across the ray (the pinhole's tangent spread per pixel x distance) exceeds the texel x
+    // |cos theta_v|, the file's fitted average BRDF (material_gltf.glsl's model) instead of the BTF.
+#ifdef PRW_MULTIVIEW
+    mat4 vp = prw_mv.view_proj[gl_ViewIndex];
+    vec3 eye = prw_mv.eye_rel[gl_ViewIndex].xyz;
+#else
+    mat4 vp = g.view_proj;
+    vec3 eye = g.eye_rel.xyz;
+#endif
+    vec4 clip = vp * vec4(v_pos, 1.0);
+    float p11 = length(vec3(vp[0][1], vp[1][1], vp[2][1])); // 1 / tan(half fov): clip y = p11 x view y
+    float px_m = abs(dFdy(clip.y / clip.w)) / p11 * length(v_pos - eye);
+    if (mat.alpha.y > 0.5 && px_m * mat.alpha.w > abs(dot(n, v))) {
+        float rough = prw_roughness_from(mat.mr.y, 1.0);
+        prw_direct_light(radiance, ggx_view_at(dot(n, v), rough), v_pos, n, v, mat.base_color.rgb, mat.mr.x, rough,
+                         mat.extra.x, 1.5);
+    } else
+        prw_btf_direct_light(radiance, floatBitsToUint(mat.alpha.z), F, v_pos, v, 1.5);
     o_color = vec4(radiance, 1.0);
 #ifdef PRW_GBUFFER
     o_normal = vec4(n, 1.0);

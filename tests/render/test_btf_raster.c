@@ -77,7 +77,7 @@ static prw_scene *btf_scene(const char *file, const char *light, prw_error *e)
 {
     char text[4096];
     snprintf(text, sizeof text,
-             "{\"prw_manifest\": 1, \"materials\": [{\"name\": \"cloth\", \"btf\": \"%s\", \"btf_texel_m\": 0.1}],"
+             "{\"prw_manifest\": 1, \"materials\": [{\"name\": \"cloth\", \"btf\": \"%s\", \"btf_texel_m\": 0.1, \"btf_scale_rule\": true}],"
              " \"meshes\": [{\"name\": \"floor\", \"quad\": {\"centre\": [0, 0, 0], \"half_u\": [1, 0, 0], \"half_v\": [0, 0, -1]},"
              " \"material\": \"cloth\"},"
              " {\"name\": \"ball\", \"sphere\": {\"centre\": [-0.2, 0.3, 0.1], \"radius\": 0.3, \"slices\": 32, \"stacks\": 16},"
