@@ -66,8 +66,10 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
         nw = N * k, nm = (uint64_t)p->clusters * D, nb = (uint64_t)p->clusters * k * D, ni = N;
     else nw = p->views * N * k, nm = (uint64_t)p->views * p->lights * 3, nb = p->views * k * p->lights * 3;
     if (p->codec == PRW_BTF_CODEC_SPARSE) M = p->sparse_count;
-    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nu + nw + nm + nb + 3 * M + M) / 2 + ni + N + 8 +
-                    2 * (5 + 13 * 512 + 256 + PRW_BTF_GRID_T * PRW_BTF_GRID_P);
+    /* the codec arrays (halves two per word), then at most two tables of <= 2 x 512 triangles (12 words
+     * each), 256 cosines and the grid */
+    uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_T * PRW_BTF_GRID_P;
+    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nu + nw + nm + nb + 4 * M) / 2 + 6 + ni + (N + 1) + 2 * table;
     if (need >= (1ull << 31)) return prw_fail(e, "%s: %llu words do not fit one GPU buffer", name, (unsigned long long)need);
     uint32_t at = grow(a, PRW_BTF_GPU_HEADER);
     uint32_t h[PRW_BTF_GPU_HEADER] = {(uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters};
