@@ -11,7 +11,8 @@
  * difference (over the pixels the reference lights) within PIXEL_BOUND of the mean radiance: the
  * latter catches a texel mapping or frame error that the means average away.  What remains is the
  * rasterizer's shadow map against exact visibility, MSAA against the reference's pixel filter, and
- * float against double in the BTF's frame.  A BTF that differs only in its azimuthal term (the
+ * float against double in the BTF's frame.  Also LDR-FLIP beyond the reference's noise <= 0.05
+ * (must-show 4).  A BTF that differs only in its azimuthal term (the
  * decode or the direction interpolation going wrong) is checked to fail the same criteria. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -174,7 +175,7 @@ static void run_case(const char *what, const char *light, double bound, double p
     if (!s || !sb) return;
     prw_view v;
     CHECK_OK(prw_ref_view_for_camera(s, NULL, SIZE, SIZE, &v, &e), &e);
-    v.ev100 = 2.0;
+    v.ev100 = -1.0; /* the scene mean (~0.11 cd/m^2) near middle grey in the metric tone map */
     uint64_t spp = prw_test_light() ? 16 : 64;
     prw_image raster = {0}, other = {0}, ra = {0}, rb = {0};
     CHECK_OK(render_raster(s, &v, &raster, &e), &e);
@@ -194,6 +195,16 @@ static void run_case(const char *what, const char *light, double bound, double p
         printf("  worst channel mean: raster %.4f (bound %.3f), reference noise %.4f, other BTF %.4f\n", m, bound, mn, mo);
         printf("  mean |pixel difference| / mean: raster %.4f (bound %.2f), reference noise %.4f, other BTF %.4f\n", px,
                pixel_bound, pxn, pxo);
+        prw_compare_opts o = {.ev100 = v.ev100};
+        prw_compare_metrics fm, fn;
+        bool fok = prw_compare_images(&raster, &ra, &o, &fm, NULL, NULL, &e) && prw_compare_images(&rb, &ra, &o, &fn, NULL, NULL, &e);
+        CHECK_OK(fok, &e);
+        if (fok) {
+            printf("  LDR-FLIP raster %.4f, reference noise %.4f (EV100 %.1f): beyond noise %.4f (bound 0.05, must-show 4)\n",
+                   fm.ldr_flip.mean, fn.ldr_flip.mean, v.ev100, fm.ldr_flip.mean - fn.ldr_flip.mean);
+            CHECK_MSG(fm.ldr_flip.mean - fn.ldr_flip.mean <= 0.05, "%s: LDR-FLIP beyond noise %.4f", what,
+                      fm.ldr_flip.mean - fn.ldr_flip.mean);
+        }
         CHECK(bad == 0);
         CHECK_MSG(m <= bound, "%s: channel means off by %.4f", what, m);
         CHECK_MSG(px <= pixel_bound, "%s: pixels off by %.4f", what, px);
