@@ -147,6 +147,11 @@ int prw_cmd_info(int argc, char **argv)
                s->bounds_max.x, s->bounds_max.y, s->bounds_max.z);
     for (uint32_t i = 0; i < s->material_count; i++) {
         const prw_material *m = &s->materials[i];
+        if (m->kind == PRW_MATERIAL_BTF) { /* drawn by both renderers (base_btf.frag, the path tracer) */
+            printf("  material %-16s BTF %s, texel %.4g mm%s\n", m->name, m->btf_file, m->btf_texel_m * 1e3,
+                   m->btf_scale_rule ? ", scale rule" : "");
+            continue;
+        }
         printf("  material %-16s base (%.3f %.3f %.3f) metallic %.2f roughness %.2f", m->name, m->base_color[0],
                m->base_color[1], m->base_color[2], m->metallic, m->roughness);
         if (m->emission[0] > 0 || m->emission[1] > 0 || m->emission[2] > 0)

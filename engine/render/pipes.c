@@ -45,8 +45,9 @@ static const VkVertexInputAttributeDescription k_attrs_mask_no_uv1[3] = {
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e)
 {
-    /* one fragment shader variant per material kind (material_gltf.glsl is kind 0) */
-    if (k->material_kind != PRW_MATERIAL_GLTF_MR)
+    /* one fragment shader variant per material kind (material_gltf.glsl is kind 0, base_btf.frag kind BTF) */
+    bool btf = k->material_kind == PRW_MATERIAL_BTF;
+    if (k->material_kind != PRW_MATERIAL_GLTF_MR && !btf)
         return prw_fail(e, "render: material kind %u has no shader", k->material_kind);
     bool mv = k->view_mask != 0;
     if (mv && k->clip) return prw_fail(e, "render: multiview with a clip plane has no shader variant");
@@ -73,6 +74,10 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         fs = mv ? prw_shader_mv_ext_base_frag() : gbuf ? prw_shader_gbuf_ext_base_frag() : prw_shader_ext_base_frag();
         if (k->features & PRW_PIPE_COAT)
             fs = mv ? prw_shader_mv_coat_base_frag() : gbuf ? prw_shader_gbuf_coat_base_frag() : prw_shader_coat_base_frag();
+    }
+    if (btf) {
+        if (ext) return prw_fail(e, "render: the BTF kind has no glTF-extension variant");
+        fs = mv ? prw_shader_mv_base_btf_frag() : gbuf ? prw_shader_gbuf_base_btf_frag() : prw_shader_base_btf_frag();
     }
     if (floor) fs = gbuf ? prw_shader_gbuf_floor_frag() : prw_shader_floor_frag(); /* everything else the same */
     VkCullModeFlags cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
@@ -154,11 +159,13 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
-    VkDescriptorSetLayoutBinding material[8];
+    VkDescriptorSetLayoutBinding material[9];
     for (uint32_t i = 0; i < 8; i++)
         material[i] = (VkDescriptorSetLayoutBinding){
             i, i ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
             VK_SHADER_STAGE_FRAGMENT_BIT, NULL};
+    /* the scene's BTF words (prw_btf_gpu.h), read by the BTF kind's shader */
+    material[8] = (VkDescriptorSetLayoutBinding){8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL};
     VkDescriptorSetLayoutBinding storage2[2] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
@@ -174,7 +181,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
         return false;
     if (!prw_desc_layout_create(p->gpu, globals, 4, &p->globals_layout, e) ||
-        !prw_desc_layout_create(p->gpu, material, 8, &p->material_layout, e) ||
+        !prw_desc_layout_create(p->gpu, material, 9, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
     VkDescriptorSetLayout base_sets[2] = {p->globals_layout, p->material_layout};

@@ -15,9 +15,10 @@
  *  - Layouts: set 0 = per-view globals (uniform block + the shadow atlas with its compare sampler
  *    (binding 1) and for gathers (binding 2, PRW_SAMPLER_SHADOW_DEPTH)), set 1 = material (uniform block
  *    + seven textures: base colour, metal-rough, normal, emissive, clear coat, its roughness, its
- *    normal); the base layout has 128 bytes of push constants (112 per draw: prw_draw_push_model; then
- *    the clip plane of PRW_CLIP_PLANE pipelines, pushed by the pass), the shadow layout 64 (the light
- *    clip matrix) and sets 0 (unused) and 1 (the material of cut-out casters).  The storage2 layout (two
+ *    normal; binding 8: the scene's BTF words, a storage buffer, prw_btf_gpu.h); the base layout has
+ *    128 bytes of push constants (112 per draw: prw_draw_push_model; then the clip plane of
+ *    PRW_CLIP_PLANE pipelines, pushed by the pass), the shadow layout 64 (the light clip matrix) and
+ *    sets 0 (unused) and 1 (the material of cut-out casters).  The storage2 layout (two
  *    storage images, 12 bytes of push constants) serves the box-filter downsample.
  */
 #ifndef PRW_PIPES_H

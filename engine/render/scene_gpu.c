@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "gpu_types.h"
+#include "prw_btf_gpu.h"
 #include "prw_shading.h"
 #include "scene_gpu.h"
 
@@ -13,6 +14,7 @@
 uint32_t prw_scene_gpu_material_flags(const prw_material *m)
 {
     uint32_t f = 0;
+    if (m->kind == PRW_MATERIAL_BTF) return 0; /* the BTF kind reads none of the extension features */
     if (m->alpha_mode == PRW_ALPHA_MASK) f |= PRW_SG_EXT | PRW_SG_MASK;
     if (m->alpha_mode == PRW_ALPHA_BLEND) f |= PRW_SG_EXT | PRW_SG_BLEND;
     if (m->clearcoat > 0) f |= PRW_SG_EXT | PRW_SG_COAT;
@@ -179,6 +181,37 @@ static VkImageView tex_view(const prw_scene_gpu *r, int index, const prw_gpu_ima
     return fallback->view;
 }
 
+/* The scene's BTF materials in one storage buffer (prw_btf_gpu.h); offsets[i]: material i's words (a file
+ * named twice is packed once).  Always a buffer (a word when no material is a BTF): every set binds it. */
+static bool upload_btfs(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, uint32_t *offsets, prw_btf_average *avg,
+                        bool *has_avg, prw_error *e)
+{
+    prw_btf_gpu_words words = {0};
+    bool ok = true;
+    for (uint32_t i = 0; i < s->material_count && ok; i++) {
+        const prw_material *m = &s->materials[i];
+        if (m->kind != PRW_MATERIAL_BTF) continue;
+        uint32_t j = 0;
+        while (j < i && !(s->materials[j].kind == PRW_MATERIAL_BTF && strcmp(s->materials[j].btf_file, m->btf_file) == 0)) j++;
+        if (j < i) {
+            offsets[i] = offsets[j], avg[i] = avg[j], has_avg[i] = has_avg[j];
+            continue;
+        }
+        prw_btf_material bm;
+        ok = prw_btf_material_load(m->btf_file, &bm, e) && prw_btf_gpu_pack(&bm, m->btf_file, &words, &offsets[i], e);
+        if (ok) avg[i] = bm.p.average, has_avg[i] = bm.p.has_average;
+        prw_btf_material_free(&bm);
+        if (!ok) prw_fail_wrap(e, "%s: material '%s'", s->source, m->name);
+        else r->btf_materials++;
+    }
+    size_t bytes = words.count ? words.count * sizeof(uint32_t) : 16;
+    ok = ok && prw_buffer_create(gpu, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 PRW_MEM_GPU, &r->btf, e);
+    if (ok && words.count) ok = prw_buffer_upload(gpu, &r->btf, 0, words.w, bytes, e);
+    free(words.w);
+    return ok;
+}
+
 static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout layout, prw_desc_pool *pool,
                              prw_scene_gpu *r, prw_error *e)
 {
@@ -192,6 +225,14 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
     r->material_sets = prw_calloc(n, sizeof *r->material_sets);
     r->slot_flags = prw_calloc(n, sizeof *r->slot_flags);
     VkSampler lin = prw_gpu_sampler(gpu, PRW_SAMPLER_LINEAR_REPEAT);
+    uint32_t nm = s->material_count ? s->material_count : 1;
+    uint32_t *btf_off = prw_calloc(nm, sizeof *btf_off);
+    prw_btf_average *btf_avg = prw_calloc(nm, sizeof *btf_avg);
+    bool *btf_has_avg = prw_calloc(nm, sizeof *btf_has_avg);
+    if (!upload_btfs(gpu, s, r, btf_off, btf_avg, btf_has_avg, e)) {
+        free(btf_off), free(btf_avg), free(btf_has_avg);
+        return false;
+    }
     for (uint32_t i = 0; i < n; i++) {
         prw_material m = i < s->material_count ? s->materials[i] : prw_material_default();
         if (i >= r->scene_material_slots) { /* a light's visible surface: emission only */
@@ -224,10 +265,26 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
             memcpy(g.xf[2 * k], row0, sizeof row0);
             memcpy(g.xf[2 * k + 1], row1, sizeof row1);
         }
+        if (i < s->material_count && m.kind == PRW_MATERIAL_BTF) {
+            /* base_btf.frag: offset bits, 1 / texel size; the fitted average BRDF of the scale rule (alpha.y 1:
+             * the file has one) in the glTF fields */
+            const prw_btf_average *a = &btf_avg[i];
+            memcpy(&g.alpha[2], &btf_off[i], sizeof(float));
+            g.alpha[3] = (float)(1.0 / m.btf_texel_m);
+            g.alpha[1] = btf_has_avg[i] ? 1.0f : 0.0f;
+            float ar = (float)prw_roughness_from(a->roughness, 1.0f);
+            memcpy(g.base_color, (float[4]){a->base[0], a->base[1], a->base[2], 1.0f}, sizeof g.base_color);
+            g.mr[0] = a->metallic, g.mr[1] = a->roughness, g.extra[0] = a->specular;
+            g.ggx_ec = prw_ggx_Ec_row(ar), g.ggx_ed = prw_ggx_Ed_row(ar);
+            g.ggx_avg[0] = prw_ggx_Ec_avg(ar), g.ggx_avg[1] = prw_ggx_Ed_avg(ar);
+        }
         r->slot_flags[i] = i < r->scene_material_slots ? prw_scene_gpu_material_flags(&m) : 0;
         r->slot_flags[i] |= lacks << PRW_SG_LACKS_SHIFT;
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
-        if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) return false;
+        if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) {
+            free(btf_off), free(btf_avg), free(btf_has_avg);
+            return false;
+        }
         VkDescriptorSet set = r->material_sets[i];
         VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
         VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -240,7 +297,9 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
         prw_desc_write_image(gpu, set, 5, 0, cis, tex_view(r, m.clearcoat_tex, &r->white_linear), lin, ro);
         prw_desc_write_image(gpu, set, 6, 0, cis, tex_view(r, m.clearcoat_roughness_tex, &r->white_linear), lin, ro);
         prw_desc_write_image(gpu, set, 7, 0, cis, tex_view(r, m.clearcoat_normal_tex, &r->flat_normal), lin, ro);
+        prw_desc_write_buffer(gpu, set, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &r->btf, 0, 0);
     }
+    free(btf_off), free(btf_avg), free(btf_has_avg);
     return true;
 }
 
@@ -272,6 +331,7 @@ void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g)
     prw_image_destroy(gpu, &g->white_linear);
     prw_image_destroy(gpu, &g->flat_normal);
     prw_buffer_destroy(gpu, &g->material_ubo);
+    prw_buffer_destroy(gpu, &g->btf);
     free(g->material_sets); /* the sets live in the renderer's pool */
     free(g->slot_flags);
     prw_buffer_destroy(gpu, &g->uv1);

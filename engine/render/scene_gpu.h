@@ -17,6 +17,9 @@
  *    whether its metallic is exactly 0 or 1 (PRW_SG_LACKS_SHIFT), and its block carries the GGX fits'
  *    rows at its factor roughness, so a pipeline specialised on them (PRW_PIPE_LACKS_SHIFT) draws it
  *    with the same values without those fetches.
+ *  - BTF materials (PRW_MATERIAL_BTF): each file is read (errors name the scene, material and file) and
+ *    packed once into `btf`; the slot's block holds the material's word offset (alpha.z, its bits) and
+ *    1 / texel size (alpha.w) for base_btf.frag; its flags carry no extension feature.
  *  - Read-only after create; the renderer re-creates it when the scene is synced.
  */
 #ifndef PRW_SCENE_GPU_H
@@ -56,6 +59,8 @@ typedef struct prw_scene_gpu {
     prw_buffer material_ubo;
     VkDeviceSize material_stride;
     VkDescriptorSet *material_sets;
+    prw_buffer btf;          /* the BTF materials' words (prw_btf_gpu.h), set 1 binding 8 of every slot */
+    uint32_t btf_materials;  /* BTF files packed */
 } prw_scene_gpu;
 
 bool prw_scene_gpu_create(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout material_layout,

@@ -95,7 +95,7 @@ bool prw_tex_transform_is_identity(const prw_tex_transform *t);
 typedef enum prw_material_kind {
     PRW_MATERIAL_GLTF_MR = 0, /* glTF metallic-roughness (materials/prw_brdf.h, shaders/material_gltf.glsl) */
     PRW_MATERIAL_BTF,         /* a measured BTF (materials/btf: a PRWBTFC1 file, prw_btf_eval.h); the path tracer
-                                 evaluates it, the rasterizer has no shader for it yet */
+                                 and the base pass (shaders/base_btf.frag) evaluate it */
     PRW_MATERIAL_KIND_COUNT
 } prw_material_kind;
 

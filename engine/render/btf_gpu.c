@@ -1,0 +1,91 @@
+/* btf_gpu.c — a BTF material packed into 32-bit words for shaders/btf_eval.glsl (prw_btf_gpu.h). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "prw_btf_gpu.h"
+/* the interpolation header's fetches, for its grid size (the functions are not used here) */
+#define PRW_BTF_DT_PARAMS const prw_btf_dirtab *dt,
+#define PRW_BTF_DT_ARGS dt,
+#define PRW_BTF_TRI_INV(i) (dt->tri_inv[(i)])
+#define PRW_BTF_TRI_VERT(i) (dt->tri_vert[(i)])
+#define PRW_BTF_DIR_COS(i) (dt->cos_theta[(i)])
+#define PRW_BTF_GRID(i) (dt->grid[(i)])
+#include "prw_btf_interp.h"
+
+static uint32_t grow(prw_btf_gpu_words *a, size_t n)
+{
+    if (a->count + n > a->cap) {
+        size_t cap = a->cap ? a->cap : 1024;
+        while (cap < a->count + n) cap *= 2;
+        a->w = prw_realloc(a->w, sizeof(uint32_t) * cap);
+        a->cap = cap;
+    }
+    uint32_t at = (uint32_t)a->count;
+    memset(a->w + at, 0, sizeof(uint32_t) * n);
+    a->count += n;
+    return at;
+}
+
+/* n 16-bit values, two per word (the lower first, as unpackHalf2x16 reads them); 0 for none */
+static uint32_t put16(prw_btf_gpu_words *a, const uint16_t *v, uint64_t n)
+{
+    if (!v || n == 0) return 0;
+    uint32_t at = grow(a, (size_t)((n + 1) / 2));
+    for (uint64_t i = 0; i < n; i++) a->w[at + i / 2] |= (uint32_t)v[i] << (16 * (i & 1));
+    return at;
+}
+
+static uint32_t put32(prw_btf_gpu_words *a, const void *v, uint64_t n)
+{
+    if (!v || n == 0) return 0;
+    uint32_t at = grow(a, (size_t)n);
+    memcpy(a->w + at, v, sizeof(uint32_t) * n);
+    return at;
+}
+
+static uint32_t put_table(prw_btf_gpu_words *a, const prw_btf_dirtab *t)
+{
+    uint32_t at = grow(a, 5);
+    uint32_t inv = put32(a, t->tri_inv, (uint64_t)9 * t->tri_count);
+    uint32_t vert = put32(a, t->tri_vert, (uint64_t)3 * t->tri_count);
+    uint32_t cs = put32(a, t->cos_theta, t->count);
+    uint32_t grid = grow(a, PRW_BTF_GRID_T * PRW_BTF_GRID_P); /* no grid: try triangle 0 first, as the C side */
+    if (t->grid) memcpy(a->w + grid, t->grid, sizeof(uint32_t) * PRW_BTF_GRID_T * PRW_BTF_GRID_P);
+    uint32_t h[5] = {t->tri_count, inv, vert, cs, grid};
+    memcpy(a->w + at, h, sizeof h);
+    return at;
+}
+
+bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *a, uint32_t *offset, prw_error *e)
+{
+    const prw_btf_packed *p = &m->p;
+    uint64_t D = (uint64_t)p->views * p->lights * 3, N = (uint64_t)p->width * p->height, k = p->components;
+    uint64_t nu = 0, nw = 0, nm = 0, nb = 0, ni = 0, M = 0;
+    if (p->codec == PRW_BTF_CODEC_FMF) nu = D * k, nw = N * k;
+    else if (p->codec == PRW_BTF_CODEC_CLUSTER || p->codec == PRW_BTF_CODEC_SPARSE)
+        nw = N * k, nm = (uint64_t)p->clusters * D, nb = (uint64_t)p->clusters * k * D, ni = N;
+    else nw = p->views * N * k, nm = (uint64_t)p->views * p->lights * 3, nb = p->views * k * p->lights * 3;
+    if (p->codec == PRW_BTF_CODEC_SPARSE) M = p->sparse_count;
+    /* the codec arrays (halves two per word), then at most two tables of <= 2 x 512 triangles (12 words
+     * each), 256 cosines and the grid */
+    uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_T * PRW_BTF_GRID_P;
+    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nu + nw + nm + nb + 4 * M) / 2 + 6 + ni + (N + 1) + 2 * table;
+    if (need >= (1ull << 31)) return prw_fail(e, "%s: %llu words do not fit one GPU buffer", name, (unsigned long long)need);
+    uint32_t at = grow(a, PRW_BTF_GPU_HEADER);
+    uint32_t h[PRW_BTF_GPU_HEADER] = {(uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters};
+    h[7] = put16(a, p->u, nu);
+    h[8] = put16(a, p->w, nw);
+    h[9] = put16(a, p->mean, nm);
+    h[10] = put16(a, p->basis, nb);
+    h[11] = put32(a, p->index, ni);
+    if (p->codec == PRW_BTF_CODEC_SPARSE) {
+        h[12] = put32(a, p->sp_start, N + 1);
+        h[13] = put16(a, p->sp_pair, M);
+        h[14] = put16(a, p->sp_val, 3 * M);
+    }
+    h[15] = put_table(a, &m->views);
+    h[16] = m->shared ? h[15] : put_table(a, &m->lights);
+    memcpy(a->w + at, h, sizeof h);
+    *offset = at;
+    return true;
+}

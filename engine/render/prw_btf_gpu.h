@@ -1,0 +1,37 @@
+/* prw_btf_gpu — a BTF material (prw_btf_eval.h) packed into one array of 32-bit words, the layout
+ * shaders/btf_eval.glsl reads from a storage buffer (no constant arrays: lavapipe's JIT).
+ *
+ * Promises:
+ *  - prw_btf_gpu_pack appends material m at the end of *words (a growing array, freed by the caller
+ *    with free()) and returns the word offset of its header: several materials share one buffer.
+ *  - The layout (offsets are absolute word indices into the whole array):
+ *      header (PRW_BTF_GPU_HEADER words): codec, width, height, views, lights, components, clusters,
+ *        u, w, mean, basis, index, sp_start, sp_pair, sp_val (offsets of the codec arrays; 0: absent),
+ *        view table, light table (offsets of direction tables; equal when the sets are shared);
+ *      direction table (5 words): triangle count, offsets of tri_inv (floats), tri_vert, cos_theta
+ *        (floats), grid (PRW_BTF_GRID_T x PRW_BTF_GRID_P words);
+ *      halves (u, w, mean, basis, sp_val) and sp_pair's u16 two per word, the lower first; floats as
+ *      their bits.  Values equal the C material's to the bit, so btf_eval.glsl decodes what
+ *      prw_btf_material_eval decodes.
+ *  - Fails (naming `name`) when the array would pass 2^31 words.
+ */
+#ifndef PRW_BTF_GPU_H
+#define PRW_BTF_GPU_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "prw_btf_eval.h"
+#include "prw_core.h"
+
+#define PRW_BTF_GPU_HEADER 20u
+
+typedef struct prw_btf_gpu_words {
+    uint32_t *w;
+    size_t count, cap;
+} prw_btf_gpu_words;
+
+bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *words, uint32_t *offset,
+                      prw_error *e);
+
+#endif
