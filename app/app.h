@@ -48,27 +48,6 @@ bool prw_app_load_renderable(const char *path, prw_scene **out, prw_error *e);
 bool prw_app_bake_scene(prw_scene *s, prw_error *e);
 bool prw_app_create_gpu(bool present, prw_gpu **out, prw_error *e);
 
-/* The baked indirect diffuse of a scene for the renderer (app/lightmaps.c; engine/bake/prw_gi.h,
- * engine/render/prw_lightmap.h).  A scene gets a bake when it has static meshes and something emits
- * light (a light, an emissive material, an environment); the bake's options are the quality's
- * radiosity_size with the baker's defaults otherwise (the `prw bake SCENE --gi` cache entry). */
-typedef struct prw_app_lightmaps prw_app_lightmaps;
-struct prw_quality;
-struct prw_gi_bake;
-struct prw_lightmaps;
-/* Whether s gets a bake; why: a short reason either way. */
-bool prw_app_lightmaps_wanted(const prw_scene *s, const char **why);
-/* Whether the bake of s for q is in the cache (path: its file either way, when the cache has a place). */
-bool prw_app_lightmaps_cached(const prw_scene *s, const struct prw_quality *q, char *path, size_t cap);
-/* For the command `cmd`: *out = NULL with no_bake (one line on stderr saying so) or for a scene without
- * a bake; else the cached bake, or one built first with a progress bar on stderr. */
-bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const struct prw_quality *q, bool no_bake,
-                               prw_app_lightmaps **out, prw_error *e);
-/* Takes ownership of b (freed on failure too). */
-bool prw_app_lightmaps_from_bake(const prw_scene *s, struct prw_gi_bake *b, prw_app_lightmaps **out, prw_error *e);
-/* What prw_render_desc.lightmaps takes (NULL for NULL); valid while a lives. */
-const struct prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a);
-void prw_app_lightmaps_destroy(prw_app_lightmaps *a);
 
 int prw_cmd_render(int argc, char **argv);
 int prw_cmd_info(int argc, char **argv);

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "app.h"
+#include "lightmaps.h"
 #include "prw_build_info.h"
 #include "prw_image.h"
 #include "prw_render.h"

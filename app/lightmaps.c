@@ -1,4 +1,4 @@
-/* lightmaps — the scene's GI bake for the drawing commands (app.h prw_app_lightmaps_*): which scenes
+/* lightmaps — the scene's GI bake for the drawing commands (lightmaps.h): which scenes
  * get one, bake on a cache miss with progress, and the conversion of the baker's result
  * (engine/bake/prw_gi.h) into what the renderer takes (engine/render/prw_lightmap.h). */
 #define _POSIX_C_SOURCE 200809L
@@ -8,11 +8,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "app.h"
+#include "lightmaps.h"
 #include "prw_cache.h"
-#include "prw_gi.h"
-#include "prw_lightmap.h"
-#include "prw_quality.h"
 
 struct prw_app_lightmaps {
     prw_gi_bake *bake;
