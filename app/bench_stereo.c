@@ -88,7 +88,7 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
     prw_views_backend backend;
     /* the reprojection exists for the per-view loop only: auto means loop then */
     if (!prw_views_backend_resolve(gpu, reuse && !views_backend ? "loop" : views_backend, &backend, e)) return false;
-    prw_render_desc d1 = bench_desc(q, c->o.width, c->o.height);
+    prw_render_desc d1 = bench_desc(c, q);
     d1.max_views = 1;
     prw_render_desc d2 = d1;
     d2.max_views = 2;
