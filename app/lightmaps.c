@@ -19,17 +19,31 @@ struct prw_app_lightmaps {
     prw_lightmaps lm;
 };
 
+/* The baker's rule (engine/bake/gi_build.c): a mesh is baked when its material has a diffuse lobe. */
+static bool diffuse(const prw_scene *s, int material)
+{
+    prw_material m = material >= 0 && (uint32_t)material < s->material_count ? s->materials[material]
+                                                                              : prw_material_default();
+    float b = m.base_color[0] > m.base_color[1] ? m.base_color[0] : m.base_color[1];
+    return m.metallic < 1 && (b > m.base_color[2] ? b : m.base_color[2]) > 0;
+}
+
 bool prw_app_lightmaps_wanted(const prw_scene *s, const char **why)
 {
-    bool meshes = false, light = s->light_count > 0 || s->environment.present;
-    for (uint32_t i = 0; i < s->node_count && !meshes; i++) {
+    bool meshes = false, lobes = false, light = s->light_count > 0 || s->environment.present;
+    for (uint32_t i = 0; i < s->node_count; i++) {
         int g = s->nodes[i].mesh_group;
-        meshes = g >= 0 && (uint32_t)g < s->group_count && s->groups[g].count > 0;
+        if (g < 0 || (uint32_t)g >= s->group_count) continue;
+        for (uint32_t k = s->groups[g].first; k < s->groups[g].first + s->groups[g].count && k < s->mesh_count; k++) {
+            meshes = true;
+            lobes = lobes || (s->meshes[k].index_count >= 3 && diffuse(s, s->meshes[k].material));
+        }
     }
     for (uint32_t i = 0; i < s->material_count && !light; i++)
         light = s->materials[i].emission[0] > 0 || s->materials[i].emission[1] > 0 || s->materials[i].emission[2] > 0;
-    *why = !meshes ? "no static meshes" : !light ? "nothing emits light" : "static meshes, lit";
-    return meshes && light;
+    *why = !meshes ? "no static meshes" : !lobes ? "no mesh has a diffuse lobe" : !light ? "nothing emits light"
+                                                                                        : "static meshes, lit";
+    return meshes && lobes && light;
 }
 
 static prw_gi_options options_of(const prw_quality *q)
