@@ -141,6 +141,8 @@ bool prw_lightmap_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_lightma
         g->node_first[ni] = slots;
         slots += count;
     }
+    g->node_count = s->node_count;
+    g->slot_count = slots;
     g->draw_of = prw_malloc((slots ? slots : 1) * sizeof *g->draw_of);
     for (uint32_t k = 0; k < slots; k++) g->draw_of[k] = -1;
     g->draws = prw_calloc(lm->instance_count, sizeof *g->draws);
@@ -216,9 +218,10 @@ void prw_lightmap_gpu_destroy(prw_gpu *gpu, prw_lightmap_gpu *g)
 
 const prw_gpu_mesh *prw_lightmap_gpu_draw(const prw_lightmap_gpu *g, const prw_scene *s, uint32_t node, uint32_t mesh)
 {
-    if (!g || !g->active || node >= s->node_count) return NULL;
+    if (!g || !g->active || node >= s->node_count || node >= g->node_count) return NULL;
     uint32_t first, count;
     if (!group_of(s, node, &first, &count) || mesh < first || mesh >= first + count) return NULL;
-    int32_t d = g->draw_of[g->node_first[node] + (mesh - first)];
+    uint32_t slot = g->node_first[node] + (mesh - first);
+    int32_t d = slot < g->slot_count ? g->draw_of[slot] : -1;
     return d >= 0 ? &g->draws[d] : NULL;
 }

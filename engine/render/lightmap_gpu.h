@@ -29,6 +29,7 @@ typedef struct prw_lightmap_gpu {
     int32_t *draw_of;     /* per (node, mesh of its group), node_first[node] + (mesh - group first): index into
                              draws, -1 when not light-mapped */
     uint32_t *node_first;
+    uint32_t node_count, slot_count; /* of the scene at create (a later edit of the scene is not light-mapped) */
     uint32_t instance_count;
 } prw_lightmap_gpu;
 
