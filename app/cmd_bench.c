@@ -297,12 +297,12 @@ int prw_cmd_bench(int argc, char **argv)
         rc = bench_ref_child(c);
         goto done;
     }
-    if (!prw_app_lightmaps_prepare("bench", c->scene, &c->res.configs[0].q, c->o.no_bake, &c->lightmaps, &e)) goto done;
     if (c->nframes == 0) {
         prw_fail(&e, "--shard %ld/%ld: no frames (the path has %u)", c->o.shard_i, c->o.shard_n, c->frame_count);
         goto done;
     }
     if (!bench_mkdirs(c->o.out_dir, &e)) goto done;
+    if (!prw_app_lightmaps_prepare("bench", c->scene, &c->res.configs[0].q, c->o.no_bake, &c->lightmaps, &e)) goto done;
     double t0 = prw_now();
     if (!c->o.vs && c->o.views == 1 && !bench_references(c, &e)) goto done; /* before the GPU: nothing timed yet */
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
