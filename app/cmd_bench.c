@@ -234,6 +234,8 @@ static void run_meta(bench_ctx *c)
     bench_meta_add(m, "reference", "every %u frames, %ld spp, seeds %u (errors) and %u (noise), filter all",
                    c->ref_every, c->o.ref_spp, BENCH_REF_SEED_A, BENCH_REF_SEED_B);
     bench_meta_add(m, "warmup", "%ld frames", c->o.warmup);
+    bench_meta_add(m, "gi", "%s", c->lightmaps ? "baked indirect-diffuse light maps (radiosity_size of config 0)"
+                                  : c->o.no_bake ? "none (--no-bake)" : "none (nothing to bake)");
     for (uint32_t i = 0; i < c->res.config_count; i++) {
         char key[32];
         snprintf(key, sizeof key, "config %u", i);
