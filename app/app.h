@@ -48,6 +48,7 @@ bool prw_app_load_renderable(const char *path, prw_scene **out, prw_error *e);
 bool prw_app_bake_scene(prw_scene *s, prw_error *e);
 bool prw_app_create_gpu(bool present, prw_gpu **out, prw_error *e);
 
+
 int prw_cmd_render(int argc, char **argv);
 int prw_cmd_info(int argc, char **argv);
 int prw_cmd_walk(int argc, char **argv);

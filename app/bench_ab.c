@@ -117,8 +117,8 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
     prw_quality_format(a, ka, sizeof ka);
     prw_quality_format(b, kb, sizeof kb);
     bench_machine_meta(&c->res.meta, gpu);
-    prw_render_desc da = bench_desc(a, c->o.width, c->o.height);
-    prw_render_desc db = bench_desc(b, c->o.width, c->o.height);
+    prw_render_desc da = bench_desc(c, a);
+    prw_render_desc db = bench_desc(c, b);
     prw_renderer *ra = NULL, *rb = NULL;
     uint32_t n = c->nframes > AB_MIN_PAIRS ? c->nframes : AB_MIN_PAIRS;
     double *ta = prw_calloc(n, sizeof *ta), *tb = prw_calloc(n, sizeof *tb);

@@ -12,6 +12,7 @@
 #define PRW_BENCH_INTERNAL_H
 
 #include "app.h"
+#include "lightmaps.h"
 #include "prw_camera_path.h"
 #include "prw_image.h"
 #include "prw_metrics.h"
@@ -37,6 +38,7 @@ typedef struct bench_opts {
     const char *out_dir;
     long shard_i, shard_n;
     bool no_ref_cache;
+    bool no_bake;             /* --no-bake: no GI light maps */
     const char *ref_child, *ref_dir; /* hidden: this process is the reference child */
 } bench_opts;
 
@@ -95,6 +97,7 @@ typedef struct bench_ctx {
     prw_image *ref_a;         /* [frame_count], loaded for this shard's reference frames */
     bench_err *noise;         /* [frame_count] */
     bench_result res;
+    prw_app_lightmaps *lightmaps; /* the scene's GI bake (NULL: none, or --no-bake) */
 } bench_ctx;
 
 /* bench_out.c: prints "floor ms F, base ms B, base/floor R" per config, medians over the rows of
@@ -163,9 +166,12 @@ bool bench_merge_dirs(const char *const *dirs, int n, const char *out, prw_error
 void bench_plots(const bench_result *r, const char *dir);
 
 /* The renderer description of a config at the bench's size (one view, timestamps off). */
-static inline prw_render_desc bench_desc(const prw_quality *q, uint32_t width, uint32_t height)
+/* The renderer of one config: the bench's size and the scene's light maps (every config draws the bake of
+ * the first config's radiosity_size). */
+static inline prw_render_desc bench_desc(const bench_ctx *c, const prw_quality *q)
 {
-    return (prw_render_desc){.width = width, .height = height, .quality = *q};
+    return (prw_render_desc){.width = c->o.width, .height = c->o.height, .quality = *q,
+                             .lightmaps = prw_app_lightmaps_get(c->lightmaps)};
 }
 
 #endif

@@ -29,7 +29,7 @@ bool bench_run_timed(bench_ctx *c, prw_gpu *gpu, prw_error *e)
 {
     bench_result *res = &c->res;
     for (uint32_t ci = 0; ci < res->config_count; ci++) {
-        prw_render_desc d = bench_desc(&res->configs[ci].q, c->o.width, c->o.height);
+        prw_render_desc d = bench_desc(c, &res->configs[ci].q);
         prw_renderer *r = NULL;
         if (!prw_renderer_create(gpu, c->scene, &d, &r, e)) return prw_fail_wrap(e, "config %u", ci);
         bool ok = warm_up(c, r, c->o.warmup, e);
@@ -95,7 +95,7 @@ bool bench_run_timestamped(bench_ctx *c, prw_gpu *gpu, prw_error *e)
 {
     bench_result *res = &c->res;
     for (uint32_t ci = 0; ci < res->config_count; ci++) {
-        prw_render_desc d = bench_desc(&res->configs[ci].q, c->o.width, c->o.height);
+        prw_render_desc d = bench_desc(c, &res->configs[ci].q);
         d.timestamps = true;
         prw_renderer *r = NULL;
         if (!prw_renderer_create(gpu, c->scene, &d, &r, e)) return prw_fail_wrap(e, "config %u (timestamps)", ci);

@@ -88,7 +88,9 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
     prw_views_backend backend;
     /* the reprojection exists for the per-view loop only: auto means loop then */
     if (!prw_views_backend_resolve(gpu, reuse && !views_backend ? "loop" : views_backend, &backend, e)) return false;
-    prw_render_desc d1 = bench_desc(q, c->o.width, c->o.height);
+    prw_render_desc d1 = bench_desc(c, q);
+    d1.lightmaps = NULL; /* as prw render --stereo: the light maps have no multiview / reprojection variant, so
+                            mono and stereo frames are compared without them */
     d1.max_views = 1;
     prw_render_desc d2 = d1;
     d2.max_views = 2;
@@ -110,8 +112,9 @@ bool bench_run_stereo(bench_ctx *c, prw_gpu *gpu, const prw_quality *q, const ch
     double dummy;
     for (long w = 0; ok && w < (c->o.warmup > 0 ? c->o.warmup : 1); w++)
         ok = timed(mono, &centre, 1, &dummy, e) && timed(shared, eyes, 2, &dummy, e);
-    fprintf(stderr, "bench --views 2: mono / naive stereo / shared stereo (%s backend, stereo_reuse=%s), %ux%u per eye\n",
-            prw_views_backend_name(backend), reuse ? "reproject" : "off", c->o.width, c->o.height);
+    fprintf(stderr, "bench --views 2: mono / naive stereo / shared stereo (%s backend, stereo_reuse=%s), %ux%u per eye%s\n",
+            prw_views_backend_name(backend), reuse ? "reproject" : "off", c->o.width, c->o.height,
+            c->lightmaps ? ", without the GI light maps" : "");
     static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
     for (uint32_t i = 0; ok && i < n; i++) {
         fr[i] = c->frames[i % c->nframes];

@@ -51,6 +51,9 @@ static void bench_usage(void)
            "  --shard i/n            only frames with index %% n == i (and their references); join the\n"
            "                         shards' output directories with prw bench-merge\n"
            "  --no-ref-cache         do not read the reference cache (references go to DIR/refs)\n"
+           "  --no-bake              render without indirect light (no GI light maps); otherwise the scene's\n"
+           "                         indirect-diffuse light maps (of the first config's radiosity_size) are\n"
+           "                         drawn, baked first when the cache has none\n"
            "Quality knobs (--sweep, --vs):\n%s"
            "Outputs: frames.csv (per frame; machine facts in '#' lines), passes.csv (timestamped run, one\n"
            "column per pass, empty = skipped), summary.json, frame_time.png, error.png, pareto.png (sweep).\n"
@@ -101,6 +104,7 @@ static bool parse_options(prw_args *a, bench_opts *o, prw_error *e)
     o->ref_child = prw_args_value(a, "ref-child", e, &bad);
     o->ref_dir = prw_args_value(a, "ref-dir", e, &bad);
     o->no_ref_cache = prw_args_flag(a, "no-ref-cache");
+    o->no_bake = prw_args_flag(a, "no-bake");
     if (bad) return false;
     if ((v = prw_args_value(a, "size", e, &bad)) && !prw_parse_size(v, &o->width, &o->height, e)) return false;
     if ((v = prw_args_value(a, "views", e, &bad)) && !prw_parse_int(v, "--views", 1, PRW_MAX_VIEWS, &o->views, e))
@@ -230,6 +234,8 @@ static void run_meta(bench_ctx *c)
     bench_meta_add(m, "reference", "every %u frames, %ld spp, seeds %u (errors) and %u (noise), filter all",
                    c->ref_every, c->o.ref_spp, BENCH_REF_SEED_A, BENCH_REF_SEED_B);
     bench_meta_add(m, "warmup", "%ld frames", c->o.warmup);
+    bench_meta_add(m, "gi", "%s", c->lightmaps ? "baked indirect-diffuse light maps (radiosity_size of config 0)"
+                                  : c->o.no_bake ? "none (--no-bake)" : "none (nothing to bake)");
     for (uint32_t i = 0; i < c->res.config_count; i++) {
         char key[32];
         snprintf(key, sizeof key, "config %u", i);
@@ -247,6 +253,7 @@ static void bench_ctx_free(bench_ctx *c)
     free(c->frames);
     free(c->is_ref);
     prw_camera_path_free(&c->path);
+    prw_app_lightmaps_destroy(c->lightmaps);
     prw_scene_destroy(c->scene);
     bench_result_free(&c->res);
 }
@@ -297,6 +304,7 @@ int prw_cmd_bench(int argc, char **argv)
         goto done;
     }
     if (!bench_mkdirs(c->o.out_dir, &e)) goto done;
+    if (!prw_app_lightmaps_prepare("bench", c->scene, &c->res.configs[0].q, c->o.no_bake, &c->lightmaps, &e)) goto done;
     double t0 = prw_now();
     if (!c->o.vs && c->o.views == 1 && !bench_references(c, &e)) goto done; /* before the GPU: nothing timed yet */
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;

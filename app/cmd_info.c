@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "lightmaps.h"
 #include "prw_render.h"
 #include "prw_stereo.h"
 
@@ -175,6 +176,19 @@ int prw_cmd_info(int argc, char **argv)
     for (uint32_t i = 0; i < s->camera_count; i++)
         printf("  camera %-16s yfov %.1f deg, EV100 %.2f\n", s->cameras[i].name, s->cameras[i].yfov * 180.0 / PRW_PI,
                s->cameras[i].ev100);
+    {
+        const char *why;
+        char path[4096] = "";
+        prw_quality q = prw_quality_default();
+        if (!prw_app_lightmaps_wanted(s, &why))
+            printf("  gi bake: none (%s): no indirect light in the rasterizer\n", why);
+        else if (prw_app_lightmaps_cached(s, &q, path, sizeof path))
+            printf("  gi bake: cached (%s; default quality, radiosity_size %u): render, walk and bench draw its "
+                   "indirect diffuse\n", path, q.radiosity_size);
+        else
+            printf("  gi bake: not cached (default quality, radiosity_size %u): render, walk and bench bake it first "
+                   "(prw bake SCENE --gi; --no-bake renders without indirect light)\n", q.radiosity_size);
+    }
     int rc = prw_app_bake_scene(s, &e) && print_graph(s, (uint32_t)views, w, h, &e) ? 0 : 1;
     if (rc) fprintf(stderr, "prw: error: %s\n", e.msg);
     prw_scene_destroy(s);

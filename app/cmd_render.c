@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "app.h"
+#include "lightmaps.h"
 #include "prw_build_info.h"
 #include "prw_image.h"
 #include "prw_render.h"
@@ -29,6 +30,12 @@ static void render_usage(void)
            "  --camera NAME      scene camera (default: the first)\n"
            "  --ev100 X          exposure override (default: the camera's)\n"
            "  --frames N         render N timed frames after one warm-up and report the median (default 1)\n"
+           "  --no-bake          render without indirect light (no GI light maps); otherwise a scene with static\n"
+           "                     meshes and a light source is drawn with its indirect-diffuse light maps, baked\n"
+           "                     first (progress on stderr) when the cache has none (prw bake SCENE --gi)\n"
+           "  --term T           draw one term only, to compare with prw reference --filter: direct (emission +\n"
+           "                     direct light) or indirect-diffuse (the light maps' indirect diffuse; --filter\n"
+           "                     indirect-diffuse-last); default: all\n"
            "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
@@ -78,6 +85,8 @@ struct render_job {
     prw_quality q; /* the knobs (--preset and shorthands) */
     long frames;
     bool has_ev, pass_times;
+    bool no_bake;   /* --no-bake */
+    uint32_t terms; /* --term: PRW_TERM_* (0: all) */
     double ev100;
 };
 
@@ -157,6 +166,7 @@ static int prw_render_job_run(const render_job *job)
     prw_image hdr = {0};
     uint8_t *ldr = NULL;
     double *times = NULL, *bf = NULL;
+    prw_app_lightmaps *lms = NULL;
     int rc = 1;
     /* before any work: every output can be written */
     if (!prw_check_writable(job->out, true, &e) || !prw_check_writable(job->png, true, &e) ||
@@ -171,6 +181,11 @@ static int prw_render_job_run(const render_job *job)
     prw_view view;
     if (!prw_view_from_camera(scene, cam, job->width, job->height, &view, &e)) goto done;
     if (!prw_app_bake_scene(scene, &e)) goto done;
+    if (!prw_app_lightmaps_prepare("render", scene, &job->q, job->no_bake, &lms, &e)) goto done;
+    if (job->terms == PRW_TERM_INDIRECT_DIFFUSE && !lms) {
+        prw_fail(&e, "--term indirect-diffuse: %s has no light maps (--no-bake, or nothing to bake)", scene->source);
+        goto done;
+    }
     if (job->has_ev) view.ev100 = job->ev100;
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_display disp;
@@ -179,7 +194,8 @@ static int prw_render_job_run(const render_job *job)
     bool hdr10 = disp.eotf == PRW_EOTF_PQ && disp.primaries == PRW_PRIMARIES_REC2020; /* as write_display_files */
     prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,
                           .timestamps = job->pass_times, .glare = job->glare ? &gs : NULL,
-                          .display_signal = hdr10 || job->display_exr};
+                          .display_signal = hdr10 || job->display_exr,
+                          .lightmaps = prw_app_lightmaps_get(lms), .terms = job->terms};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap, .overlay = job->tm_overlay,
                                 .sel_threshold = job->tm_threshold, .sel_tile = (uint32_t)job->tm_tile};
@@ -264,6 +280,7 @@ done:
     free(ldr);
     prw_image_free(&hdr);
     prw_renderer_destroy(r);
+    prw_app_lightmaps_destroy(lms);
     if (gpu) {
         prw_gpu_destroy(gpu);
         if (rc == 0 && prw_gpu_validation_total() != 0) {
@@ -310,6 +327,14 @@ int prw_cmd_render(int argc, char **argv)
     if ((v = prw_args_value(&a, "frames", &e, &bad)) && !prw_parse_int(v, "--frames", 1, 100000, &job.frames, &e))
         bad = true;
     job.pass_times = prw_args_flag(&a, "pass-times");
+    job.no_bake = prw_args_flag(&a, "no-bake");
+    if ((v = prw_args_value(&a, "term", &e, &bad))) {
+        if (!strcmp(v, "direct")) job.terms = PRW_TERM_DIRECT;
+        else if (!strcmp(v, "indirect-diffuse")) job.terms = PRW_TERM_INDIRECT_DIFFUSE;
+        else if (strcmp(v, "all")) bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse or all", v);
+    }
+    if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)
+        bad = true, prw_fail(&e, "--term indirect-diffuse needs the light maps: not with --no-bake");
     job.display = prw_args_value(&a, "display", &e, &bad);
     job.tonemap = prw_args_value(&a, "tonemap", &e, &bad);
     job.tm_overlay = prw_args_flag(&a, "tm-overlay");

@@ -23,6 +23,7 @@
 #include <GLFW/glfw3.h>
 
 #include "app.h"
+#include "lightmaps.h"
 #include "quality_args.h"
 #include "prw_build_info.h"
 #include "prw_camera_path.h"
@@ -62,6 +63,8 @@ static void walk_usage(void)
            "  --shot-dir DIR      screenshot folder (default prw-out)\n"
            "  --no-hud            start with the HUD hidden (H toggles it)\n"
            "  --no-pass-times     no GPU timestamps (the HUD then shows no per-pass times)\n"
+           "  --no-bake           render without indirect light (no GI light maps); otherwise the scene's\n"
+           "                      indirect-diffuse light maps are drawn, baked first when the cache has none\n"
            "  --adapt             temporal adaptation of the tone mapper (one state; auto-exposure operators)\n"
            "  --adapt-up-s S      its time constant towards brighter scenes (default 0.4; implies --adapt)\n"
            "  --adapt-down-s S    its time constant towards darker scenes (default 4; implies --adapt)\n"
@@ -80,6 +83,7 @@ typedef struct walk_opts {
     long frames;
     double fps, target_ms, speed, adapt_up_s, adapt_down_s;
     bool walk_mode, hud, pass_times, adapt;
+    bool no_bake;
 } walk_opts;
 
 typedef struct walk_ctx {
@@ -94,6 +98,7 @@ typedef struct walk_ctx {
     walk_input in;
     int shots;
     walk_measure measure; /* the last [R] measurement */
+    prw_app_lightmaps *lightmaps; /* the scene's GI bake (NULL: none, or --no-bake) */
 } walk_ctx;
 
 /* The renderer of scale level lv, created on first use (*created: this call made it). */
@@ -104,7 +109,8 @@ static bool get_renderer(walk_ctx *c, int lv, prw_renderer **out, bool *created,
         prw_render_desc rd = {.width = prw_dynres_size(c->o->w, level_scale[lv]),
                               .height = prw_dynres_size(c->o->h, level_scale[lv]),
                               .quality = c->o->q,
-                              .timestamps = c->o->pass_times};
+                              .timestamps = c->o->pass_times,
+                              .lightmaps = prw_app_lightmaps_get(c->lightmaps)};
         if (!prw_renderer_create(c->gpu, c->scene, &rd, &c->level[lv], e)) return false;
         if (!prw_renderer_set_tonemap(c->level[lv], &c->disp, &c->tms, e)) return false;
     }
@@ -300,6 +306,7 @@ static int walk_run(const walk_opts *o)
     prw_view view;
     if (!prw_view_from_camera(c.scene, cam, o->w, o->h, &view, &e)) goto done;
     if (!prw_app_bake_scene(c.scene, &e)) goto done;
+    if (!prw_app_lightmaps_prepare("walk", c.scene, &o->q, o->no_bake, &c.lightmaps, &e)) goto done;
     const double ev100 = view.ev100, yfov = c.scene->cameras[cam].yfov;
     const double znear = c.scene->cameras[cam].znear > 0 ? c.scene->cameras[cam].znear : 0.05;
     {
@@ -427,7 +434,7 @@ static int walk_run(const walk_opts *o)
             c.in.measure = false;
             prw_view full = v;
             if (o->replay) full = prw_camera_sample_view(&sample, o->w, o->h, znear, ev100, 0);
-            prw_render_desc md = {.quality = o->q};
+            prw_render_desc md = {.quality = o->q, .lightmaps = prw_app_lightmaps_get(c.lightmaps)};
             fprintf(stderr, "walk: measuring the error against the reference (%u px wide, %u spp)...\n", o->measure_width,
                     o->measure_spp);
             if (!walk_measure_run(c.gpu, c.scene, &full, &md, o->measure_width, o->measure_spp, 0, &c.measure, &e))
@@ -525,6 +532,7 @@ done:
     prw_camera_path_free(&replay);
     prw_camera_path_free(&rec);
     walk_script_free(&c.script);
+    prw_app_lightmaps_destroy(c.lightmaps);
     prw_scene_destroy(c.scene);
     return rc;
 }
@@ -582,6 +590,7 @@ int prw_cmd_walk(int argc, char **argv)
     }
     if (prw_args_flag(&a, "no-hud")) o.hud = false;
     if (prw_args_flag(&a, "no-pass-times")) o.pass_times = false;
+    o.no_bake = prw_args_flag(&a, "no-bake");
     if (!bad && !prw_args_finish(&a, &e)) bad = true;
     if (bad) {
         fprintf(stderr, "prw walk: error: %s\n", e.msg);

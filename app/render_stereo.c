@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include "app.h"
+#include "lightmaps.h"
 #include "prw_build_info.h"
 #include "prw_compose.h"
 #include "prw_hmd.h"
@@ -86,6 +87,12 @@ int prw_stereo_job_run(const prw_stereo_job *job)
     uint32_t cw = job->hmd ? 64 : job->width, ch = job->hmd ? 64 : job->height;
     if (!prw_view_from_camera(scene, cam, cw, ch, &centre, &e)) goto done;
     if (!prw_app_bake_scene(scene, &e)) goto done;
+    {
+        const char *why;
+        if (prw_app_lightmaps_wanted(scene, &why)) /* the light-map shaders have no multiview / reprojection variant */
+            fprintf(stderr, "prw render: stereo: drawn without indirect light (the GI light maps are drawn in mono "
+                            "renders only)\n");
+    }
     if (job->has_ev) centre.ev100 = job->ev100;
     if (job->hmd) {
         if (!prw_stereo_setup_hmd(&centre, &hmd, job->width, job->height, &st, &e)) goto done;

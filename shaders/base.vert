@@ -15,6 +15,11 @@ layout(location = 4) in vec2 in_uv1; // uv set 1 (constants: PRW_UV1_FLOATS)
 layout(location = 4) out vec2 v_uv1;
 #endif
 
+#ifdef PRW_GI
+layout(location = 5) in vec4 in_gi; // the light map's stream (gi_lightmap.glsl)
+layout(location = 5) out vec4 v_gi;
+#endif
+
 layout(push_constant) uniform prw_draw {
     mat4 model;      // object -> camera-relative world
     vec4 normal_m[3];// inverse-transpose of model's 3x3, columns
@@ -44,6 +49,9 @@ void main()
     v_uv = in_uv;
 #ifdef PRW_GLTF_EXT
     v_uv1 = in_uv1;
+#endif
+#ifdef PRW_GI
+    v_gi = in_gi;
 #endif
 #ifdef PRW_MULTIVIEW
     gl_Position = prw_mv.view_proj[gl_ViewIndex] * p;

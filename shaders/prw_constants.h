@@ -37,6 +37,12 @@
 /* The base fragment shaders' soft-shadow specialisation (int, the quality knob soft_shadows): 0 = the rect
  * lights' hard shadow, N = their soft shadow with N x N search and filter taps (shadows.glsl). */
 #define PRW_SC_SOFT_SHADOWS 7
+/* The base fragment shaders' terms (int, PRW_TERM_* bits; gi_lightmap.glsl, engine/render/prw_lightmap.h):
+ * PRW_TERM_ALL draws what the shaders drew before the light maps; the others are for term-by-term tests. */
+#define PRW_SC_TERMS 8
+#define PRW_TERM_DIRECT 1           /* emission + direct light */
+#define PRW_TERM_INDIRECT_DIFFUSE 2 /* the light maps' indirect diffuse (PRW_GI variants only) */
+#define PRW_TERM_ALL 3
 #define PRW_GPU_MAT_NO_BASE_TEX 1     /* the base colour is the factor (white fallback texture) */
 #define PRW_GPU_MAT_NO_MR_TEX 2       /* metallic and roughness are the factors; the block's ggx rows are theirs */
 #define PRW_GPU_MAT_NO_NORMAL_TEX 4   /* no normal map */

@@ -63,8 +63,9 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
         vkDestroyShaderModule(gpu->device, vs, NULL);
         return false;
     }
-    if (d->fs_spec_count > 8) return prw_fail(e, "gpu: %u specialisation constants (at most 8)", d->fs_spec_count);
-    VkSpecializationMapEntry spec_map[8];
+    if (d->fs_spec_count > PRW_GPU_MAX_FS_SPEC)
+        return prw_fail(e, "gpu: %u specialisation constants (at most %d)", d->fs_spec_count, PRW_GPU_MAX_FS_SPEC);
+    VkSpecializationMapEntry spec_map[PRW_GPU_MAX_FS_SPEC];
     for (uint32_t i = 0; i < d->fs_spec_count; i++)
         spec_map[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
     VkSpecializationInfo spec = {.mapEntryCount = d->fs_spec_count, .pMapEntries = spec_map,

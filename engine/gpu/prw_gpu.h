@@ -206,9 +206,11 @@ bool prw_pipeline_layout_create_stages(prw_gpu *gpu, const VkDescriptorSetLayout
                                        uint32_t push_constant_bytes, VkShaderStageFlags push_stages,
                                        VkPipelineLayout *out, prw_error *e);
 
+#define PRW_GPU_MAX_FS_SPEC 12 /* specialisation constants of one fragment shader */
+
 typedef struct prw_graphics_desc {
     prw_spirv vs, fs;        /* fs.code may be NULL (depth-only) */
-    uint32_t fs_spec[8];     /* the fragment shader's specialisation constants: constant_id i = fs_spec[i] */
+    uint32_t fs_spec[PRW_GPU_MAX_FS_SPEC]; /* the fragment shader's specialisation constants: constant_id i = fs_spec[i] */
     uint32_t fs_spec_count;  /* (32-bit int or bool each), 0 = none */
     VkPipelineLayout layout;
     const VkVertexInputBindingDescription *vertex_bindings;

@@ -2,9 +2,13 @@
  * order; meshes with a BLEND material are left out of COLOR draws and drawn by BLEND draws, back to
  * front (by the distance of their world bounds' centre from the view's eye), a double-sided one as
  * its far side then its near side; shadows draw every mesh with the light's clip matrix, cut-out
- * (MASK, BLEND) casters through the alpha-tested caster pipeline. */
+ * (MASK, BLEND) casters through the alpha-tested caster pipeline.  Light-mapped meshes (lightmap_gpu.h)
+ * are drawn from the light maps' buffers with the light-map shaders (PRW_PIPE_GI) by the base pass's
+ * plain, pre-pass and EQUAL draws and their G-buffer forms (the pre-pass from the same buffers and vertex shader, so EQUAL
+ * matches), unless their material is blended or clear-coated; every other draw is as before. */
 #include <stdlib.h>
 
+#include "lightmap_gpu.h"
 #include "pipes.h"
 #include "prw_pass.h"
 #include "scene_gpu.h"
@@ -52,14 +56,32 @@ static void record_shadow(const prw_render_env *env, prw_draw_ctx *c)
     }
 }
 
-/* One shaded draw of mesh k (push constants pc of its node); extra: more pipeline features (PRW_PIPE_BACK). */
+/* The light maps' draw of (node, mesh k) in this context, or NULL: the draw is as before. */
+static const prw_gpu_mesh *gi_draw(const prw_render_env *env, const prw_draw_ctx *c, uint32_t node, uint32_t k)
+{
+    if (!env->lm->active || c->kind != PRW_DRAW_COLOR || c->recipe != &env->pipes->base || c->view_mask ||
+        c->view->clip)
+        return NULL;
+    if (c->variant != PRW_BASE_VARIANT_PLAIN && c->variant != PRW_BASE_VARIANT_PREPASS &&
+        c->variant != PRW_BASE_VARIANT_EQUAL && c->variant != PRW_BASE_VARIANT_GBUFFER &&
+        c->variant != PRW_BASE_VARIANT_PREPASS_GBUFFER && c->variant != PRW_BASE_VARIANT_EQUAL_GBUFFER)
+        return NULL;
+    uint32_t slot = prw_scene_gpu_slot(env->scene, env->sg->meshes[k].material);
+    uint32_t f = env->sg->slot_flags[slot];
+    if (f & (PRW_SG_BLEND | PRW_SG_COAT)) return NULL;
+    if (env->scene->material_count && env->scene->materials[slot].kind != PRW_MATERIAL_GLTF_MR) return NULL; /* BTF */
+    return prw_lightmap_gpu_draw(env->lm, env->scene, node, k);
+}
+
+/* One shaded draw of mesh k (push constants pc of its node); extra: more pipeline features (PRW_PIPE_BACK);
+ * gi: the light maps' draw of it (its buffers bound), or NULL. */
 static bool draw_one(const prw_render_env *env, prw_draw_ctx *c, uint32_t k, const float pc[28], bool two_sided,
-                     uint32_t extra)
+                     uint32_t extra, const prw_gpu_mesh *gi)
 {
     const prw_scene_gpu *sg = env->sg;
-    const prw_gpu_mesh *dm = &sg->meshes[k];
+    const prw_gpu_mesh *dm = gi ? gi : &sg->meshes[k];
     uint32_t mi = prw_scene_gpu_slot(env->scene, dm->material);
-    uint32_t f = prw_draw_features(c, mi, sg->uv1.buffer != VK_NULL_HANDLE) | extra;
+    uint32_t f = prw_draw_features(c, mi, gi || sg->uv1.buffer != VK_NULL_HANDLE) | extra | (gi ? PRW_PIPE_GI : 0u);
     uint32_t kind = env->scene->material_count ? env->scene->materials[mi].kind : 0;
     if (!prw_draw_bind_features(c, kind, f, two_sided, pc[19] < 0.0f)) return false; /* normal_m[0].w: mirrored */
     vkCmdPushConstants(c->cmd, c->layout, VK_SHADER_STAGE_ALL, 0, 28 * sizeof(float), pc);
@@ -107,8 +129,8 @@ static void record_blend(const prw_render_env *env, prw_draw_ctx *c)
         prw_draw_push_model(s->nodes[items[i].node].world, c->view->origin, pc);
         uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[items[i].mesh].material);
         bool two = s->material_count && s->materials[mi].double_sided;
-        if (two && !draw_one(env, c, items[i].mesh, pc, false, PRW_PIPE_BACK)) break;
-        if (!draw_one(env, c, items[i].mesh, pc, false, 0)) break;
+        if (two && !draw_one(env, c, items[i].mesh, pc, false, PRW_PIPE_BACK, NULL)) break;
+        if (!draw_one(env, c, items[i].mesh, pc, false, 0, NULL)) break;
     }
     free(items);
 }
@@ -139,7 +161,32 @@ static void record(void *state, const prw_render_env *env, prw_draw_ctx *c)
             uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[k].material);
             if (is_blend(sg, mi)) continue; /* drawn by PRW_DRAW_BLEND */
             bool two = s->material_count && s->materials[mi].double_sided;
-            if (!draw_one(env, c, k, pc, two, 0)) return;
+            if (gi_draw(env, c, ni, k)) continue; /* below */
+            if (!draw_one(env, c, k, pc, two, 0, NULL)) return;
+        }
+    }
+    if (!env->lm->active) return;
+    bool bound = false;
+    for (uint32_t ni = 0; ni < s->node_count; ni++) { /* the light-mapped meshes from the light maps' buffers */
+        uint32_t first, count;
+        node_range(s, ni, &first, &count);
+        float pc[28];
+        bool pushed = false;
+        for (uint32_t k = first; k < first + count; k++) {
+            const prw_gpu_mesh *gi = gi_draw(env, c, ni, k);
+            if (!gi) continue;
+            if (!bound) {
+                const prw_lightmap_gpu *lm = env->lm;
+                VkDeviceSize zero[3] = {0, 0, 0};
+                VkBuffer vb[3] = {lm->vertices.buffer, lm->uv1.buffer, lm->stream.buffer};
+                vkCmdBindVertexBuffers(c->cmd, 0, 3, vb, zero);
+                vkCmdBindIndexBuffer(c->cmd, lm->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+                bound = true;
+            }
+            if (!pushed) prw_draw_push_model(s->nodes[ni].world, c->view->origin, pc), pushed = true;
+            uint32_t mi = prw_scene_gpu_slot(s, sg->meshes[k].material);
+            bool two = s->material_count && s->materials[mi].double_sided;
+            if (!draw_one(env, c, k, pc, two, 0, gi)) return;
         }
     }
 }

@@ -52,8 +52,8 @@ _Static_assert(PRW_SC_N_RECT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_R
                    PRW_SC_N_POINT_SHADOWED == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_POINT_SHADOWED &&
                    PRW_SC_N_PUNCTUAL == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASS_PUNCTUAL,
                "specialisation constants of the light classes");
-_Static_assert(PRW_SC_MAT < 8 && PRW_SC_SOFT_SHADOWS == PRW_SC_MAT + 1 && PRW_SC_SOFT_SHADOWS < 8,
-               "specialisation constants: at most 8 (prw_graphics_desc.fs_spec)");
+_Static_assert(PRW_SC_SOFT_SHADOWS == PRW_SC_MAT + 1 && PRW_SC_TERMS == PRW_SC_SOFT_SHADOWS + 1,
+               "the base shaders' specialisation constants follow each other (pipes.c checks the limit)");
 _Static_assert(PRW_SC_MAT == PRW_SC_LIGHT_CLASS0 + PRW_LIGHT_CLASSES, "the material constant follows the light classes");
 _Static_assert(PRW_GPU_MAT_MASK == (1 << PRW_GPU_MAT_BITS) - 1 && PRW_GPU_MAT_BITS + 6 <= 32,
                "PRW_GPU_MAT_* fit the pipeline features and slot flags");

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lightmap_gpu.h"
 #include "prw_constants.h"
 #include "prw_ltc.h"
 #include "prw_shaders.h"
@@ -30,6 +31,28 @@ static const VkVertexInputAttributeDescription k_attrs_no_uv1[5] = {
     {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
     {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
 };
+/* the light-map pipelines (PRW_PIPE_GI): the light-map stream at location 5 from binding 2
+ * (lightmap_gpu.h), uv set 1 always from binding 1 */
+static const VkVertexInputBindingDescription k_bindings_gi[3] = {
+    {0, PRW_VERTEX_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
+    {1, PRW_UV1_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
+    {2, PRW_LIGHTMAP_STREAM_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
+};
+static const VkVertexInputAttributeDescription k_attrs_gi_core[5] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
+    {5, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+};
+static const VkVertexInputAttributeDescription k_attrs_gi_ext[6] = {
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+    {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
+    {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
+    {4, 1, VK_FORMAT_R32G32_SFLOAT, 0},
+    {5, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+};
 /* cut-out shadow casters: position, uv, uv set 1 */
 static const VkVertexInputAttributeDescription k_attrs_mask[3] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
@@ -41,6 +64,8 @@ static const VkVertexInputAttributeDescription k_attrs_mask_no_uv1[3] = {
     {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
     {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
 };
+
+_Static_assert(PRW_SC_TERMS < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
 
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e)
@@ -79,6 +104,15 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         if (ext) return prw_fail(e, "render: the BTF kind has no glTF-extension variant");
         fs = mv ? prw_shader_mv_base_btf_frag() : gbuf ? prw_shader_gbuf_base_btf_frag() : prw_shader_base_btf_frag();
     }
+    bool gi = (k->features & PRW_PIPE_GI) != 0;
+    if (gi && (btf || mv || k->clip || floor || blend || (k->features & PRW_PIPE_COAT)))
+        return prw_fail(e, "render: the light-map shaders have no BTF, multiview, clip-plane, floor, blended or "
+                           "clear-coat variant");
+    if (gi) {
+        vs = ext ? prw_shader_gi_ext_base_vert() : prw_shader_gi_base_vert();
+        fs = ext ? (gbuf ? prw_shader_gi_gbuf_ext_base_frag() : prw_shader_gi_ext_base_frag())
+                 : (gbuf ? prw_shader_gi_gbuf_base_frag() : prw_shader_gi_base_frag());
+    }
     if (floor) fs = gbuf ? prw_shader_gbuf_floor_frag() : prw_shader_floor_frag(); /* everything else the same */
     VkCullModeFlags cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
     if (blend && (k->features & PRW_PIPE_BACK)) cull = VK_CULL_MODE_FRONT_BIT;
@@ -86,10 +120,10 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         .vs = vs,
         .fs = fs,
         .layout = layout,
-        .vertex_bindings = k_bindings,
-        .vertex_binding_count = uv1 ? 2 : 1,
-        .vertex_attrs = ext && !uv1 ? k_attrs_no_uv1 : k_attrs,
-        .vertex_attr_count = ext ? 5 : 4,
+        .vertex_bindings = gi ? k_bindings_gi : k_bindings,
+        .vertex_binding_count = gi ? 3 : uv1 ? 2 : 1,
+        .vertex_attrs = gi ? (ext ? k_attrs_gi_ext : k_attrs_gi_core) : ext && !uv1 ? k_attrs_no_uv1 : k_attrs,
+        .vertex_attr_count = gi ? (ext ? 6 : 5) : ext ? 5 : 4,
         .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
         .color_count = gbuf ? 3 : 1,
         .depth_format = PRW_DEPTH_FORMAT,
@@ -110,6 +144,10 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         d->fs_spec[PRW_SC_MAT] = (k->features >> PRW_PIPE_LACKS_SHIFT) & PRW_GPU_MAT_MASK;
         d->fs_spec[PRW_SC_SOFT_SHADOWS] = env->desc->quality.soft_shadows;
         d->fs_spec_count = PRW_SC_SOFT_SHADOWS + 1;
+        if (env->desc->terms != PRW_TERM_ALL) { /* the default of gi_lightmap.glsl otherwise: the same pipeline */
+            d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
+            d->fs_spec_count = PRW_SC_TERMS + 1;
+        }
     }
     return true;
 }
@@ -153,11 +191,12 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     p->gpu = env->gpu;
     p->env = env;
     VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding globals[4] = {
+    VkDescriptorSetLayoutBinding globals[5] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutBinding material[9];
     for (uint32_t i = 0; i < 8; i++)
@@ -180,7 +219,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         !prw_image_upload(p->gpu, &p->ltc, 0, prw_ltc_table_texels(), layer_bytes, e) ||
         !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
         return false;
-    if (!prw_desc_layout_create(p->gpu, globals, 4, &p->globals_layout, e) ||
+    if (!prw_desc_layout_create(p->gpu, globals, 5, &p->globals_layout, e) ||
         !prw_desc_layout_create(p->gpu, material, 9, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
@@ -217,6 +256,8 @@ void prw_pipes_destroy(prw_pipes *p)
 void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set)
 {
     prw_desc_write_image(p->gpu, set, 3, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->ltc.view,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    prw_desc_write_image(p->gpu, set, 4, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->lightmap_atlas,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 

@@ -13,7 +13,8 @@
  *    culling) is the starting point of every recipe that draws the scene's drawables
  *    (prw_pipes_describe_base).
  *  - Layouts: set 0 = per-view globals (uniform block + the shadow atlas with its compare sampler
- *    (binding 1) and for gathers (binding 2, PRW_SAMPLER_SHADOW_DEPTH)), set 1 = material (uniform block
+ *    (binding 1) and for gathers (binding 2, PRW_SAMPLER_SHADOW_DEPTH), the LTC table (binding 3), the
+ *    light-map atlas (binding 4, lightmap_gpu.h)), set 1 = material (uniform block
  *    + seven textures: base colour, metal-rough, normal, emissive, clear coat, its roughness, its
  *    normal; binding 8: the scene's BTF words, a storage buffer, prw_btf_gpu.h); the base layout has
  *    128 bytes of push constants (112 per draw: prw_draw_push_model; then the clip plane of
@@ -47,6 +48,8 @@ enum {
     PRW_PIPE_BACK = 8u,   /* with BLEND: front faces culled (a two-sided blended mesh: its far side first) */
     PRW_PIPE_MASK = 16u,  /* shadow recipe: the alpha-tested caster (shadow_mask.vert + mask.frag, material set 1) */
     PRW_PIPE_COAT = 32u,  /* with EXT: the clear-coated shaders (PRW_GLTF_COAT) */
+    PRW_PIPE_GI = 1u << 16, /* base recipe, plain / pre-pass / EQUAL variants, not COAT or BLEND: the light-map
+                               shaders (PRW_GI: gi_lightmap.glsl), bindings 0-2 of lightmap_gpu.h */
     PRW_PIPE_LACKS_SHIFT = 6, /* bits 6..: PRW_GPU_MAT_* (prw_constants.h), the base shaders' PRW_SC_MAT: what
                                  the material slot has no texture or lobe for (scene_gpu.h) */
     /* PRW_PIPE_MASK in the base recipe: the material is alpha-tested (its fragments may be discarded) */
@@ -70,11 +73,14 @@ typedef struct prw_pipes {
     VkPipeline downsample;        /* compute: N x N box filter (storage2 layout) */
     prw_pipeline_table *table;
     prw_gpu_image ltc;            /* the rect lights' LTC table (materials/prw_ltc.h), set 0 binding 3 */
+    VkImageView lightmap_atlas;   /* set 0 binding 4 (lightmap_gpu.h; a black layer without light maps): set
+                                     by the renderer before any globals set is written */
 } prw_pipes;
 
 bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e);
 void prw_pipes_destroy(prw_pipes *p);
-/* Writes the bindings of a globals set (globals_layout) that the pipes own: binding 3, the LTC table.
+/* Writes the bindings of a globals set (globals_layout) that the pipes own: binding 3, the LTC table, and
+ * binding 4, the light-map atlas.
  * Every globals set a base pipeline is drawn with needs it (bindings 0-2 are the caller's). */
 void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set);
 /* The pipeline for k (built on first use). */

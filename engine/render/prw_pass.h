@@ -123,6 +123,8 @@ typedef struct prw_render_env {
     struct prw_tm_gpu *tm;        /* display-aware tone mapping (tonemap_gpu.h) */
     prw_desc_pool *pool;
     const prw_drawables *drawables;
+    struct prw_lightmap_gpu *lm;  /* the light maps (lightmap_gpu.h); never NULL after create, lm->active
+                                     false without */
 } prw_render_env;
 
 /* One frame as the passes see it. */

@@ -33,6 +33,7 @@
 #include "prw_hmd.h"
 #include "prw_emissive.h"
 #include "prw_image.h"
+#include "prw_lightmap.h"
 #include "prw_quality.h"
 #include "prw_scene.h"
 #include "prw_tonemap.h"
@@ -86,6 +87,11 @@ typedef struct prw_render_desc {
                                                copied (needs kissfft) */
     const prw_render_debug *debug; /* NULL: none; copied at create (its passes / exports arrays are not: they
                                       must outlive the renderer) */
+    const struct prw_lightmaps *lightmaps; /* baked indirect diffuse (prw_lightmap.h): the light-mapped instances
+                                              are drawn with the light-map shaders; NULL: none (the shaders of
+                                              before).  Read at create only (copied to the GPU) */
+    uint32_t terms;      /* PRW_TERM_* bits (prw_constants.h) the base shaders draw; 0 = all (emission, direct light,
+                            the light maps' indirect diffuse) */
     bool display_signal; /* keep the float display signal of every view for prw_renderer_read_signal (HDR10
                             PNGs, display-referred EXRs, metrics on the signal); otherwise the tone mapping
                             writes it only when a pass reads it (HMD composition) and the 8-bit image alone */

@@ -32,6 +32,8 @@ static bool validate_desc(prw_render_desc *d, prw_error *e)
 #ifndef PRW_HAVE_GLARE
     if (d->glare) return prw_fail(e, "render: temporal glare: this build has no kissfft (install libkissfft-dev)");
 #endif
+    if (!d->terms) d->terms = PRW_TERM_ALL;
+    if (d->terms & ~(uint32_t)PRW_TERM_ALL) return prw_fail(e, "render: terms %#x: unknown bits", d->terms);
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views > 2)
         return prw_fail(e, "render: views backend multiview supports 2 views (max_views %u)", d->max_views);
     if (d->views_backend == PRW_VIEWS_MULTIVIEW && d->max_views == 2 && q->supersample > 1)
@@ -104,6 +106,10 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
     r->env.pool = r->pool;
     ok = ok && prw_pipes_create(&r->env, &r->pipes, e);
     r->env.pipes = r->pipes;
+    if (ok && !prw_lightmap_gpu_create(gpu, scene, r->desc.lightmaps, &r->lm, e))
+        ok = prw_fail_wrap(e, "render");
+    r->env.lm = r->lm;
+    if (ok) r->pipes->lightmap_atlas = r->lm->atlas.view; /* globals binding 4 */
     ok = ok && prw_tm_gpu_create(gpu, r->pool, r->desc.width, r->desc.height, r->desc.max_views,
                                  (prw_tm_op)r->desc.quality.tonemap,
                                  &r->tm, e);
@@ -136,6 +142,7 @@ void prw_renderer_destroy(prw_renderer *r)
     destroy_scene_parts(r);
     prw_tm_gpu_destroy(r->tm);
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(r->gpu, &r->globals[v]);
+    prw_lightmap_gpu_destroy(r->gpu, r->lm);
     prw_pipes_destroy(r->pipes);
     if (r->pool) prw_desc_pool_destroy(r->gpu, r->pool);
     if (r->timer) prw_timer_destroy(r->gpu, r->timer);

@@ -1,0 +1,172 @@
+/* lightmaps — the scene's GI bake for the drawing commands (lightmaps.h): which scenes
+ * get one, bake on a cache miss with progress, and the conversion of the baker's result
+ * (engine/bake/prw_gi.h) into what the renderer takes (engine/render/prw_lightmap.h). */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "lightmaps.h"
+#include "prw_cache.h"
+
+struct prw_app_lightmaps {
+    prw_gi_bake *bake;
+    prw_gi_split *splits; /* per instance (ATLAS ones filled) */
+    prw_lightmap_atlas *atlases;
+    prw_lightmap_instance *inst;
+    prw_lightmaps lm;
+};
+
+/* The baker's rule (engine/bake/gi_build.c): a mesh is baked when its material has a diffuse lobe. */
+static bool diffuse(const prw_scene *s, int material)
+{
+    prw_material m = material >= 0 && (uint32_t)material < s->material_count ? s->materials[material]
+                                                                              : prw_material_default();
+    float b = m.base_color[0] > m.base_color[1] ? m.base_color[0] : m.base_color[1];
+    return m.metallic < 1 && (b > m.base_color[2] ? b : m.base_color[2]) > 0;
+}
+
+bool prw_app_lightmaps_wanted(const prw_scene *s, const char **why)
+{
+    bool meshes = false, lobes = false, light = s->light_count > 0 || s->environment.present;
+    for (uint32_t i = 0; i < s->node_count; i++) {
+        int g = s->nodes[i].mesh_group;
+        if (g < 0 || (uint32_t)g >= s->group_count) continue;
+        for (uint32_t k = s->groups[g].first; k < s->groups[g].first + s->groups[g].count && k < s->mesh_count; k++) {
+            meshes = true;
+            lobes = lobes || (s->meshes[k].index_count >= 3 && diffuse(s, s->meshes[k].material));
+        }
+    }
+    for (uint32_t i = 0; i < s->material_count && !light; i++)
+        light = s->materials[i].emission[0] > 0 || s->materials[i].emission[1] > 0 || s->materials[i].emission[2] > 0;
+    *why = !meshes ? "no static meshes" : !lobes ? "no mesh has a diffuse lobe" : !light ? "nothing emits light"
+                                                                                        : "static meshes, lit";
+    return meshes && lobes && light;
+}
+
+static prw_gi_options options_of(const prw_quality *q)
+{
+    prw_gi_options o;
+    memset(&o, 0, sizeof o);
+    o.radiosity_size = q->radiosity_size;
+    o.filter_radius = PRW_GI_DEFAULT_FILTER_RADIUS;
+    return o;
+}
+
+bool prw_app_lightmaps_cached(const prw_scene *s, const prw_quality *q, char *path, size_t cap)
+{
+    prw_gi_options o = options_of(q);
+    char key[33];
+    prw_error e = {{0}};
+    prw_gi_key(s, &o, key);
+    struct stat st;
+    return prw_cache_path(PRW_GI_CACHE_KIND, key, "gi", false, path, cap, &e) && stat(path, &st) == 0;
+}
+
+typedef struct bar {
+    const char *cmd;
+    double last;
+    bool tty;
+} bar;
+
+/* prw bake --gi's progress style (app/cmd_bake.c), named after the command that bakes. */
+static void progress(void *user, double f, const char *line)
+{
+    bar *b = user;
+    double now = prw_now();
+    if (f < 1 && now - b->last < 0.25) return;
+    b->last = now;
+    char cells[33];
+    int n = (int)(f * 32 + 0.5);
+    for (int i = 0; i < 32; i++) cells[i] = i < n ? '#' : '.';
+    cells[32] = 0;
+    fprintf(stderr, "%sprw %s: gi bake [%s] %3.0f%% %s%s", b->tty ? "\r" : "", b->cmd, cells, f * 100, line,
+            b->tty ? "" : "\n");
+    if (b->tty && f >= 1) fprintf(stderr, "\n");
+    fflush(stderr);
+}
+
+void prw_app_lightmaps_destroy(prw_app_lightmaps *a)
+{
+    if (!a) return;
+    for (uint32_t i = 0; a->splits && a->bake && i < a->bake->instance_count; i++) prw_gi_split_free(&a->splits[i]);
+    free(a->splits);
+    free(a->atlases);
+    free(a->inst);
+    prw_gi_bake_destroy(a->bake);
+    free(a);
+}
+
+const prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a) { return a ? &a->lm : NULL; }
+
+bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lightmaps **out, prw_error *e)
+{
+    prw_app_lightmaps *a = prw_calloc(1, sizeof *a);
+    a->bake = b;
+    *out = NULL;
+    a->atlases = prw_calloc(b->atlas_count + 1, sizeof *a->atlases);
+    for (uint32_t i = 0; i < b->atlas_count; i++)
+        a->atlases[i] = (prw_lightmap_atlas){b->atlases[i].width, b->atlases[i].height, b->atlases[i].rgb};
+    a->inst = prw_calloc(b->instance_count + 1, sizeof *a->inst);
+    a->splits = prw_calloc(b->instance_count + 1, sizeof *a->splits);
+    for (uint32_t i = 0; i < b->instance_count; i++) {
+        const prw_gi_instance *g = &b->inst[i];
+        prw_lightmap_instance *l = &a->inst[i];
+        *l = (prw_lightmap_instance){.node = g->node, .mesh = g->mesh, .mode = PRW_LIGHTMAP_NONE};
+        if (g->mesh >= s->mesh_count) {
+            prw_app_lightmaps_destroy(a);
+            return prw_fail(e, "gi bake: instance %u names mesh %u, the scene has %u (a stale bake)", i, g->mesh,
+                            s->mesh_count);
+        }
+        const prw_mesh *m = &s->meshes[g->mesh];
+        if (g->mode == PRW_GI_ATLAS) {
+            if (!prw_gi_split_vertices(b, s, i, &a->splits[i], e)) {
+                prw_app_lightmaps_destroy(a);
+                return false;
+            }
+            const prw_gi_split *sp = &a->splits[i];
+            *l = (prw_lightmap_instance){.node = g->node, .mesh = g->mesh, .mode = PRW_LIGHTMAP_ATLAS, .atlas = g->atlas,
+                                         .vertex_count = sp->vertex_count, .source = sp->source, .uv = sp->uv,
+                                         .index_count = sp->index_count, .indices = sp->indices};
+        } else if (g->mode == PRW_GI_VERTEX) {
+            if (g->vertex_count != m->vertex_count) {
+                prw_app_lightmaps_destroy(a);
+                return prw_fail(e, "gi bake: instance %u has %u vertex values, mesh '%s' %u vertices (a stale bake)", i,
+                                g->vertex_count, m->name, m->vertex_count);
+            }
+            *l = (prw_lightmap_instance){.node = g->node, .mesh = g->mesh, .mode = PRW_LIGHTMAP_VERTEX,
+                                         .vertex_count = m->vertex_count, .rgb = g->vertex_rgb,
+                                         .index_count = m->index_count};
+        }
+    }
+    a->lm = (prw_lightmaps){b->atlas_count, a->atlases, b->instance_count, a->inst};
+    *out = a;
+    return true;
+}
+
+bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const prw_quality *q, bool no_bake,
+                               prw_app_lightmaps **out, prw_error *e)
+{
+    *out = NULL;
+    const char *why;
+    if (no_bake) {
+        fprintf(stderr, "prw %s: --no-bake: rendering without indirect light (direct light and emission only)\n", cmd);
+        return true;
+    }
+    if (!prw_app_lightmaps_wanted(s, &why)) return true;
+    prw_gi_options o = options_of(q);
+    bar pb = {cmd, 0, isatty(fileno(stderr)) != 0};
+    prw_gi_bake *b = NULL;
+    prw_gi_result r;
+    if (!prw_gi_run(s, &o, false, progress, &pb, &b, &r, e))
+        return prw_fail_wrap(e, "gi bake (--no-bake renders without indirect light)");
+    if (r.warning[0]) fprintf(stderr, "prw %s: warning: %s\n", cmd, r.warning);
+    if (r.cache_hit) prw_log(PRW_LOG_INFO, "gi: light maps from the cache (%s)", r.cache_path);
+    else
+        fprintf(stderr, "prw %s: gi bake: built in %.1f s (%u atlases, %llu texels, %llu vertices)%s\n", cmd,
+                r.seconds_total, b->atlas_count, (unsigned long long)b->sampled_texels,
+                (unsigned long long)b->sampled_vertices, r.cache_written ? ", cached" : "");
+    return prw_app_lightmaps_from_bake(s, b, out, e);
+}

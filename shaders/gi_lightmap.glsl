@@ -1,0 +1,59 @@
+// gi_lightmap.glsl — the base pass's terms (spec constant PRW_SC_TERMS) and, in the PRW_GI variants,
+// the baked indirect diffuse of the light maps (engine/render/prw_lightmap.h, engine/bake/prw_gi.h):
+//   L_idl = (1 - metallic) base / pi x (1 - e(mu_o)) / (1 - e_avg) x E_ind,
+// which is prw_brdf_diffuse_terms (materials/prw_brdf.h) with the incoming direction's albedo terms 0
+// (e(mu_i) = 0): the same float code as the direct light's diffuse lobe, not a second derivation.
+// E_ind: ATLAS mode by a bicubic B-spline over the atlas layer (four bilinear taps, Sigg & Hadwiger
+// 2005; the baker dilates 2 texels around every chart, the reach of the B-spline), VERTEX mode
+// interpolated from the vertices.  Needs lights.glsl (ggx_view) and prw_constants.h.
+#ifndef PRW_GI_LIGHTMAP_GLSL
+#define PRW_GI_LIGHTMAP_GLSL
+
+layout(constant_id = PRW_SC_TERMS) const int prw_terms = PRW_TERM_ALL;
+
+#ifdef PRW_GI
+layout(set = 0, binding = 4) uniform sampler2DArray prw_gi_atlas; // RGBA32F, one layer per atlas
+layout(location = 5) in vec4 v_gi; // ATLAS: (u, v, layer, 0) normalised to the layer; VERTEX: (E_ind, 1)
+
+vec3 prw_gi_bicubic(vec2 uv, float layer)
+{
+    vec2 size = vec2(textureSize(prw_gi_atlas, 0).xy);
+    vec2 t = uv * size - 0.5;
+    vec2 i = floor(t);
+    vec2 f = t - i;
+    vec2 f2 = f * f, f3 = f2 * f;
+    vec2 w0 = (1.0 - 3.0 * f + 3.0 * f2 - f3) / 6.0;
+    vec2 w1 = (4.0 - 6.0 * f2 + 3.0 * f3) / 6.0;
+    vec2 w2 = (1.0 + 3.0 * f + 3.0 * f2 - 3.0 * f3) / 6.0;
+    vec2 w3 = f3 / 6.0;
+    vec2 g0 = w0 + w1, g1 = w2 + w3;
+    vec2 h0 = (i - 0.5 + w1 / g0) / size; // texel centre i - 1 + w1 / g0, as a coordinate
+    vec2 h1 = (i + 1.5 + w3 / g1) / size;
+    vec3 a = texture(prw_gi_atlas, vec3(h0.x, h0.y, layer)).rgb;
+    vec3 b = texture(prw_gi_atlas, vec3(h1.x, h0.y, layer)).rgb;
+    vec3 c = texture(prw_gi_atlas, vec3(h0.x, h1.y, layer)).rgb;
+    vec3 d = texture(prw_gi_atlas, vec3(h1.x, h1.y, layer)).rgb;
+    return g0.y * (g0.x * a + g1.x * b) + g1.y * (g0.x * c + g1.x * d);
+}
+
+vec3 prw_gi_irradiance()
+{
+    if (v_gi.w > 0.5) return max(v_gi.rgb, vec3(0.0));
+    return max(prw_gi_bicubic(v_gi.xy, floor(v_gi.z + 0.5)), vec3(0.0));
+}
+#endif
+
+// The radiance the pipeline's terms draw: direct (emission + direct light, computed by the caller)
+// and, in the PRW_GI variants, the light map's indirect diffuse seen along w (the view's fits).
+vec3 prw_terms_radiance(vec3 direct, ggx_view w, vec3 base, float metallic, float specular)
+{
+    vec3 r = (prw_terms & PRW_TERM_DIRECT) != 0 ? direct : vec3(0.0);
+#ifdef PRW_GI
+    if ((prw_terms & PRW_TERM_INDIRECT_DIFFUSE) != 0) {
+        float k = prw_brdf_diffuse_terms(1.0, metallic, specular, w.ec_avg, w.ed_avg, w.ec_o, 0.0, w.ed_o, 0.0);
+        r += k * base * prw_gi_irradiance();
+    }
+#endif
+    return r;
+}
+#endif
