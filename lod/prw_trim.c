@@ -125,18 +125,25 @@ static int cut_junction_crossings(double *pts, int m, double maxlen)
             double t = d1 == d2 ? 0 : d1 / (d1 - d2);
             t = fmin(fmax(t, 0), 1);
             double x[2] = {c[0] + t * (d[0] - c[0]), c[1] + t * (d[1] - c[1])};
-            /* keep i's start .. a, then x, then jn ..: drop the points i+1 .. j (cyclically) */
-            int keep = 0;
-            double *tmp = prw_malloc(sizeof(double) * 2 * (size_t)m);
-            for (int k = 0; k < m - step; k++) { /* jn .. i */
-                int src = (jn + k) % m;
-                tmp[2 * keep] = pts[2 * src], tmp[2 * keep + 1] = pts[2 * src + 1], keep++;
+            /* drop the points i+1 .. j (cyclically), x after i; each cut removes at least one point */
+            if (i + step < m) { /* in place: 0 .. i, x, j+1 .. m-1; then edge i again */
+                pts[2 * (i + 1)] = x[0], pts[2 * (i + 1) + 1] = x[1];
+                memmove(pts + 2 * (i + 2), pts + 2 * (j + 1), sizeof(double) * 2 * (size_t)(m - j - 1));
+                m -= step - 1;
+                i--;
+            } else { /* the path wraps past the end: jn .. i, x (rotated), and start again */
+                int keep = 0;
+                double *tmp = prw_malloc(sizeof(double) * 2 * (size_t)m);
+                for (int k = 0; k < m - step; k++) {
+                    int src = (jn + k) % m;
+                    tmp[2 * keep] = pts[2 * src], tmp[2 * keep + 1] = pts[2 * src + 1], keep++;
+                }
+                tmp[2 * keep] = x[0], tmp[2 * keep + 1] = x[1], keep++;
+                memcpy(pts, tmp, sizeof(double) * 2 * (size_t)keep);
+                free(tmp);
+                m = keep;
+                i = -1;
             }
-            tmp[2 * keep] = x[0], tmp[2 * keep + 1] = x[1], keep++;
-            memcpy(pts, tmp, sizeof(double) * 2 * (size_t)keep);
-            free(tmp);
-            m = keep;
-            i = -1; /* the order was rotated: start again (each cut removes at least one point) */
             break;
         }
     }
