@@ -8,7 +8,8 @@ For each *.igs / *.iges file (sorted by name): the exporter (native system ID, G
 else the preprocessor version, parameter 6), the surfaces the reader kept, and two results:
   bake: `prw bake FILE --no-cache` (fresh cache directory), ok / refused: <message> / crash (signal)
         / timeout; "ok*" when the hierarchy has failed patches; its wall and CPU seconds (on a shared
-        machine a wall-clock timeout with few CPU seconds is the load, not the file);
+        machine a wall-clock timeout with few CPU seconds is the load, not the file; timed-out runs
+        are listed at the end with the CPU seconds they had used);
   info: `prw info` of a one-entry manifest naming the file: ok / refused / crash / timeout.
 A file LOADS when `prw info` accepts it; it is RENDER-READY when `prw bake` builds its hierarchy
 with no failed patch.  --render OUTDIR also opens each file directly, `prw render FILE --size
@@ -151,7 +152,8 @@ def main():
             man = os.path.join(tmp, 'm.json')
             with open(man, 'w') as f:
                 json.dump({'prw_manifest': 1, 'nurbs': [{'file': path}]}, f)
-            info, iout, ierr, _ = run([a.prw, 'info', man], a.timeout, env)
+            icpu = []
+            info, iout, ierr, _ = run([a.prw, 'info', man], a.timeout, env, icpu)
             cpu = []
             bake, bout, berr, dt = run([a.prw, 'bake', path, '--no-cache'], a.timeout, env, cpu)
             m = re.search(r'read .*: (\d+) surfaces', berr)
@@ -162,7 +164,7 @@ def main():
             if info.startswith(('crash', 'timeout')) or bake.startswith(('crash', 'timeout')):
                 bad += 1
             exp = exporter(path)
-            rows.append((name, exp, surf, info.split(':')[0], '%.1f' % dt, bake, '%.1f' % cpu[0]))
+            rows.append((name, exp, surf, info.split(':')[0], '%.1f' % dt, bake, '%.1f' % cpu[0], '%.1f' % icpu[0]))
             print('%-40s %-34.34s %5s  %-9s %7.1f %7.1f  %s' % (name[:40], exp, surf, info.split(':')[0], dt, cpu[0],
                                                              bake[:160]), flush=True)
             if a.render:
@@ -194,18 +196,20 @@ def main():
     crash = sum(r[3].startswith('crash') or r[5].startswith('crash') for r in rows)
     hang = sum(r[3] == 'timeout' or r[5] == 'timeout' for r in rows)
     exps = sorted(set(r[1] for r in rows))
-    slow = ['%s (%s s CPU)' % (r[0], r[6]) for r in rows if r[3] == 'timeout' or r[5] == 'timeout']
+    slow = ['%s (%s)' % (r[0], ', '.join(['info %s s CPU' % r[7]] * (r[3] == 'timeout') + ['bake %s s CPU' % r[6]] *
+                                          (r[5] == 'timeout')))
+            for r in rows if r[3] == 'timeout' or r[5] == 'timeout']
     print('\n%d files, %d load (prw info), %d render-ready (bake ok, no failed patch), %d refused by info, '
           '%d crashes, %d timeouts; %d exporters' % (len(rows), loads, ready, len(rows) - loads - crash - hang,
                                                     crash, hang, len(exps)))
     if slow:
-        print('timed out (wall clock, %g s; the CPU seconds the bake had used tell a slow file from a loaded '
+        print('timed out (wall clock, %g s; the CPU seconds the run had used tell a slow file from a loaded '
               'machine): %s' % (a.timeout, ', '.join(slow)))
     if a.render:
         print('renders (prw render FILE): %s' % ', '.join('%s %d' % kv for kv in renders.items()))
     if a.tsv:
         with open(a.tsv, 'w') as f:
-            f.write('file\texporter\tsurfaces\tinfo\tbake_s\tbake\tbake_cpu_s\n')
+            f.write('file\texporter\tsurfaces\tinfo\tbake_s\tbake\tbake_cpu_s\tinfo_cpu_s\n')
             for r in rows:
                 f.write('\t'.join(r) + '\n')
     if a.compare:
