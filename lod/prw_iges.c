@@ -11,8 +11,8 @@
 static bool supported(int type)
 {
     switch (type) {
-    case 0: case 100: case 102: case 110: case 112: case 124: case 126: case 142: case 144: case 314:
-    case 108: case 118: case 120: case 122: case 128: case 141: case 143: case 190:
+    case 0: case 100: case 102: case 104: case 110: case 112: case 124: case 126: case 142: case 144: case 314:
+    case 108: case 114: case 118: case 120: case 122: case 128: case 140: case 141: case 143: case 190:
     case 186: case 502: case 504: case 508: case 510: case 514:
         return true;
     default:

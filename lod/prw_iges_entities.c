@@ -1,6 +1,6 @@
-/* IGES entity layer: curves (100, 102, 110, 126), transformations (124), surfaces (108, 118,
- * 120, 122, 128), curves on surfaces (142), trimmed surfaces (144) and colours (314), converted
- * to NURBS.  Constructions (all exact):
+/* IGES entity layer: curves (100, 102, 104 in prw_iges_conic.c, 110, 112, 126), transformations
+ * (124), surfaces (108, 114 in prw_iges_spline.c, 118, 120, 122, 128, 140, 190), curves on surfaces
+ * (142), trimmed surfaces (144) and colours (314), converted to NURBS.  Constructions (all exact):
  *   100  circular arc in the plane z = ZT, counter-clockwise: A7.1 rational quadratic (≤ 4 arcs);
  *        start == end gives the full circle.
  *   108  plane A·x = D: a bilinear patch spanned by an orthonormal frame of the plane, covering
@@ -13,7 +13,12 @@
  *        through the rational circle (parameter-space trims are mapped θ → v point by point).
  *   122  tabulated cylinder: S(u, v) = C(u) + v·(L − C(u0)), u reparameterised to [0, 1].
  *   128  direct; the parameter range U0..U1 × V0..V1 is cut out by knot insertion when it is
- *        narrower than the knot domain.  126 likewise for V0..V1. */
+ *        narrower than the knot domain.  126 likewise for V0..V1.
+ *   140  offset surface S + d N (N = S_u x S_v unit, as IGES defines it; the offset indicator
+ *        vector is not used): exact where the offset is a NURBS — planes (moved along their normal)
+ *        and surfaces of revolution whose generatrix pieces are lines or circular arcs in a plane of
+ *        the axis (each piece offset in that plane, then revolved); any other base is refused as
+ *        unsupported (the face is skipped and counted). */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -268,6 +273,10 @@ bool iges_curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, iges_clis
         if (ok) push_param(out, &c, a0, a1, true);
         break;
     }
+    case 104:
+        ok = iges_curve_104(x, d, dim, &c);
+        if (ok) iges_clist_push(out, &c);
+        break;
     case 126:
         ok = curve_126(x, d, dim, &c);
         if (ok) iges_clist_push(out, &c);
@@ -516,7 +525,87 @@ static bool surface_190(iges_ctx *x, const iges_de *d, const prw_dvec3 *hint, in
     return plane_cover(x, d, o, n, ref, hint, nhint, -1, o, 0, s);
 }
 
+/* The unit normal of a plane patch (Su x Sv). */
+static prw_dvec3 plane_normal(const prw_nurbs_surface *s)
+{
+    double u0, u1, v0, v1;
+    prw_nurbs_surface_domain(s, &u0, &u1, &v0, &v1);
+    prw_dvec3 dd[4];
+    prw_nurbs_surface_derivs(s, 0.5 * (u0 + u1), 0.5 * (v0 + v1), 1, dd);
+    return prw_v3_norm(prw_v3_cross(dd[2], dd[1]));
+}
+
+/* The IGES normal of a surface of revolution along the generatrix point p with tangent tg:
+ * S_t x S_theta, S_theta = a x (p - axis), unit; zero on the axis. */
+static prw_dvec3 rev_normal(prw_dvec3 s0, prw_dvec3 a, prw_dvec3 p, prw_dvec3 tg)
+{
+    prw_dvec3 r = prw_v3_sub(p, s0);
+    r = prw_v3_sub(r, prw_v3_scale(a, prw_v3_dot(r, a)));
+    prw_dvec3 n = prw_v3_cross(tg, prw_v3_cross(a, r));
+    double l = prw_v3_len(n);
+    return l > 0 ? prw_v3_scale(n, 1 / l) : prw_v3(0, 0, 0);
+}
+
+static bool parallel(prw_dvec3 a, prw_dvec3 b) { return prw_v3_len(prw_v3_sub(a, b)) <= 1e-9; }
+
+/* Offsets one generatrix piece of a surface of revolution (axis s0 + t a, a unit) by dist along
+ * the surface normal, exactly: a line (degree 1, two points) moves along its constant normal, a
+ * circular arc (is_arc) becomes the concentric arc (control points scaled about the centre, the
+ * weights kept, so the parameterisation is unchanged).  False when the piece is neither or the
+ * normal is not constant / radial (a generatrix out of the meridian plane). */
+static bool offset_generatrix(prw_nurbs_curve *c, bool is_arc, prw_dvec3 s0, prw_dvec3 a, double dist)
+{
+    double t0, t1;
+    prw_nurbs_curve_domain(c, &t0, &t1);
+    double ts[3] = {t0, 0.5 * (t0 + t1), t1};
+    prw_dvec3 p[3], n[3];
+    for (int i = 0; i < 3; i++) {
+        prw_dvec3 dd[2];
+        prw_nurbs_curve_derivs(c, ts[i], 1, dd);
+        p[i] = dd[0];
+        n[i] = rev_normal(s0, a, dd[0], dd[1]);
+        if (prw_v3_len(n[i]) == 0) return false;
+    }
+    if (c->degree == 1 && c->n == 2 && !is_arc) {
+        if (!parallel(n[0], n[2])) return false;
+        for (int i = 0; i < 2; i++)
+            prw_nurbs_curve_set(c, i, prw_v3_add(prw_nurbs_curve_point_at(c, i), prw_v3_scale(n[1], dist)), c->pw[4 * i + 3]);
+        return true;
+    }
+    if (!is_arc) return false;
+    /* the circle through the three points */
+    prw_dvec3 ab = prw_v3_sub(p[1], p[0]), ac = prw_v3_sub(p[2], p[0]), nn = prw_v3_cross(ab, ac);
+    double n2 = prw_v3_dot(nn, nn);
+    if (!(n2 > 0)) return false;
+    prw_dvec3 ctr = prw_v3_add(p[0], prw_v3_scale(prw_v3_add(prw_v3_scale(prw_v3_cross(nn, ab), prw_v3_dot(ac, ac)),
+                                                             prw_v3_scale(prw_v3_cross(ac, nn), prw_v3_dot(ab, ab))),
+                                                  0.5 / n2));
+    double R = prw_v3_len(prw_v3_sub(p[1], ctr));
+    double sg = prw_v3_dot(n[1], prw_v3_sub(p[1], ctr)) / R;
+    for (int i = 0; i < 3; i++) {
+        prw_dvec3 rad = prw_v3_scale(prw_v3_sub(p[i], ctr), 1 / R);
+        if (!parallel(n[i], rad) && !parallel(n[i], prw_v3_scale(rad, -1))) return false;
+    }
+    double f = 1 + (sg > 0 ? dist : -dist) / R;
+    if (!(f > 0)) return false;
+    for (int i = 0; i < c->n; i++) {
+        prw_dvec3 q = prw_nurbs_curve_point_at(c, i);
+        prw_nurbs_curve_set(c, i, prw_v3_add(ctr, prw_v3_scale(prw_v3_sub(q, ctr), f)), c->pw[4 * i + 3]);
+    }
+    return true;
+}
+
+static bool surface_entity(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, double offset, iges_surf *out);
+
 bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_surf *out)
+{
+    return surface_entity(x, k, hint, nhint, 0, out);
+}
+
+/* Entity k as a surface, offset by `offset` along its normal when not 0 (an offset surface 140:
+ * exact for planes and for surfaces of revolution of lines and circular arcs; S + d N keeps the
+ * base's parameterisation, so its parameter-space trims map as the base's do). */
+static bool surface_entity(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, double offset, iges_surf *out)
 {
     const iges_de *d = &x->f->de[k];
     memset(out, 0, sizeof *out);
@@ -525,17 +614,39 @@ bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_sur
     bool ok = iges_own_xform(x, d, &own);
     prw_error sub;
     if (!ok) goto out;
+    if (offset != 0 && d->type != 108 && d->type != 190 && d->type != 120) {
+        x->unsupported = 140;
+        ok = iges_fail(x->f, d, 0, x->e,
+                       "an offset surface (140) of entity type %d is not supported (exact offsets: planes, surfaces "
+                       "of revolution of lines and circular arcs)",
+                       d->type);
+        goto out;
+    }
     switch (d->type) {
     case 128:
         ok = surface_128(x, d, &out->s);
         break;
-    case 108:
-        out->map = IGES_MAP_NONE;
-        ok = surface_108(x, d, hint, nhint, &out->s);
+    case 114:
+        ok = iges_surface_114(x, d, &out->s);
         break;
+    case 140: {
+        double v[4];
+        int base;
+        ok = iges_need(x->f, d, 5, x->e) && read_reals(x, d, 1, 4, v) && iges_ptr(x->f, d, 5, false, &base, x->e);
+        if (ok && !isfinite(v[3])) ok = iges_fail(x->f, d, 4, x->e, "offset distance is not finite");
+        if (ok) ok = surface_entity(x, base, hint, nhint, offset + v[3], out);
+        break;
+    }
+    case 108:
     case 190:
         out->map = IGES_MAP_NONE;
-        ok = surface_190(x, d, hint, nhint, &out->s);
+        ok = d->type == 108 ? surface_108(x, d, hint, nhint, &out->s) : surface_190(x, d, hint, nhint, &out->s);
+        if (ok && offset != 0) {
+            prw_dvec3 n = prw_v3_scale(plane_normal(&out->s), offset);
+            prw_dmat4 m = prw_dm4_identity();
+            m.m[12] = n.x, m.m[13] = n.y, m.m[14] = n.z;
+            prw_nurbs_surface_transform(&out->s, &m);
+        }
         break;
     case 118: {
         int a, b, dir;
@@ -566,6 +677,19 @@ bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_sur
         if (ang[1] - ang[0] > 2 * PRW_PI) ang[1] = ang[0] + 2 * PRW_PI;
         prw_nurbs_curve axis = {0}, g = {0};
         ok = one_curve(x, la, &id, &axis) && iges_curves(x, gc, 3, &id, &out->gen);
+        if (ok && offset != 0) {
+            prw_dvec3 s0 = prw_nurbs_curve_point_at(&axis, 0), a = prw_v3_sub(prw_nurbs_curve_point_at(&axis, axis.n - 1), s0);
+            a = prw_v3_len(a) > 0 ? prw_v3_norm(a) : a;
+            for (int i = 0; ok && i < out->gen.n; i++)
+                if (!offset_generatrix(&out->gen.c[i], out->gen.arc[i], s0, a, offset)) {
+                    x->unsupported = 140;
+                    ok = iges_fail(x->f, d, 2, x->e,
+                                   "an offset surface (140) of this surface of revolution is not supported (its "
+                                   "generatrix piece %d is not a line or circular arc in a plane of the axis, or the "
+                                   "offset %g exceeds its radius)",
+                                   i + 1, offset);
+                }
+        }
         if (ok && out->gen.n == 1) {
             g = out->gen.c[0];
             memset(&out->gen.c[0], 0, sizeof g);
@@ -792,7 +916,8 @@ static bool loop_142(iges_ctx *x, int k, const iges_surf *S, prw_trimmed_surface
 
 bool iges_is_surface_type(int type)
 {
-    return type == 128 || type == 108 || type == 118 || type == 120 || type == 122 || type == 190;
+    return type == 128 || type == 108 || type == 114 || type == 118 || type == 120 || type == 122 || type == 140 ||
+           type == 190;
 }
 
 bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
@@ -813,7 +938,8 @@ bool iges_trimmed_surface(iges_ctx *x, int k, prw_trimmed_surface *t)
     /* an unbounded plane gets its extent from the trim curves */
     prw_dvec3 *hint = NULL;
     int nhint = 0;
-    if (ok && (x->f->de[pts].type == 108 || x->f->de[pts].type == 190)) {
+    int st = x->f->de[pts].type;
+    if (ok && (st == 108 || st == 190 || st == 140)) { /* (a 140 may offset a plane) */
         for (int i = -1; ok && i < n2; i++) {
             int kk = i < 0 ? pto : inner[i];
             if (kk < 0) continue;

@@ -103,6 +103,10 @@ void iges_surf_free_map(iges_surf *S);
 /* Every curve piece of entity k (a 102 gives several) in `dim` dimensions, transformed by
  * parent · own. */
 bool iges_curves(iges_ctx *x, int k, int dim, const prw_dmat4 *parent, iges_clist *out);
+/* Conic arc 104 as an exact rational quadratic (prw_iges_conic.c); untransformed. */
+bool iges_curve_104(iges_ctx *x, const iges_de *d, int dim, prw_nurbs_curve *c);
+/* Parametric spline surface 114 as an exact bicubic B-spline (prw_iges_spline.c); untransformed. */
+bool iges_surface_114(iges_ctx *x, const iges_de *d, prw_nurbs_surface *s);
 /* Entity k as a surface; hint: model-space points a plane (108) must cover. */
 bool iges_surface(iges_ctx *x, int k, const prw_dvec3 *hint, int nhint, iges_surf *out);
 /* The entity's own 124 chain (identity when none). */

@@ -91,18 +91,82 @@ double prw_trim_polygon_area(const prw_trim_polygon *p)
     return 0.5 * s;
 }
 
-static bool finish_loop(prw_trim_region *r, double *pts, int n)
+static bool near_pt(const double *a, const double *b, double snap)
 {
-    /* clamp, drop consecutive duplicates and the closing duplicate */
+    return fabs(a[0] - b[0]) <= snap && fabs(a[1] - b[1]) <= snap;
+}
+
+/* Where consecutive trim curves do not meet exactly, their flattened ends can overshoot each
+ * other and cross (a bow-tie of 1e-16 .. 1e-3 of the domain at a corner): edge i and a later edge j
+ * that cross, with a short path (<= maxlen, <= a tenth of the perimeter, < WINDOW vertices) from
+ * the end of i to the start of j, become one corner at their intersection; the little loop between
+ * them is dropped.  Returns the new point count. */
+#define CUT_WINDOW 256
+static int cut_junction_crossings(double *pts, int m, double maxlen)
+{
+    double perim = 0;
+    for (int i = 0; i < m; i++) {
+        const double *a = pts + 2 * i, *b = pts + 2 * ((i + 1) % m);
+        perim += hypot(b[0] - a[0], b[1] - a[1]);
+    }
+    maxlen = fmin(maxlen, 0.1 * perim);
+    for (int i = 0; i < m && m > 3; i++) {
+        const double *a = pts + 2 * i, *b = pts + 2 * ((i + 1) % m);
+        double len = 0;
+        for (int step = 2; step < m - 1 && step <= CUT_WINDOW; step++) {
+            int j = (i + step) % m, jn = (j + 1) % m;
+            const double *c = pts + 2 * j, *d = pts + 2 * jn, *cp = pts + 2 * ((j + m - 1) % m);
+            len += hypot(c[0] - cp[0], c[1] - cp[1]);
+            if (len > maxlen) break;
+            int o1 = prw_orient2d(a, b, c), o2 = prw_orient2d(a, b, d), o3 = prw_orient2d(c, d, a), o4 = prw_orient2d(c, d, b);
+            if (o1 * o2 > 0 || o3 * o4 > 0 || (o1 == 0 && o2 == 0)) continue; /* apart, or collinear */
+            double d1 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            double d2 = (b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]);
+            double t = d1 == d2 ? 0 : d1 / (d1 - d2);
+            t = fmin(fmax(t, 0), 1);
+            double x[2] = {c[0] + t * (d[0] - c[0]), c[1] + t * (d[1] - c[1])};
+            /* drop the points i+1 .. j (cyclically), x after i; each cut removes at least one point */
+            if (i + step < m) { /* in place: 0 .. i, x, j+1 .. m-1; then edge i again */
+                pts[2 * (i + 1)] = x[0], pts[2 * (i + 1) + 1] = x[1];
+                memmove(pts + 2 * (i + 2), pts + 2 * (j + 1), sizeof(double) * 2 * (size_t)(m - j - 1));
+                m -= step - 1;
+                i--;
+            } else { /* the path wraps past the end: jn .. i, x (rotated), and start again */
+                int keep = 0;
+                double *tmp = prw_malloc(sizeof(double) * 2 * (size_t)m);
+                for (int k = 0; k < m - step; k++) {
+                    int src = (jn + k) % m;
+                    tmp[2 * keep] = pts[2 * src], tmp[2 * keep + 1] = pts[2 * src + 1], keep++;
+                }
+                tmp[2 * keep] = x[0], tmp[2 * keep + 1] = x[1], keep++;
+                memcpy(pts, tmp, sizeof(double) * 2 * (size_t)keep);
+                free(tmp);
+                m = keep;
+                i = -1;
+            }
+            break;
+        }
+    }
+    return m;
+}
+
+static bool finish_loop(prw_trim_region *r, double *pts, int n, double snap)
+{
+    /* clamp, merge consecutive points within `snap` (the ends of curves that should meet) and the
+     * closing duplicate */
     int m = 0;
     for (int i = 0; i < n; i++) {
-        double u = fmin(fmax(pts[2 * i], r->u0), r->u1), v = fmin(fmax(pts[2 * i + 1], r->v0), r->v1);
-        if (m > 0 && pts[2 * (m - 1)] == u && pts[2 * (m - 1) + 1] == v) continue;
-        pts[2 * m] = u;
-        pts[2 * m + 1] = v;
+        double uv[2] = {fmin(fmax(pts[2 * i], r->u0), r->u1), fmin(fmax(pts[2 * i + 1], r->v0), r->v1)};
+        if (m > 0 && near_pt(pts + 2 * (m - 1), uv, snap)) continue;
+        pts[2 * m] = uv[0];
+        pts[2 * m + 1] = uv[1];
         m++;
     }
-    while (m > 1 && pts[0] == pts[2 * (m - 1)] && pts[1] == pts[2 * (m - 1) + 1]) m--;
+    while (m > 1 && near_pt(pts, pts + 2 * (m - 1), snap)) m--;
+    if (m > 3) {
+        double side = fmax(r->u1 - r->u0, r->v1 - r->v0);
+        m = cut_junction_crossings(pts, m, 1e-2 * side);
+    }
     prw_trim_polygon poly = {pts, m};
     bool degenerate = m < 3;
     if (!degenerate) {
@@ -128,7 +192,7 @@ bool prw_trim_region_build(const prw_trimmed_surface *t, double tol, prw_trim_re
         double *p = prw_malloc(sizeof(double) * 8);
         double q[8] = {r->u0, r->v0, r->u1, r->v0, r->u1, r->v1, r->u0, r->v1};
         memcpy(p, q, sizeof q);
-        finish_loop(r, p, 4);
+        finish_loop(r, p, 4, 0);
     }
     for (int l = 0; l < t->nloops; l++) {
         double *pts = NULL;
@@ -140,7 +204,7 @@ bool prw_trim_region_build(const prw_trimmed_surface *t, double tol, prw_trim_re
                 return prw_fail_wrap(e, "loop %d segment %d", l, s);
             }
         }
-        finish_loop(r, pts, n);
+        finish_loop(r, pts, n, 1e-3 * tol);
     }
     return true;
 }

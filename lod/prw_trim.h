@@ -5,8 +5,12 @@
  *    segment's curve is cut at its knots and subdivided until the curve point at 1/3 and 2/3 of
  *    each piece is within `tol` (a (u, v) distance) of the chord; degree-1 segments are taken
  *    exactly.  A natural outer boundary becomes the domain rectangle (loop 0).  Points are clamped
- *    into the domain, consecutive duplicates and the closing duplicate removed; loops with fewer
- *    than 3 points or zero area are dropped (counted in `dropped`).
+ *    into the domain; consecutive points within 1e-3 tol of each other (per coordinate) are merged
+ *    and so is the closing duplicate; where two edges of a loop cross or touch with a short path
+ *    between them (<= 1e-2 of the larger domain side, <= a tenth of the loop's perimeter, <= 256
+ *    points: trim curves whose ends overshoot each other at a corner), the path is replaced by the
+ *    intersection point; loops with fewer than 3 points or zero area are dropped (counted in
+ *    `dropped`).
  *  - Inside rule: EVEN-ODD over all loops (orientation-free: IGES does not guarantee it).  The
  *    trimmed region is the CLOSED set: a point exactly on a loop edge is PRW_TRIM_ON and counts
  *    as inside.  Where two loops touch or share edges, the shared edges count twice and cancel,

@@ -7,7 +7,9 @@ usage: scripts/corpus_iges.py DIR [--prw PATH] [--timeout S] [--tsv OUT.tsv] [--
 For each *.igs / *.iges file (sorted by name): the exporter (native system ID, Global parameter 5,
 else the preprocessor version, parameter 6), the surfaces the reader kept, and two results:
   bake: `prw bake FILE --no-cache` (fresh cache directory), ok / refused: <message> / crash (signal)
-        / timeout; "ok*" when the hierarchy has failed patches;
+        / timeout; "ok*" when the hierarchy has failed patches; its wall and CPU seconds (on a shared
+        machine a wall-clock timeout with few CPU seconds is the load, not the file; timed-out runs
+        are listed at the end with the CPU seconds they had used);
   info: `prw info` of a one-entry manifest naming the file: ok / refused / crash / timeout.
 A file LOADS when `prw info` accepts it; it is RENDER-READY when `prw bake` builds its hierarchy
 with no failed patch.  --render OUTDIR also opens each file directly, `prw render FILE --size
@@ -23,6 +25,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import signal
 import subprocess
 import sys
@@ -88,13 +91,23 @@ def exporter(path):
     return '?'
 
 
-def run(cmd, timeout, env):
-    t0 = time.monotonic()
+def child_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run(cmd, timeout, env, cpu=None):
+    """(result, stdout, stderr, wall seconds); cpu (a list) gets the child's CPU seconds appended."""
+    t0, c0 = time.monotonic(), child_cpu()
     try:
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=timeout, env=env)
     except subprocess.TimeoutExpired:
+        if cpu is not None:
+            cpu.append(child_cpu() - c0)
         return 'timeout', '', '', time.monotonic() - t0
     dt = time.monotonic() - t0
+    if cpu is not None:
+        cpu.append(child_cpu() - c0)
     out = p.stdout.decode('utf-8', 'replace')
     err = p.stderr.decode('utf-8', 'replace')
     if p.returncode < 0 or p.returncode >= 128:
@@ -133,14 +146,16 @@ def main():
     bad = 0
     with tempfile.TemporaryDirectory(prefix='prw_corpus_') as tmp:
         env = dict(os.environ, PRW_CACHE_DIR=os.path.join(tmp, 'cache'))
-        print('%-40s %-34s %5s  %-9s %7s  %s' % ('file', 'exporter', 'surf', 'info', 'bake s', 'bake result'))
+        print('%-40s %-34s %5s  %-9s %7s %7s  %s' % ('file', 'exporter', 'surf', 'info', 'bake s', 'cpu s', 'bake result'))
         for name in files:
             path = os.path.abspath(os.path.join(a.dir, name))
             man = os.path.join(tmp, 'm.json')
             with open(man, 'w') as f:
                 json.dump({'prw_manifest': 1, 'nurbs': [{'file': path}]}, f)
-            info, iout, ierr, _ = run([a.prw, 'info', man], a.timeout, env)
-            bake, bout, berr, dt = run([a.prw, 'bake', path, '--no-cache'], a.timeout, env)
+            icpu = []
+            info, iout, ierr, _ = run([a.prw, 'info', man], a.timeout, env, icpu)
+            cpu = []
+            bake, bout, berr, dt = run([a.prw, 'bake', path, '--no-cache'], a.timeout, env, cpu)
             m = re.search(r'read .*: (\d+) surfaces', berr)
             surf = m.group(1) if m else '-'
             m = re.search(r'(\d+) failed\)', bout)
@@ -149,14 +164,15 @@ def main():
             if info.startswith(('crash', 'timeout')) or bake.startswith(('crash', 'timeout')):
                 bad += 1
             exp = exporter(path)
-            rows.append((name, exp, surf, info.split(':')[0], '%.1f' % dt, bake))
-            print('%-40s %-34.34s %5s  %-9s %7.1f  %s' % (name[:40], exp, surf, info.split(':')[0], dt, bake[:160]),
-                  flush=True)
+            rows.append((name, exp, surf, info.split(':')[0], '%.1f' % dt, bake, '%.1f' % cpu[0], '%.1f' % icpu[0]))
+            print('%-40s %-34.34s %5s  %-9s %7.1f %7.1f  %s' % (name[:40], exp, surf, info.split(':')[0], dt, cpu[0],
+                                                             bake[:160]), flush=True)
             if a.render:
                 out = os.path.join(a.render, name + '.exr')
                 png = os.path.join(a.render, name + '.png')
+                rcpu = []
                 rres, _, _, rdt = run([a.prw, 'render', path, '--size', '160x120', '--out', out, '--png', png],
-                                      a.timeout, env)
+                                      a.timeout, env, rcpu)
                 if rres == 'ok':
                     try:
                         st = png_stats.stats(png)
@@ -167,27 +183,33 @@ def main():
                     renders[key] += 1
                     if key != 'image':
                         bad += 1
-                    print('    render %.1f s: %s  (%s)' % (rdt, png_stats.describe(st) if st else verdict, png),
-                          flush=True)
+                    print('    render %.1f s (cpu %.1f s): %s  (%s)' % (rdt, rcpu[0], png_stats.describe(st) if st else
+                                                                    verdict, png), flush=True)
                 else:
                     key = 'refused' if rres.startswith('refused') else rres.split(' ')[0]
                     renders[key] += 1
                     if key in ('crash', 'timeout'):
                         bad += 1
-                    print('    render %.1f s: %s' % (rdt, rres[:200]), flush=True)
+                    print('    render %.1f s (cpu %.1f s): %s' % (rdt, rcpu[0], rres[:200]), flush=True)
     loads = sum(r[3] == 'ok' for r in rows)
     ready = sum(r[5] == 'ok' for r in rows)
     crash = sum(r[3].startswith('crash') or r[5].startswith('crash') for r in rows)
     hang = sum(r[3] == 'timeout' or r[5] == 'timeout' for r in rows)
     exps = sorted(set(r[1] for r in rows))
+    slow = ['%s (%s)' % (r[0], ', '.join(['info %s s CPU' % r[7]] * (r[3] == 'timeout') + ['bake %s s CPU' % r[6]] *
+                                          (r[5] == 'timeout')))
+            for r in rows if r[3] == 'timeout' or r[5] == 'timeout']
     print('\n%d files, %d load (prw info), %d render-ready (bake ok, no failed patch), %d refused by info, '
           '%d crashes, %d timeouts; %d exporters' % (len(rows), loads, ready, len(rows) - loads - crash - hang,
                                                     crash, hang, len(exps)))
+    if slow:
+        print('timed out (wall clock, %g s; the CPU seconds the run had used tell a slow file from a loaded '
+              'machine): %s' % (a.timeout, ', '.join(slow)))
     if a.render:
         print('renders (prw render FILE): %s' % ', '.join('%s %d' % kv for kv in renders.items()))
     if a.tsv:
         with open(a.tsv, 'w') as f:
-            f.write('file\texporter\tsurfaces\tinfo\tbake_s\tbake\n')
+            f.write('file\texporter\tsurfaces\tinfo\tbake_s\tbake\tbake_cpu_s\tinfo_cpu_s\n')
             for r in rows:
                 f.write('\t'.join(r) + '\n')
     if a.compare:

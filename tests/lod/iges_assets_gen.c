@@ -24,7 +24,7 @@ int main(int argc, char **argv)
 {
     if (argc != 2 && !(argc == 3 && !strcmp(argv[2], "--brep"))) {
         fprintf(stderr, "usage: iges_assets_gen <dir> [--brep]\n  --brep: the B-rep test solids instead (box, cylinder, "
-                        "free-form, free faces on 190 planes, a bounded band, a 144 on a 190, a boundary running back along itself, unit flag 0; not stored in assets/)\n");
+                        "free-form, free faces on 190 planes, a bounded band, a 144 on a 190, a boundary running back along itself, unit flag 0, conics 104, a spline surface 114, offset surfaces 140; not stored in assets/)\n");
         return 2;
     }
     if (argc == 3) {
@@ -46,6 +46,12 @@ int main(int argc, char **argv)
         err |= save(argv[1], "spike_loop.igs", s, n);
         s = iges_model_units(0, "", 1, 0, 1, &n);
         err |= save(argv[1], "unit_flag_0.igs", s, n);
+        s = iges_model_conics(&n);
+        err |= save(argv[1], "conics_104.igs", s, n);
+        s = iges_model_spline114(&n);
+        err |= save(argv[1], "spline_114.igs", s, n);
+        s = iges_model_offsets(&n);
+        err |= save(argv[1], "offsets_140.igs", s, n);
         return err;
     }
     size_t n;

@@ -54,4 +54,19 @@ char *iges_model_plane190_trimmed(size_t *len);
 char *iges_model_brep_cylinder(size_t *len);
 char *iges_model_brep_freeform(size_t *len);
 
+/* Exactly converted entities (iges_models_exact.c):
+ *  - conics: three 144s on 100 x 100 mm 128 planes bounded by model-space 142s (projected): a whole
+ *    104 ellipse (centre (50, 40), a 30, b 15, major axis at 30°); a 104 hyperbola
+ *    x²/20² - y²/10² = 1 (right branch, x <= 40) and a 104 parabola y² = 20 x (x <= 20), each
+ *    closed by a 110 along its chord (102);
+ *  - spline114: one 114 (metres) of 2 x 2 bicubic patches, breaks u 0, 1, 2.5 and v -1, 0.5, 1,
+ *    X = u, Y = v, Z = sum iges_model_spline114_z[k][l] u^k v^l, with the unused coefficients;
+ *  - offsets (metres): a 140 (d 0.25) of the 108 plane z = 0 under a 144 bounded by the square
+ *    0..2 x 0..1 at z = 0.25; a 140 (d 0.25) of a 120 cylinder r 1 about z (line x = 1, z 0..3);
+ *    a 140 (d -0.5) of a 120 sphere r 2 (a 100 arc about y); a 140 of a 128 plane. */
+extern const double iges_model_spline114_z[4][4];
+char *iges_model_conics(size_t *len);
+char *iges_model_spline114(size_t *len);
+char *iges_model_offsets(size_t *len);
+
 #endif

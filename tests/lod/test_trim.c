@@ -49,7 +49,8 @@ static void check_mesh(const prw_trimmed_surface *t, const prw_tess_mesh *m, dou
         double cu = 0, cv = 0;
         for (int q = 0; q < 3; q++) {
             cu += m->uv[2 * tr[q]] / 3, cv += m->uv[2 * tr[q] + 1] / 3;
-            if (!prw_trim_inside(&r, m->uv[2 * tr[q]], m->uv[2 * tr[q] + 1], 0)) bad++;
+            /* vertices splitting a slanted loop edge are rounded: 1e-15 (domain 0..1) */
+            if (!prw_trim_inside(&r, m->uv[2 * tr[q]], m->uv[2 * tr[q] + 1], 1e-15)) bad++;
         }
         if (prw_trim_classify(&r, cu, cv) != PRW_TRIM_INSIDE) bad++;
         const double *a = m->pos + 3 * tr[0], *b = m->pos + 3 * tr[1], *c = m->pos + 3 * tr[2];
@@ -227,6 +228,45 @@ static void test_drop_close_points(void)
     prw_nurbs_curve_free(&c);
 }
 
+/* Trim curves whose ends overshoot each other at corners (as CAD files have them: fa93 dam_part's
+ * flat face, elifer Motor, o3dv as1): the flattened loop crosses itself in a little bow-tie at the
+ * junction, which the ear clipper cannot take.  The region builder cuts the crossing at its
+ * intersection, so the face tessellates to the square it is. */
+static void add_segment(prw_trim_loop *l, double u0, double v0, double u1, double v1)
+{
+    prw_dvec3 p[2] = {prw_v3(u0, v0, 0), prw_v3(u1, v1, 0)};
+    prw_nurbs_curve c;
+    prw_error e;
+    CHECK(prw_nurbs_make_polyline(&c, 2, p, 2, &e));
+    prw_trim_loop_add(l, &c, NULL);
+}
+
+static void test_junction_overshoot(void)
+{
+    prw_trimmed_surface t;
+    plane(&t);
+    t.natural_outer = false;
+    prw_trim_loop *l = prw_trimmed_surface_add_loop(&t);
+    double up = nextafter(0.9, 1), up2 = nextafter(up, 1);
+    add_segment(l, 0.1, 0.1, 0.9004, 0.1);  /* overshoots the corner (0.9, 0.1) by 4e-4 ... */
+    add_segment(l, 0.9, 0.09995, 0.9, up2); /* ... and the next side starts 5e-5 before it */
+    add_segment(l, up, 0.9, 0.1, 0.9);      /* a crossing of one ulp at (0.9, 0.9) */
+    add_segment(l, 0.1, 0.9, 0.1, 0.1);
+    prw_trim_region r;
+    prw_error e;
+    CHECK_OK(prw_trim_region_build(&t, 1e-6, &r, &e), &e);
+    CHECK(r.count == 1);
+    printf("  overshooting corners: %d points, region area %.17g (square 0.64)\n", r.loops[0].n, prw_trim_region_area(&r));
+    CHECK_NEAR(prw_trim_region_area(&r), 0.64, 1e-12);
+    prw_trim_region_free(&r);
+    prw_tess_mesh m;
+    CHECK_OK(prw_tess_surface(&t, &(prw_tess_options){.trim_tol = 1e-6}, &m, &e), &e);
+    check_mesh(&t, &m, 1e-6);
+    CHECK_NEAR(m.uv_area, 0.64, 1e-12);
+    prw_tess_mesh_free(&m);
+    prw_trimmed_surface_free(&t);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -235,6 +275,7 @@ int main(int argc, char **argv)
         {"tiny_loops", test_tiny_loops},
         {"sphere_tessellation", test_sphere_tessellation},
         {"drop_close_points", test_drop_close_points},
+        {"junction_overshoot", test_junction_overshoot},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
