@@ -11,7 +11,8 @@
 // reflected point (z_r behind the reflection point along the ray, d_m its depth in the mirror image)
 // moves by r = 2 z_r tan(theta_h), r f_px / d_m pixels.  The taps draw tan(theta_h) from D_GGX cos
 // (tan^2 = alpha^2 u / (1 - u)), u stratified over [0, 0.9) (the cone holding 90 % of the lobe:
-// tan(beta) = 3 alpha, k_r = 4 z_r tan(beta)), golden-angle azimuths, equal weights, summed in float;
+// tan(beta) = 3 alpha, k_r = 4 z_r tan(beta)), golden-angle azimuths (rotated per pixel), the axis
+// across the plane of incidence shortened by mu = n.v (below), equal weights, summed in float;
 // times the split-sum reflectance per channel: metallic (base A + B) + (1 - metallic) specular (0.04 A + B).
 
 layout(set = 0, binding = 0) uniform sampler2D u_mirror;  // the mirrored view's radiance, same pixel grid
@@ -29,6 +30,13 @@ layout(push_constant) uniform prw_mirror_push {
     vec4 glossy;        // x: alpha (0: sharp mirror), y: eye's distance to the plane, z: f_px, w: taps
     vec4 fwd;           // xyz: unit view axis, w: near plane distance
 } pc;
+
+// camera-relative direction (unnormalised) of the ray through pixel position xy
+vec3 ray_dir(vec2 xy)
+{
+    vec4 q = pc.inv_view_proj * vec4(xy / pc.misc.zw * 2.0 - 1.0, 1.0, 1.0);
+    return q.xyz / q.w;
+}
 
 vec3 finite_or_zero(vec3 L) { return (any(isnan(L)) || any(isinf(L))) ? vec3(0.0) : L; }
 
@@ -60,19 +68,35 @@ void main()
         float k = 2.0 * zr * pc.glossy.z / dm;                       // pixels per unit tan(theta_h)
         float rmax = 0.25 * pc.misc.w;
         int taps = max(int(pc.glossy.w), 1);
+        // anisotropy: a half-vector tilt eps in the plane of incidence turns the reflected ray by
+        // 2 eps, one across it by 2 eps mu; on screen the plane of incidence is the line through this
+        // pixel where the rays stay in it (ray . b = 0, b its normal): g = grad(ray . b)
+        vec3 b = cross(n, v);
+        float lb = length(b);
+        vec2 s_in = vec2(0.0, 1.0), s_across = vec2(1.0, 0.0);
+        if (lb > 1e-6) {
+            b /= lb;
+            vec2 g = vec2(dot(normalize(ray_dir(gl_FragCoord.xy + vec2(1.0, 0.0))), b),
+                          dot(normalize(ray_dir(gl_FragCoord.xy + vec2(0.0, 1.0))), b));
+            float lg = length(g);
+            if (lg > 1e-12) s_across = g / lg, s_in = vec2(-s_across.y, s_across.x);
+        }
         float rot = fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715)))) * 6.2831853;
         vec3 sum = vec3(0.0);
         for (int i = 0; i < taps; i++) {
             float u = 0.9 * (float(i) + 0.5) / float(taps);
             float r = min(k * pc.glossy.x * sqrt(u / (1.0 - u)), rmax);
             float a = rot + 2.39996323 * float(i);
-            vec2 q = (gl_FragCoord.xy + r * vec2(cos(a), sin(a))) / pc.misc.zw;
+            vec2 q = (gl_FragCoord.xy + r * (cos(a) * s_in + mu * sin(a) * s_across)) / pc.misc.zw;
             sum += finite_or_zero(textureLod(u_mirror, q, 0.0).rgb);
         }
         float x = clamp(mu * 32.0 - 0.5, 0.0, 31.0);
         int i0 = int(floor(x));
         vec2 ab = mix(u_dfg.dfg[i0].xy, u_dfg.dfg[min(i0 + 1, 31)].xy, x - float(i0));
-        float sd = (1.0 - m) * clamp(pc.misc.x, 0.0, 1.0) * (0.04 * ab.x + ab.y);
+        // the split sum integrates Schlick's Fresnel; the dielectric lobe (prw_brdf.h) has the exact one:
+        // scaled by their ratio at the mirror direction (v.h = mu), which the lobe straddles
+        float fs = prw_F_schlick(0.04, mu);
+        float sd = (1.0 - m) * clamp(pc.misc.x, 0.0, 1.0) * (0.04 * ab.x + ab.y) * (fs > 0.0 ? prw_F_dielectric(mu) / fs : 1.0);
         vec3 Fg = m * (pc.base.rgb * ab.x + ab.y) + sd;
         o_color = vec4(Fg * sum / float(taps), 0.0);
         return;
