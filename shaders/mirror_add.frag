@@ -10,8 +10,9 @@
 // (DESIGN.md §4): a half vector tilted by theta_h moves the reflected ray by ~2 theta_h, so the
 // reflected point (z_r behind the reflection point along the ray, d_m its depth in the mirror image)
 // moves by r = 2 z_r tan(theta_h), r f_px / d_m pixels.  The taps draw tan(theta_h) from D_GGX cos
-// (tan^2 = alpha^2 u / (1 - u)), u stratified over [0, 0.9) (the cone holding 90 % of the lobe:
-// tan(beta) = 3 alpha, k_r = 4 z_r tan(beta)), golden-angle azimuths (rotated per pixel), the axis
+// (tan^2 = alpha^2 u / (1 - u)), u stratified over [0, 0.995): the cone holding 99.5 % of the lobe
+// (tan = 14 alpha; DESIGN's 90 % cone, tan(beta) = 3 alpha, cuts GGX's long tail, which the
+// reference shows), golden-angle azimuths (rotated per pixel), the axis
 // across the plane of incidence shortened by mu = n.v (below), equal weights, summed in float;
 // times the split-sum reflectance per channel: metallic (base A + B) + (1 - metallic) specular (0.04 A + B).
 
@@ -84,7 +85,7 @@ void main()
         float rot = fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715)))) * 6.2831853;
         vec3 sum = vec3(0.0);
         for (int i = 0; i < taps; i++) {
-            float u = 0.9 * (float(i) + 0.5) / float(taps);
+            float u = 0.995 * (float(i) + 0.5) / float(taps);
             float r = min(k * pc.glossy.x * sqrt(u / (1.0 - u)), rmax);
             float a = rot + 2.39996323 * float(i);
             vec2 q = (gl_FragCoord.xy + r * (cos(a) * s_in + mu * sin(a) * s_across)) / pc.misc.zw;

@@ -10,7 +10,7 @@
  *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag); for a
  *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
  *               lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from "mirror_depth", kernel_taps taps
- *               importance-sampled from D_GGX cos over the cone holding 90 % of it) times the split-sum
+ *               importance-sampled from D_GGX cos over the cone holding 99.5 % of it) times the split-sum
  *               reflectance F0 A + B (prw_env_dfg) instead.
  * So the final image = base pass + this term.
  *
