@@ -22,6 +22,10 @@
  * noise is large (fireflies: the window seen through the floor and the wall mirror), so relMSE beyond
  * noise is weak here; the raw relMSE is printed.  Without the passes (term 0) the criteria must fail.
  *
+ * Case finite: no NaN/Inf with the eye in the floor's plane, 1e-6 m above it, 1 degree grazing, close up,
+ * at floor roughness 0.2 and 1 (knob glossy_max_roughness 1), 1 and 32 taps (the reflector drawn is
+ * whichever covers the most pixels: with the eye in the floor's plane it is the wall mirror).
+ *
  * Environment: PRW_GLOSSY_SPP (default 256) reference samples per pixel; PRW_GLOSSY_TAPS the kernel_taps
  * knob (default: the "high" preset's); PRW_GLOSSY_OUT=DIR writes the images (EXR).
  */
@@ -346,8 +350,49 @@ static void test_term(void)
     prw_scene_destroy(s);
 }
 
+/* Degenerate views of the glossy floor (must-show 6): every value finite; roughness 0.3 (gi-room's 0.2
+ * floor) and 1 (the floor's roughness raised, knob 1), kernel_taps 1 and 32. */
+static void test_finite(void)
+{
+    prw_error e = {{0}};
+    struct {
+        const char *what;
+        prw_dvec3 eye, target;
+    } views[] = {
+        {"eye in the floor's plane", prw_v3(-2.0, 0.001, 1.0), prw_v3(2.0, 0.001, -1.0)},
+        {"edge-on from 1e-6 m above", prw_v3(-2.0, 0.001 + 1e-6, 1.0), prw_v3(2.0, 0.001 + 1e-6, -1.0)},
+        {"grazing, 1 degree", prw_v3(-2.5, 0.001 + 5.0 * tan(PI / 180.0), 0.0), prw_v3(2.5, 0.001, 0.0)},
+        {"close up, looking down", prw_v3(0.0, 0.06, 0.0), prw_v3(0.01, 0.0, 0.0)},
+        {"looking down from 1.5 m", prw_v3(1.0, 1.5, 1.0), prw_v3(1.0, 0.0, 0.9)},
+    };
+    for (int rough = 0; rough < 2; rough++) {
+        prw_scene *s = load_black_floor(&e);
+        CHECK_MSG(s != NULL, "%s", e.msg);
+        for (uint32_t k = 0; k < s->material_count; k++)
+            if (rough && strcmp(s->materials[k].name, "oak floor") == 0) s->materials[k].roughness = 1.0f;
+        for (size_t k = 0; k < PRW_ARRAY_LEN(views); k++)
+            for (int taps = 1; taps <= 32; taps += 31) {
+                prw_view v = prw_view_look_at(views[k].eye, views[k].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05,
+                                              64, 36, 7.0);
+                prw_image on = {0};
+                char status[96], t[8];
+                snprintf(t, sizeof t, "%d", taps);
+                setenv("PRW_GLOSSY_TAPS", t, 1);
+                CHECK_OK(render_raster(s, &v, 1.0, &on, status, &e), &e);
+                size_t bad = 0;
+                for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on.rgba[i]);
+                printf("roughness %s, %2d taps, %-28s mirror_add: %-36s %zu non-finite values\n",
+                       rough ? "1  " : "0.2", taps, views[k].what, status, bad);
+                CHECK_MSG(bad == 0, "%s: %zu non-finite values", views[k].what, bad);
+                prw_image_free(&on);
+            }
+        unsetenv("PRW_GLOSSY_TAPS");
+        prw_scene_destroy(s);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"term", test_term}};
+    static const prw_test_case cases[] = {{"term", test_term}, {"finite", test_finite}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
