@@ -7,10 +7,15 @@
  *               emission left out (globals params.z): a light seen in the mirror is carried by the
  *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2.
  *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
- *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag).
+ *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag); for a
+ *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
+ *               lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from "mirror_depth", kernel_taps taps
+ *               importance-sampled from D_GGX cos over the cone holding 99.5 % of it) times the split-sum
+ *               reflectance F0 A + B (prw_env_dfg) instead.
  * So the final image = base pass + this term.
  *
- * Reflectors (found when the graph is built): the drawn meshes of a material of roughness <= 0.05
+ * Reflectors (found when the graph is built): the drawn meshes of a material of roughness <= 0.05 (or up to
+ * the glossy_max_roughness knob)
  * without roughness or normal textures, opaque, with a specular lobe (metallic > 0 or specular > 0),
  * every triangle of which lies in one plane (within 1e-5 of the extent).  A material drawn on two
  * planes or curved is not a reflector.  One reflector is rendered per view: the one covering the most
@@ -26,6 +31,7 @@
 #include <string.h>
 
 #include "gpu_types.h"
+#include "prw_env.h"
 #include "pipes.h"
 #include "prw_shaders.h"
 #include "scene_gpu.h"
@@ -36,6 +42,7 @@
 #define MIRROR_MAX_CORNERS 64 /* more vertices: the corners of their bounding box in the plane's frame */
 #define MIRROR_PLANARITY 1e-5 /* of the reflector's extent */
 #define MIRROR_CLIP_OFFSET 1e-4 /* metres in front of the mirror: the mirror's own surface is clipped */
+#define MIRROR_DFG_COUNT 32     /* split-sum table entries over mu = n.v (entry i at (i + 0.5) / count) */
 
 typedef struct reflector {
     int material;
@@ -45,6 +52,7 @@ typedef struct reflector {
     bool two_sided;
     prw_dvec3 corners[MIRROR_MAX_CORNERS];
     uint32_t corner_count;
+    float dfg[MIRROR_DFG_COUNT][4]; /* glossy: A, B of the split sum at mu_i (unused for sharp mirrors) */
 } reflector;
 
 typedef struct reflector_set {
@@ -52,9 +60,9 @@ typedef struct reflector_set {
     uint32_t count;
 } reflector_set;
 
-static bool mirror_like(const prw_material *m)
+static bool mirror_like(const prw_material *m, double max_roughness)
 {
-    return m->kind == 0 && m->roughness <= MIRROR_MAX_ROUGHNESS && m->metal_rough_tex < 0 && m->normal_tex < 0 &&
+    return m->kind == 0 && m->roughness <= fmax(max_roughness, MIRROR_MAX_ROUGHNESS) && m->metal_rough_tex < 0 && m->normal_tex < 0 &&
            m->alpha_mode == PRW_ALPHA_OPAQUE && (m->metallic > 0 || m->specular > 0);
 }
 
@@ -113,14 +121,20 @@ static bool reflector_of(const prw_scene *s, int mi, reflector *out)
     }
     out->two_sided = s->materials[mi].double_sided;
     out->slot = prw_scene_gpu_slot(s, mi);
+    if (s->materials[mi].roughness > MIRROR_MAX_ROUGHNESS)
+        for (uint32_t i = 0; i < MIRROR_DFG_COUNT; i++) {
+            double A, B;
+            prw_env_dfg((i + 0.5) / MIRROR_DFG_COUNT, s->materials[mi].roughness, &A, &B);
+            out->dfg[i][0] = (float)A, out->dfg[i][1] = (float)B;
+        }
     return true;
 }
 
-static void reflectors_find(const prw_scene *s, reflector_set *set)
+static void reflectors_find(const prw_scene *s, double max_roughness, reflector_set *set)
 {
     set->count = 0;
     for (uint32_t mi = 0; mi < s->material_count && set->count < MIRROR_MAX_REFLECTORS; mi++)
-        if (mirror_like(&s->materials[mi]) && reflector_of(s, (int)mi, &set->r[set->count])) set->count++;
+        if (mirror_like(&s->materials[mi], max_roughness) && reflector_of(s, (int)mi, &set->r[set->count])) set->count++;
 }
 
 /* The pixels of view v the reflector may cover (bounding rectangle of its projected vertices, clipped to
@@ -174,15 +188,32 @@ static int reflector_pick(const reflector_set *set, const prw_view *v, const cha
 static bool in_graph(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
-    reflector_set set;
-    reflectors_find(env->scene, &set);
-    if (set.count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), false;
+    reflector_set *set = prw_calloc(1, sizeof *set);
+    reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, set);
+    uint32_t count = set->count;
+    free(set);
+    if (count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), false;
     if (env->desc->quality.mirror_recursion == 0) return prw_setup_skip(s, "mirror_recursion=0"), false;
     if (env->desc->quality.supersample > 1) return prw_setup_skip(s, "not with supersampling yet"), false;
     return true;
 }
 
 /* ---- mirror: the reflected view ---- */
+
+/* View v reflected in r's plane n.x = d: x' = x - 2 (n.x - d) n, in double. */
+static prw_view mirrored_view(const reflector *r, const prw_view *v)
+{
+    prw_dmat4 R = prw_dm4_identity();
+    double nn[3] = {r->n.x, r->n.y, r->n.z};
+    for (int col = 0; col < 3; col++)
+        for (int row = 0; row < 3; row++) R.m[col * 4 + row] -= 2 * nn[row] * nn[col];
+    for (int row = 0; row < 3; row++) R.m[12 + row] = 2 * r->d * nn[row];
+    prw_view mv = *v;
+    mv.view = prw_dm4_mul(v->view, R);
+    double s = prw_v3_dot(r->n, v->eye) - r->d;
+    mv.eye = prw_v3_sub(v->eye, prw_v3_scale(r->n, 2 * s));
+    return mv;
+}
 
 typedef struct mirror_state {
     reflector_set set;
@@ -216,7 +247,7 @@ static bool mirror_create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     mirror_state *m = prw_calloc(1, sizeof *m);
     *state = m;
-    reflectors_find(env->scene, &m->set);
+    reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &m->set);
     m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe};
     prw_gpu_image *shadow = prw_graph_image(in->graph, "shadow_map", 0);
     for (uint32_t v = 0; v < env->desc->max_views; v++) {
@@ -261,16 +292,8 @@ static bool mirror_record(prw_pass_ctx *c, prw_error *e)
     int ri = reflector_pick(&m->set, v, &why);
     if (ri < 0) return prw_fail(e, "mirror: %s", why);
     const reflector *r = &m->set.r[ri];
-    /* reflection in the plane n.x = d: x' = x - 2 (n.x - d) n, in double */
-    prw_dmat4 R = prw_dm4_identity();
-    double nn[3] = {r->n.x, r->n.y, r->n.z};
-    for (int col = 0; col < 3; col++)
-        for (int row = 0; row < 3; row++) R.m[col * 4 + row] -= 2 * nn[row] * nn[col];
-    for (int row = 0; row < 3; row++) R.m[12 + row] = 2 * r->d * nn[row];
-    prw_view mv = *v;
-    mv.view = prw_dm4_mul(v->view, R);
+    prw_view mv = mirrored_view(r, v);
     double s = prw_v3_dot(r->n, v->eye) - r->d;
-    mv.eye = prw_v3_sub(v->eye, prw_v3_scale(r->n, 2 * s));
     prw_gpu_globals g;
     prw_view_globals_fill(env->scene, env->shadows, env->desc->quality.shadow_size, &mv, mv.eye, &g);
     g.params[2] = 1.0f; /* no emission in the mirror image */
@@ -322,7 +345,13 @@ typedef struct mirror_push {
     float inv_view_proj[16];
     float base[4]; /* rgb base colour, a metallic */
     float misc[4]; /* specular, id, width, height */
+    float glossy[4]; /* alpha (0: sharp mirror), |eye - plane| in m, f_px = H / (2 tan(fov_y / 2)), taps */
+    float fwd[4];    /* xyz: the view axis (unit, world orientation), w: near plane distance */
 } mirror_push;
+
+typedef struct mirror_dfg_ubo {
+    float dfg[MIRROR_DFG_COUNT][4];
+} mirror_dfg_ubo;
 
 typedef struct add_state {
     reflector_set set;
@@ -330,6 +359,7 @@ typedef struct add_state {
     VkPipelineLayout layout;
     VkPipeline pipe;
     VkDescriptorSet sets[PRW_MAX_VIEWS];
+    prw_buffer dfg[PRW_MAX_VIEWS];
 } add_state;
 
 static const char *out_name(const prw_render_env *env) { return env->desc->quality.supersample > 1 ? "hdr_ss" : "hdr"; }
@@ -338,6 +368,7 @@ static void add_setup(prw_setup *s)
 {
     if (!in_graph(s)) return;
     prw_setup_use(s, "mirror_hdr", PRW_USE_SAMPLED);
+    prw_setup_use(s, "mirror_depth", PRW_USE_SAMPLED);
     prw_setup_use(s, "gbuf_normal", PRW_USE_SAMPLED);
     prw_setup_use(s, "gbuf_id", PRW_USE_SAMPLED);
     prw_setup_use(s, out_name(prw_setup_env(s)), PRW_USE_COLOR_ADD);
@@ -348,13 +379,15 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     add_state *a = prw_calloc(1, sizeof *a);
     *state = a;
-    reflectors_find(env->scene, &a->set);
-    VkDescriptorSetLayoutBinding b[3] = {
+    reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &a->set);
+    VkDescriptorSetLayoutBinding b[5] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
-    if (!prw_desc_layout_create(env->gpu, b, 3, &a->set_layout, e) ||
+    if (!prw_desc_layout_create(env->gpu, b, 5, &a->set_layout, e) ||
         !prw_pipeline_layout_create(env->gpu, &a->set_layout, 1, sizeof(mirror_push), &a->layout, e))
         return false;
     prw_graphics_desc d = {
@@ -369,13 +402,19 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     VkSampler smp = prw_gpu_sampler(env->gpu, PRW_SAMPLER_NEAREST_CLAMP);
     for (uint32_t v = 0; v < env->desc->max_views; v++) {
         if (!prw_desc_alloc(env->gpu, env->pool, a->set_layout, &a->sets[v], e)) return false;
-        const char *names[3] = {"mirror_hdr", "gbuf_normal", "gbuf_id"};
-        for (uint32_t k = 0; k < 3; k++) {
+        const char *names[4] = {"mirror_hdr", "gbuf_normal", "gbuf_id", "mirror_depth"};
+        for (uint32_t k = 0; k < 4; k++) {
             prw_gpu_image *img = prw_graph_image(in->graph, names[k], v);
             if (!img) return prw_fail(e, "mirror_add: graph image %s missing", names[k]);
-            prw_desc_write_image(env->gpu, a->sets[v], k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view, smp,
+            prw_desc_write_image(env->gpu, a->sets[v], k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view,
+                                 k == 0 ? prw_gpu_sampler(env->gpu, PRW_SAMPLER_LINEAR_CLAMP) : smp,
                                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         }
+        if (!prw_buffer_create(env->gpu, sizeof(mirror_dfg_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
+                               &a->dfg[v], e))
+            return false;
+        prw_desc_write_buffer(env->gpu, a->sets[v], 4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &a->dfg[v], 0,
+                              sizeof(mirror_dfg_ubo));
     }
     return true;
 }
@@ -388,6 +427,7 @@ static void add_destroy(const prw_pass_init *in, void *state)
     if (a->pipe) vkDestroyPipeline(dev, a->pipe, NULL);
     if (a->layout) vkDestroyPipelineLayout(dev, a->layout, NULL);
     if (a->set_layout) vkDestroyDescriptorSetLayout(dev, a->set_layout, NULL);
+    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(in->env->gpu, &a->dfg[v]);
     free(a);
 }
 
@@ -420,6 +460,20 @@ static bool add_record(prw_pass_ctx *c, prw_error *e)
     pc.base[3] = mat->metallic;
     pc.misc[0] = mat->specular, pc.misc[1] = (float)(r->slot + 1), pc.misc[2] = (float)out->width;
     pc.misc[3] = (float)out->height;
+    memset(pc.glossy, 0, sizeof pc.glossy);
+    memset(pc.fwd, 0, sizeof pc.fwd);
+    if (mat->roughness > MIRROR_MAX_ROUGHNESS) {
+        pc.glossy[0] = prw_alpha_from_roughness(mat->roughness);
+        pc.glossy[1] = (float)fabs(prw_v3_dot(r->n, v->eye) - r->d);
+        pc.glossy[2] = (float)(out->height / (v->tan_top - v->tan_bottom)); /* pixels per unit tangent */
+        pc.glossy[3] = (float)env->desc->quality.kernel_taps;
+        /* the view axis: the third row of the view matrix is -forward (right-handed look-at) */
+        prw_dvec3 f = prw_v3(-v->view.m[2], -v->view.m[6], -v->view.m[10]);
+        double fl = prw_v3_len(f);
+        pc.fwd[0] = (float)(f.x / fl), pc.fwd[1] = (float)(f.y / fl), pc.fwd[2] = (float)(f.z / fl);
+        pc.fwd[3] = (float)v->znear;
+        memcpy(a->dfg[c->view].mapped, r->dfg, sizeof r->dfg);
+    }
     VkRenderingAttachmentInfo ca = {
         .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
         .imageView = out->view,

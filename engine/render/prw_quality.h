@@ -52,6 +52,10 @@ typedef struct prw_quality {
                                    into rectangles or dropped, engine/scene/prw_emissive.h); 0: they light nothing */
     uint32_t mirror_recursion;  /* planar mirrors (pass_mirror.c): reflection bounces rendered; 0: the pass is off,
                                    1: one (mirrors seen in a mirror show no reflection of their own) */
+    double glossy_max_roughness; /* planar reflectors (pass_mirror.c): the largest roughness of a planar material
+                                   reflected through the mirror image convolved by its GGX lobe; at or below
+                                   0.05 only sharp mirrors are reflected */
+    uint32_t kernel_taps;       /* taps of the glossy reflectors' convolution (pass_mirror.c) */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */
@@ -59,7 +63,6 @@ typedef struct prw_quality {
     double ssdo_radius;         /* SSDO: radius, metres */
     uint32_t vpl_count;         /* VPLs for indirect light */
     uint32_t ism_size;          /* imperfect shadow map size, texels a side */
-    uint32_t kernel_taps;       /* filter kernel taps (glare / blur) */
     uint32_t envmap_size;       /* environment map size, texels (height) */
     double billboard_error;     /* billboard clouds: error, pixels */
     uint32_t radiosity_size;    /* radiosity texture size, texels a side */

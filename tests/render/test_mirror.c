@@ -71,6 +71,7 @@ static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t recurs
     rd.quality.msaa = 4;
     rd.quality.shadow_size = 2048;
     rd.quality.mirror_recursion = recursion;
+    rd.quality.glossy_max_roughness = 0; /* the mirror alone: the glossy floor is test_glossy's */
     bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
               prw_renderer_render(r, v, 1, &st, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);
