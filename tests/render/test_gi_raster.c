@@ -145,8 +145,10 @@ static void test_gi_room_indirect_diffuse(void)
     CHECK_OK(prw_ref_view_for_camera(s, "main", W, H, &v, &e), &e);
 
     /* the reduced bake */
-    prw_gi_options o = {.radiosity_size = (uint32_t)env_u("PRW_GIR_RADIOSITY", 128),
-                        .samples = (uint32_t)env_u("PRW_GIR_SAMPLES", 64), .seed = 7,
+    /* light mode (sanitizers): a tiny bake and references; only finiteness and the control are checked */
+    bool light = prw_test_light();
+    prw_gi_options o = {.radiosity_size = (uint32_t)env_u("PRW_GIR_RADIOSITY", light ? 32 : 128),
+                        .samples = (uint32_t)env_u("PRW_GIR_SAMPLES", light ? 8 : 64), .seed = 7,
                         .filter_radius = PRW_GI_DEFAULT_FILTER_RADIUS};
     prw_gi_bake *b = NULL;
     prw_gi_result gr;
@@ -174,7 +176,7 @@ static void test_gi_room_indirect_diffuse(void)
     bad.inst = inst;
     CHECK_OK(render_raster(s, &v, &bad, &broken, &e), &e);
 
-    uint64_t spp = env_u("PRW_GIR_SPP", 128);
+    uint64_t spp = env_u("PRW_GIR_SPP", light ? 8 : 128);
     prw_ref_renderer *ref = NULL;
     CHECK_OK(prw_ref_create(s, v.eye, 0, &ref, &e), &e);
     bool ok = render_ref(ref, &v, spp, 1, PRW_REF_INDIRECT_DIFFUSE_LAST, &ra, &e) &&
@@ -216,9 +218,13 @@ static void test_gi_room_indirect_diffuse(void)
            sc.relmse - noise.relmse / 2);
     prw_image_free(&scaled);
     CHECK(nm > (size_t)W * H / 2);
-    CHECK_MSG(flip_beyond <= BOUND, "LDR-FLIP beyond noise %.4f > %.2f", flip_beyond, BOUND);
-    CHECK_MSG(rel_beyond <= BOUND, "relMSE beyond noise %.4f > %.2f", rel_beyond, BOUND);
-    CHECK_MSG(ctl_flip > BOUND || ctl_rel > BOUND, "the control (broken lookup) passes: %.4f / %.4f", ctl_flip, ctl_rel);
+    if (light) {
+        printf("  light mode: the bounds are not checked at %llu spp\n", (unsigned long long)spp);
+        CHECK_MSG(ctl_flip > err.flip - noise.flip, "the control (broken lookup) is not worse: %.4f", ctl_flip);
+    }
+    if (!light) CHECK_MSG(flip_beyond <= BOUND, "LDR-FLIP beyond noise %.4f > %.2f", flip_beyond, BOUND);
+    if (!light) CHECK_MSG(rel_beyond <= BOUND, "relMSE beyond noise %.4f > %.2f", rel_beyond, BOUND);
+    if (!light) CHECK_MSG(ctl_flip > BOUND || ctl_rel > BOUND, "the control (broken lookup) passes: %.4f / %.4f", ctl_flip, ctl_rel);
 
     const char *dir = getenv("PRW_GIR_OUT");
     write_if(dir, "raster.exr", &raster, ev);
