@@ -18,8 +18,10 @@
  * the glossy_max_roughness knob)
  * without roughness or normal textures, opaque, with a specular lobe (metallic > 0 or specular > 0),
  * every triangle of which lies in one plane (within 1e-5 of the extent).  A material drawn on two
- * planes or curved is not a reflector.  One reflector is rendered per view: the one covering the most
- * of the view's pixels (a bounding-rectangle estimate); the others show only their direct term.
+ * planes or curved is not a reflector.  Up to the max_reflectors knob are rendered per view, those
+ * covering the most of the view's pixels (a bounding-rectangle estimate), each into its own mirror image
+ * ("mirror_hdr"/"mirror_depth" for the first, "mirror_hdrK"/"mirror_depthK" for the K+1-th: graph images,
+ * kept across frames) and added in its own pixels (G-buffer id); the others show only their direct term.
  * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
  * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is
  * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel
@@ -39,6 +41,7 @@
 
 #define MIRROR_MAX_ROUGHNESS 0.05
 #define MIRROR_MAX_REFLECTORS 8
+#define MIRROR_MAX_DRAWN 4 /* mirror images per view (the max_reflectors knob's upper bound) */
 #define MIRROR_MAX_CORNERS 64 /* more vertices: the corners of their bounding box in the plane's frame */
 #define MIRROR_PLANARITY 1e-5 /* of the reflector's extent */
 #define MIRROR_CLIP_OFFSET 1e-4 /* metres in front of the mirror: the mirror's own surface is clipped */
@@ -172,30 +175,52 @@ static double reflector_pixels(const reflector *r, const prw_view *v, const char
     return nx * ny;
 }
 
-/* The reflector rendered for view v: the one covering the most pixels; -1 (why set) when none. */
-static int reflector_pick(const reflector_set *set, const prw_view *v, const char **why)
+/* The reflectors rendered for view v: up to max of those covering pixels, most pixels first (ties: the
+ * first found), their indices into set in pick[]; returns how many (0: why set). */
+static uint32_t reflectors_pick(const reflector_set *set, const prw_view *v, uint32_t max, int *pick,
+                                const char **why)
 {
-    int best = -1;
-    double most = 0;
+    double px[MIRROR_MAX_REFLECTORS];
+    uint32_t n = 0;
     *why = "no reflector";
+    if (max > MIRROR_MAX_DRAWN) max = MIRROR_MAX_DRAWN;
     for (uint32_t k = 0; k < set->count; k++) {
-        double px = reflector_pixels(&set->r[k], v, why);
-        if (px > most) most = px, best = (int)k;
+        double p = reflector_pixels(&set->r[k], v, why);
+        if (p <= 0) continue;
+        uint32_t at = n < max ? n : max; /* insertion into the sorted list, dropping beyond max */
+        while (at > 0 && px[at - 1] < p) at--;
+        if (at >= max) continue;
+        uint32_t end = n < max ? n : max - 1;
+        for (uint32_t j = end; j > at; j--) px[j] = px[j - 1], pick[j] = pick[j - 1];
+        px[at] = p, pick[at] = (int)k;
+        if (n < max) n++;
     }
-    return best;
+    return n;
 }
 
-static bool in_graph(prw_setup *s)
+static uint32_t max_drawn(const prw_render_env *env)
+{
+    uint32_t n = env->desc->quality.max_reflectors;
+    return n < 1 ? 1 : n > MIRROR_MAX_DRAWN ? MIRROR_MAX_DRAWN : n;
+}
+
+/* graph image names of mirror image k */
+static const char *const HDR_NAMES[MIRROR_MAX_DRAWN] = {"mirror_hdr", "mirror_hdr1", "mirror_hdr2", "mirror_hdr3"};
+static const char *const DEPTH_NAMES[MIRROR_MAX_DRAWN] = {"mirror_depth", "mirror_depth1", "mirror_depth2",
+                                                          "mirror_depth3"};
+
+/* The mirror images the graph holds (0: the passes are not in the graph, skip reason given). */
+static uint32_t in_graph(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
     reflector_set *set = prw_calloc(1, sizeof *set);
     reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, set);
     uint32_t count = set->count;
     free(set);
-    if (count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), false;
-    if (env->desc->quality.mirror_recursion == 0) return prw_setup_skip(s, "mirror_recursion=0"), false;
-    if (env->desc->quality.supersample > 1) return prw_setup_skip(s, "not with supersampling yet"), false;
-    return true;
+    if (count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), 0;
+    if (env->desc->quality.mirror_recursion == 0) return prw_setup_skip(s, "mirror_recursion=0"), 0;
+    if (env->desc->quality.supersample > 1) return prw_setup_skip(s, "not with supersampling yet"), 0;
+    return count < max_drawn(env) ? count : max_drawn(env);
 }
 
 /* ---- mirror: the reflected view ---- */
@@ -217,20 +242,24 @@ static prw_view mirrored_view(const reflector *r, const prw_view *v)
 
 typedef struct mirror_state {
     reflector_set set;
+    uint32_t images; /* mirror images in the graph */
     prw_pipe_recipe recipe; /* the base recipe at one sample */
-    prw_buffer globals[PRW_MAX_VIEWS];
-    VkDescriptorSet sets[PRW_MAX_VIEWS];
+    prw_buffer globals[PRW_MAX_VIEWS][MIRROR_MAX_DRAWN];
+    VkDescriptorSet sets[PRW_MAX_VIEWS][MIRROR_MAX_DRAWN];
 } mirror_state;
 
 static void mirror_setup(prw_setup *s)
 {
-    if (!in_graph(s)) return;
+    uint32_t n = in_graph(s);
+    if (!n) return;
     prw_image_decl hdr = {.format = prw_pipes_radiance_format(prw_setup_env(s)), .size = PRW_SIZE_INTERNAL};
     prw_image_decl depth = {.format = PRW_DEPTH_FORMAT, .size = PRW_SIZE_INTERNAL};
-    prw_setup_image(s, "mirror_hdr", &hdr);
-    prw_setup_image(s, "mirror_depth", &depth);
-    prw_setup_use(s, "mirror_hdr", PRW_USE_COLOR);
-    prw_setup_use(s, "mirror_depth", PRW_USE_DEPTH);
+    for (uint32_t k = 0; k < n; k++) {
+        prw_setup_image(s, HDR_NAMES[k], &hdr);
+        prw_setup_image(s, DEPTH_NAMES[k], &depth);
+        prw_setup_use(s, HDR_NAMES[k], PRW_USE_COLOR);
+        prw_setup_use(s, DEPTH_NAMES[k], PRW_USE_DEPTH);
+    }
     prw_setup_use(s, "shadow_map", PRW_USE_SAMPLED);
 }
 
@@ -248,22 +277,27 @@ static bool mirror_create(const prw_pass_init *in, void **state, prw_error *e)
     mirror_state *m = prw_calloc(1, sizeof *m);
     *state = m;
     reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &m->set);
+    m->images = m->set.count < max_drawn(env) ? m->set.count : max_drawn(env);
     m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe};
     prw_gpu_image *shadow = prw_graph_image(in->graph, "shadow_map", 0);
-    for (uint32_t v = 0; v < env->desc->max_views; v++) {
-        if (!prw_buffer_create(env->gpu, sizeof(prw_gpu_globals), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
-                               &m->globals[v], e) ||
-            !prw_desc_alloc(env->gpu, env->pool, env->pipes->globals_layout, &m->sets[v], e))
-            return false;
-        prw_desc_write_buffer(env->gpu, m->sets[v], 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &m->globals[v], 0,
-                              sizeof(prw_gpu_globals));
-        prw_pipes_write_globals(env->pipes, m->sets[v]);
-        prw_desc_write_image(env->gpu, m->sets[v], 1, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
-                             prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        prw_desc_write_image(env->gpu, m->sets[v], 2, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
-                             prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW_DEPTH),
-                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    }
+    for (uint32_t v = 0; v < env->desc->max_views; v++)
+        for (uint32_t k = 0; k < m->images; k++) { /* one globals block per mirror image: each is its own view */
+            VkDescriptorSet ds;
+            if (!prw_buffer_create(env->gpu, sizeof(prw_gpu_globals), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                   PRW_MEM_UPLOAD, &m->globals[v][k], e) ||
+                !prw_desc_alloc(env->gpu, env->pool, env->pipes->globals_layout, &m->sets[v][k], e))
+                return false;
+            ds = m->sets[v][k];
+            prw_desc_write_buffer(env->gpu, ds, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &m->globals[v][k], 0,
+                                  sizeof(prw_gpu_globals));
+            prw_pipes_write_globals(env->pipes, ds);
+            prw_desc_write_image(env->gpu, ds, 1, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
+                                 prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW),
+                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+            prw_desc_write_image(env->gpu, ds, 2, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow->view,
+                                 prw_gpu_sampler(env->gpu, PRW_SAMPLER_SHADOW_DEPTH),
+                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        }
     return true;
 }
 
@@ -272,7 +306,8 @@ static void mirror_destroy(const prw_pass_init *in, void *state)
     mirror_state *m = state;
     if (!m) return;
     prw_pipes_forget(in->env->pipes, &m->recipe);
-    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(in->env->gpu, &m->globals[v]);
+    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++)
+        for (uint32_t k = 0; k < MIRROR_MAX_DRAWN; k++) prw_buffer_destroy(in->env->gpu, &m->globals[v][k]);
     free(m);
 }
 
@@ -280,32 +315,30 @@ static bool mirror_needed(const prw_pass_ctx *c, const char **why)
 {
     const mirror_state *m = c->state;
     if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
-    return reflector_pick(&m->set, &c->frame->views[c->view], why) >= 0;
+    int pick[MIRROR_MAX_DRAWN];
+    return reflectors_pick(&m->set, &c->frame->views[c->view], m->images, pick, why) > 0;
 }
 
-static bool mirror_record(prw_pass_ctx *c, prw_error *e)
+/* Mirror image k of view c->view: the scene reflected in r. */
+static bool mirror_record_one(prw_pass_ctx *c, mirror_state *m, const reflector *r, uint32_t k, prw_error *e)
 {
     const prw_render_env *env = c->env;
-    mirror_state *m = c->state;
     const prw_view *v = &c->frame->views[c->view];
-    const char *why;
-    int ri = reflector_pick(&m->set, v, &why);
-    if (ri < 0) return prw_fail(e, "mirror: %s", why);
-    const reflector *r = &m->set.r[ri];
     prw_view mv = mirrored_view(r, v);
     double s = prw_v3_dot(r->n, v->eye) - r->d;
     prw_gpu_globals g;
     prw_view_globals_fill(env->scene, env->shadows, env->desc->quality.shadow_size, &mv, mv.eye, &g);
     g.params[2] = 1.0f; /* no emission in the mirror image */
-    memcpy(m->globals[c->view].mapped, &g, sizeof g);
+    memcpy(m->globals[c->view][k].mapped, &g, sizeof g);
     /* keep what lies on the real eye's side, MIRROR_CLIP_OFFSET in front of the mirror (camera-relative to
      * the reflected eye, whose distance to the plane is -s) */
     double sign = s >= 0 ? 1.0 : -1.0;
-    prw_draw_view dv = {.origin = mv.eye, .eye = mv.eye, .globals = m->sets[c->view], .mirrored = true, .clip = true};
+    prw_draw_view dv = {.origin = mv.eye, .eye = mv.eye, .globals = m->sets[c->view][k], .mirrored = true,
+                        .clip = true};
     dv.clip_plane[0] = (float)(sign * r->n.x), dv.clip_plane[1] = (float)(sign * r->n.y);
     dv.clip_plane[2] = (float)(sign * r->n.z);
     dv.clip_plane[3] = (float)(sign * (prw_v3_dot(r->n, mv.eye) - r->d) - MIRROR_CLIP_OFFSET);
-    prw_gpu_image *hdr = prw_pass_image(c, "mirror_hdr"), *depth = prw_pass_image(c, "mirror_depth");
+    prw_gpu_image *hdr = prw_pass_image(c, HDR_NAMES[k]), *depth = prw_pass_image(c, DEPTH_NAMES[k]);
     VkRenderingAttachmentInfo ca = prw_pipes_color_attachment(hdr, NULL, VK_RESOLVE_MODE_NONE, 0);
     VkRenderingAttachmentInfo da = prw_pipes_depth_attachment(depth);
     VkRenderingInfo rinfo = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
@@ -326,6 +359,18 @@ static bool mirror_record(prw_pass_ctx *c, prw_error *e)
     }
     prw_pass_end_rendering(c);
     return !dc.failed || prw_fail(e, "%s", dc.err.msg);
+}
+
+static bool mirror_record(prw_pass_ctx *c, prw_error *e)
+{
+    mirror_state *m = c->state;
+    const char *why;
+    int pick[MIRROR_MAX_DRAWN];
+    uint32_t n = reflectors_pick(&m->set, &c->frame->views[c->view], m->images, pick, &why);
+    if (n == 0) return prw_fail(e, "mirror: %s", why);
+    for (uint32_t k = 0; k < n; k++)
+        if (!mirror_record_one(c, m, &m->set.r[pick[k]], k, e)) return false;
+    return true;
 }
 
 const prw_pass prw_pass_mirror = {
@@ -355,20 +400,24 @@ typedef struct mirror_dfg_ubo {
 
 typedef struct add_state {
     reflector_set set;
+    uint32_t images; /* mirror images in the graph */
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
     VkPipeline pipe;
-    VkDescriptorSet sets[PRW_MAX_VIEWS];
-    prw_buffer dfg[PRW_MAX_VIEWS];
+    VkDescriptorSet sets[PRW_MAX_VIEWS][MIRROR_MAX_DRAWN]; /* mirror image k's */
+    prw_buffer dfg[PRW_MAX_VIEWS][MIRROR_MAX_DRAWN];
 } add_state;
 
 static const char *out_name(const prw_render_env *env) { return env->desc->quality.supersample > 1 ? "hdr_ss" : "hdr"; }
 
 static void add_setup(prw_setup *s)
 {
-    if (!in_graph(s)) return;
-    prw_setup_use(s, "mirror_hdr", PRW_USE_SAMPLED);
-    prw_setup_use(s, "mirror_depth", PRW_USE_SAMPLED);
+    uint32_t n = in_graph(s);
+    if (!n) return;
+    for (uint32_t k = 0; k < n; k++) {
+        prw_setup_use(s, HDR_NAMES[k], PRW_USE_SAMPLED);
+        prw_setup_use(s, DEPTH_NAMES[k], PRW_USE_SAMPLED);
+    }
     prw_setup_use(s, "gbuf_normal", PRW_USE_SAMPLED);
     prw_setup_use(s, "gbuf_id", PRW_USE_SAMPLED);
     prw_setup_use(s, out_name(prw_setup_env(s)), PRW_USE_COLOR_ADD);
@@ -380,6 +429,7 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     add_state *a = prw_calloc(1, sizeof *a);
     *state = a;
     reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &a->set);
+    a->images = a->set.count < max_drawn(env) ? a->set.count : max_drawn(env);
     VkDescriptorSetLayoutBinding b[5] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
@@ -400,22 +450,25 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     };
     if (!prw_pipeline_graphics(env->gpu, &d, &a->pipe, e)) return false;
     VkSampler smp = prw_gpu_sampler(env->gpu, PRW_SAMPLER_NEAREST_CLAMP);
-    for (uint32_t v = 0; v < env->desc->max_views; v++) {
-        if (!prw_desc_alloc(env->gpu, env->pool, a->set_layout, &a->sets[v], e)) return false;
-        const char *names[4] = {"mirror_hdr", "gbuf_normal", "gbuf_id", "mirror_depth"};
-        for (uint32_t k = 0; k < 4; k++) {
-            prw_gpu_image *img = prw_graph_image(in->graph, names[k], v);
-            if (!img) return prw_fail(e, "mirror_add: graph image %s missing", names[k]);
-            prw_desc_write_image(env->gpu, a->sets[v], k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view,
-                                 k == 0 ? prw_gpu_sampler(env->gpu, PRW_SAMPLER_LINEAR_CLAMP) : smp,
-                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    for (uint32_t v = 0; v < env->desc->max_views; v++)
+        for (uint32_t i = 0; i < a->images; i++) {
+            VkDescriptorSet ds;
+            if (!prw_desc_alloc(env->gpu, env->pool, a->set_layout, &a->sets[v][i], e)) return false;
+            ds = a->sets[v][i];
+            const char *names[4] = {HDR_NAMES[i], "gbuf_normal", "gbuf_id", DEPTH_NAMES[i]};
+            for (uint32_t k = 0; k < 4; k++) {
+                prw_gpu_image *img = prw_graph_image(in->graph, names[k], v);
+                if (!img) return prw_fail(e, "mirror_add: graph image %s missing", names[k]);
+                prw_desc_write_image(env->gpu, ds, k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view,
+                                     k == 0 ? prw_gpu_sampler(env->gpu, PRW_SAMPLER_LINEAR_CLAMP) : smp,
+                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+            }
+            if (!prw_buffer_create(env->gpu, sizeof(mirror_dfg_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                   PRW_MEM_UPLOAD, &a->dfg[v][i], e))
+                return false;
+            prw_desc_write_buffer(env->gpu, ds, 4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &a->dfg[v][i], 0,
+                                  sizeof(mirror_dfg_ubo));
         }
-        if (!prw_buffer_create(env->gpu, sizeof(mirror_dfg_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, PRW_MEM_UPLOAD,
-                               &a->dfg[v], e))
-            return false;
-        prw_desc_write_buffer(env->gpu, a->sets[v], 4, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &a->dfg[v], 0,
-                              sizeof(mirror_dfg_ubo));
-    }
     return true;
 }
 
@@ -427,7 +480,8 @@ static void add_destroy(const prw_pass_init *in, void *state)
     if (a->pipe) vkDestroyPipeline(dev, a->pipe, NULL);
     if (a->layout) vkDestroyPipelineLayout(dev, a->layout, NULL);
     if (a->set_layout) vkDestroyDescriptorSetLayout(dev, a->set_layout, NULL);
-    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(in->env->gpu, &a->dfg[v]);
+    for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++)
+        for (uint32_t k = 0; k < MIRROR_MAX_DRAWN; k++) prw_buffer_destroy(in->env->gpu, &a->dfg[v][k]);
     free(a);
 }
 
@@ -435,20 +489,15 @@ static bool add_needed(const prw_pass_ctx *c, const char **why)
 {
     const add_state *a = c->state;
     if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
-    return reflector_pick(&a->set, &c->frame->views[c->view], why) >= 0;
+    int pick[MIRROR_MAX_DRAWN];
+    return reflectors_pick(&a->set, &c->frame->views[c->view], a->images, pick, why) > 0;
 }
 
-static bool add_record(prw_pass_ctx *c, prw_error *e)
+/* The push constants of reflector r in view v (its glossy split-sum table into dfg). */
+static bool add_push(const prw_render_env *env, const reflector *r, const prw_view *v, const prw_gpu_image *out,
+                     prw_buffer *dfg, mirror_push *out_pc, prw_error *e)
 {
-    const prw_render_env *env = c->env;
-    add_state *a = c->state;
-    const prw_view *v = &c->frame->views[c->view];
-    const char *why;
-    int ri = reflector_pick(&a->set, v, &why);
-    if (ri < 0) return prw_fail(e, "mirror_add: %s", why);
-    const reflector *r = &a->set.r[ri];
     const prw_material *mat = &env->scene->materials[r->material];
-    prw_gpu_image *out = prw_pass_image(c, out_name(env));
     mirror_push pc;
     prw_dmat4 inv;
     prw_mat4 vp = prw_view_globals_view_proj(v, v->eye); /* camera-relative, as the base pass draws */
@@ -472,8 +521,25 @@ static bool add_record(prw_pass_ctx *c, prw_error *e)
         double fl = prw_v3_len(f);
         pc.fwd[0] = (float)(f.x / fl), pc.fwd[1] = (float)(f.y / fl), pc.fwd[2] = (float)(f.z / fl);
         pc.fwd[3] = (float)v->znear;
-        memcpy(a->dfg[c->view].mapped, r->dfg, sizeof r->dfg);
+        memcpy(dfg->mapped, r->dfg, sizeof r->dfg);
     }
+    *out_pc = pc;
+    return true;
+}
+
+static bool add_record(prw_pass_ctx *c, prw_error *e)
+{
+    const prw_render_env *env = c->env;
+    add_state *a = c->state;
+    const prw_view *v = &c->frame->views[c->view];
+    const char *why;
+    int pick[MIRROR_MAX_DRAWN];
+    uint32_t n = reflectors_pick(&a->set, v, a->images, pick, &why);
+    if (n == 0) return prw_fail(e, "mirror_add: %s", why);
+    prw_gpu_image *out = prw_pass_image(c, out_name(env));
+    mirror_push pc[MIRROR_MAX_DRAWN];
+    for (uint32_t k = 0; k < n; k++)
+        if (!add_push(env, &a->set.r[pick[k]], v, out, &a->dfg[c->view][k], &pc[k], e)) return false;
     VkRenderingAttachmentInfo ca = {
         .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
         .imageView = out->view,
@@ -489,9 +555,12 @@ static bool add_record(prw_pass_ctx *c, prw_error *e)
     prw_pass_begin_rendering(c, &rinfo);
     prw_cmd_viewport(c->cmd, out->width, out->height);
     vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->pipe);
-    vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->layout, 0, 1, &a->sets[c->view], 0, NULL);
-    vkCmdPushConstants(c->cmd, a->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
-    vkCmdDraw(c->cmd, 3, 1, 0, 0);
+    for (uint32_t k = 0; k < n; k++) { /* each only in its reflector's pixels: the sums do not overlap */
+        vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->layout, 0, 1, &a->sets[c->view][k], 0,
+                                NULL);
+        vkCmdPushConstants(c->cmd, a->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc[k], &pc[k]);
+        vkCmdDraw(c->cmd, 3, 1, 0, 0);
+    }
     prw_pass_end_rendering(c);
     return true;
 }

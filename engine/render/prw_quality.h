@@ -56,6 +56,8 @@ typedef struct prw_quality {
                                    reflected through the mirror image convolved by its GGX lobe; at or below
                                    0.05 only sharp mirrors are reflected */
     uint32_t kernel_taps;       /* taps of the glossy reflectors' convolution (pass_mirror.c) */
+    uint32_t max_reflectors;    /* planar reflectors (pass_mirror.c): at most this many reflected per view, those
+                                   covering the most pixels, each with its own mirror image (1..4) */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */
