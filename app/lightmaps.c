@@ -156,6 +156,12 @@ bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const prw_qu
         return true;
     }
     if (!prw_app_lightmaps_wanted(s, &why)) return true;
+    const char *env = getenv("PRW_NO_BAKE"); /* the test suite's default: only the GI tests bake */
+    if (env && env[0] && strcmp(env, "0") != 0) {
+        fprintf(stderr, "prw %s: PRW_NO_BAKE is set: rendering without indirect light (direct light and emission only)\n",
+                cmd);
+        return true;
+    }
     prw_gi_options o = options_of(q);
     bar pb = {cmd, 0, isatty(fileno(stderr)) != 0};
     prw_gi_bake *b = NULL;
