@@ -58,20 +58,6 @@ static bool check_instance(const prw_scene *s, const prw_lightmaps *lm, uint32_t
     return true;
 }
 
-static void vertex_of(const prw_mesh *m, uint32_t v, float *d)
-{
-    memcpy(d, m->positions + 3 * v, 3 * sizeof(float));
-    memcpy(d + 3, m->normals + 3 * v, 3 * sizeof(float));
-    if (m->uvs) memcpy(d + 6, m->uvs + 2 * v, 2 * sizeof(float));
-    else d[6] = d[7] = 0.0f;
-    if (m->tangents) memcpy(d + 8, m->tangents + 4 * v, 4 * sizeof(float));
-    else {
-        d[8] = 1.0f;
-        d[9] = d[10] = 0.0f;
-        d[11] = 1.0f;
-    }
-}
-
 static bool make_atlas(prw_gpu *gpu, const prw_lightmaps *lm, bool active, uint32_t *W, uint32_t *H,
                        prw_gpu_image *out, prw_error *e)
 {
@@ -172,7 +158,7 @@ bool prw_lightmap_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_lightma
         for (uint32_t k = 0; k < in->vertex_count; k++) {
             uint32_t src = in->source ? in->source[k] : k;
             size_t o = (size_t)(vo + k);
-            vertex_of(m, src, vd + o * PRW_VERTEX_FLOATS);
+            prw_scene_gpu_vertex(m, src, vd + o * PRW_VERTEX_FLOATS);
             const float *u1 = m->uvs1 ? m->uvs1 : m->uvs; /* no TEXCOORD_1: set 0 (prw_shading.h) */
             uv1[2 * o] = u1 ? u1[2 * src] : 0.0f;
             uv1[2 * o + 1] = u1 ? u1[2 * src + 1] : 0.0f;

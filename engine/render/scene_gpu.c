@@ -94,19 +94,7 @@ static bool upload_geometry(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, 
     uint64_t vo = 4, io = 6;
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         const prw_mesh *m = &s->meshes[i];
-        for (uint32_t v = 0; v < m->vertex_count; v++) {
-            float *d = vdata + (vo + v) * VERTEX_FLOATS;
-            memcpy(d, m->positions + 3 * v, 3 * sizeof(float));
-            memcpy(d + 3, m->normals + 3 * v, 3 * sizeof(float));
-            if (m->uvs) memcpy(d + 6, m->uvs + 2 * v, 2 * sizeof(float));
-            else d[6] = d[7] = 0.0f;
-            if (m->tangents) memcpy(d + 8, m->tangents + 4 * v, 4 * sizeof(float));
-            else {
-                d[8] = 1.0f;
-                d[9] = d[10] = 0.0f;
-                d[11] = 1.0f;
-            }
-        }
+        for (uint32_t v = 0; v < m->vertex_count; v++) prw_scene_gpu_vertex(m, v, vdata + (vo + v) * VERTEX_FLOATS);
         memcpy(idata + io, m->indices, m->index_count * sizeof(uint32_t));
         r->meshes[i].first_index = (uint32_t)io;
         r->meshes[i].index_count = m->index_count;
@@ -306,6 +294,20 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
 uint32_t prw_scene_gpu_slot(const prw_scene *s, int m)
 {
     return m >= 0 && (uint32_t)m < s->material_count ? (uint32_t)m : 0;
+}
+
+void prw_scene_gpu_vertex(const prw_mesh *m, uint32_t v, float *d)
+{
+    memcpy(d, m->positions + 3 * v, 3 * sizeof(float));
+    memcpy(d + 3, m->normals + 3 * v, 3 * sizeof(float));
+    if (m->uvs) memcpy(d + 6, m->uvs + 2 * v, 2 * sizeof(float));
+    else d[6] = d[7] = 0.0f;
+    if (m->tangents) memcpy(d + 8, m->tangents + 4 * v, 4 * sizeof(float));
+    else {
+        d[8] = 1.0f;
+        d[9] = d[10] = 0.0f;
+        d[11] = 1.0f;
+    }
 }
 
 bool prw_scene_gpu_create(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLayout material_layout,

@@ -71,6 +71,9 @@ void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g);
 uint32_t prw_scene_gpu_material_lacks(const prw_material *m, uint32_t texture_count);
 /* The material slot of scene material index m (out of range: 0). */
 uint32_t prw_scene_gpu_slot(const prw_scene *s, int m);
+/* Vertex v of mesh m in the GPU layout (PRW_VERTEX_FLOATS floats at d): position, normal, uv (0 when the
+ * mesh has none), tangent ((1, 0, 0, 1) when none). */
+void prw_scene_gpu_vertex(const prw_mesh *m, uint32_t v, float *d);
 /* PRW_SG_* of a material (see the top). */
 uint32_t prw_scene_gpu_material_flags(const prw_material *m);
 
