@@ -56,6 +56,13 @@ bool prw_desc_layout_create(prw_gpu *gpu, const VkDescriptorSetLayoutBinding *bi
         return false;
     /* Remember the counts; a handle value reused after the caller destroyed a layout overwrites. */
     info.layout = *out;
+    prw_hash128_init(&info.sig);
+    for (uint32_t i = 0; i < count; i++) {
+        const VkDescriptorSetLayoutBinding *b = &bindings[i];
+        uint32_t f[4] = {b->binding, (uint32_t)b->descriptorType, b->descriptorCount, (uint32_t)b->stageFlags};
+        prw_hash128_add(&info.sig, f, sizeof f);
+        if (b->pImmutableSamplers) prw_hash128_add(&info.sig, b->pImmutableSamplers, b->descriptorCount * sizeof(VkSampler));
+    }
     for (uint32_t i = 0; i < gpu->layout_count; i++) {
         if (gpu->layouts[i].layout == *out) {
             gpu->layouts[i] = info;

@@ -363,6 +363,7 @@ void prw_gpu_destroy(prw_gpu *gpu)
     if (gpu->device) {
         /* vkDeviceWaitIdle has no timeout; a hung GPU at exit is preferable to freeing live memory. */
         vkDeviceWaitIdle(gpu->device);
+        prw_pipe_memo_shutdown(gpu);
         prw_pipeline_cache_shutdown(gpu);
         prw_desc_shutdown(gpu);
         prw_samplers_shutdown(gpu);

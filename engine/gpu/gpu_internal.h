@@ -37,10 +37,27 @@ typedef struct prw_mem {
 /* What prw_desc_layout_create() learned about a layout, so pools can count descriptors themselves
  * (lavapipe never reports VK_ERROR_OUT_OF_POOL_MEMORY, so relying on the driver is not enough). */
 #define PRW_DESC_TYPES 11 /* VK_DESCRIPTOR_TYPE_SAMPLER .. VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT */
+typedef struct prw_hash128 {
+    uint64_t a, b;
+} prw_hash128;
+
 typedef struct prw_desc_layout_info {
     VkDescriptorSetLayout layout;
     uint32_t counts[PRW_DESC_TYPES];
+    prw_hash128 sig; /* of its bindings: the content a pipeline's compatibility depends on */
 } prw_desc_layout_info;
+
+/* gpu_pipeline_memo.c: a pipeline layout's content signature; a shared pipeline */
+typedef struct prw_playout_sig {
+    VkPipelineLayout layout;
+    prw_hash128 sig;
+} prw_playout_sig;
+
+typedef struct prw_pipe_memo_entry {
+    prw_hash128 key;
+    VkPipeline pipe;
+    uint32_t refs; /* holders; 0 keeps it for the next one */
+} prw_pipe_memo_entry;
 
 /* A command buffer whose fence wait timed out: it may still be executing, so it is freed only once
  * the queue is known to be idle. */
@@ -83,8 +100,26 @@ struct prw_gpu {
     VkSampler samplers[PRW_SAMPLER_COUNT];
     prw_desc_layout_info *layouts;
     uint32_t layout_count;
+
+    /* shared pipelines (gpu_pipeline_memo.c) */
+    int memo_state; /* 0 unknown, 1 on, 2 off (PRW_PIPELINE_MEMO=0) */
+    prw_pipe_memo_entry *memo;
+    uint32_t memo_count, memo_cap;
+    uint64_t memo_hits;
+    prw_playout_sig *playouts;
+    uint32_t playout_count, playout_cap;
     prw_mem mem;
 };
+
+/* gpu_pipeline_memo.c */
+void prw_hash128_init(prw_hash128 *h);
+void prw_hash128_add(prw_hash128 *h, const void *data, size_t n);
+bool prw_pipe_memo_enabled(prw_gpu *gpu);
+void prw_playout_note(prw_gpu *gpu, VkPipelineLayout layout, const prw_hash128 *sig);
+void prw_playout_hash(prw_gpu *gpu, VkPipelineLayout layout, prw_hash128 *h); /* adds its signature to h */
+bool prw_pipe_memo_find(prw_gpu *gpu, const prw_hash128 *key, VkPipeline *out);
+void prw_pipe_memo_add(prw_gpu *gpu, const prw_hash128 *key, VkPipeline pipe);
+void prw_pipe_memo_shutdown(prw_gpu *gpu);
 
 /* gpu_validation.c */
 bool prw_validation_load_suppressions(prw_gpu *gpu, const char *path, prw_error *e);

@@ -1,5 +1,6 @@
 /* gpu_pipeline.c — pipeline layouts, graphics pipelines for dynamic rendering, compute pipelines.
- * Every pipeline goes through the gpu's persistent VkPipelineCache. */
+ * Every pipeline goes through the gpu's persistent VkPipelineCache, and is shared within the process
+ * by gpu_pipeline_memo.c. */
 #include <string.h>
 
 #include "gpu_internal.h"
@@ -42,7 +43,82 @@ bool prw_pipeline_layout_create_stages(prw_gpu *gpu, const VkDescriptorSetLayout
         .pushConstantRangeCount = push_constant_bytes ? 1 : 0,
         .pPushConstantRanges = &range,
     };
-    return prw_vk_check(vkCreatePipelineLayout(gpu->device, &ci, NULL, out), "gpu: vkCreatePipelineLayout", e);
+    if (!prw_vk_check(vkCreatePipelineLayout(gpu->device, &ci, NULL, out), "gpu: vkCreatePipelineLayout", e))
+        return false;
+    /* its content, so that a pipeline made with an equal layout of another renderer can be shared */
+    prw_hash128 sig;
+    prw_hash128_init(&sig);
+    for (uint32_t i = 0; i < set_count; i++) {
+        bool known = false;
+        for (uint32_t k = 0; k < gpu->layout_count && !known; k++)
+            if (gpu->layouts[k].layout == sets[i]) {
+                prw_hash128_add(&sig, &gpu->layouts[k].sig, sizeof gpu->layouts[k].sig);
+                known = true;
+            }
+        if (!known) prw_hash128_add(&sig, &sets[i], sizeof sets[i]); /* not ours: its handle */
+    }
+    uint32_t push[3] = {set_count, push_constant_bytes, push_constant_bytes ? (uint32_t)range.stageFlags : 0};
+    prw_hash128_add(&sig, push, sizeof push);
+    prw_playout_note(gpu, *out, &sig);
+    return true;
+}
+
+static void hash_spirv(prw_hash128 *h, prw_spirv s)
+{
+    prw_hash128_add(h, &s.size, sizeof s.size);
+    if (s.code) prw_hash128_add(h, s.code, s.size);
+}
+
+/* Everything prw_pipeline_graphics reads from d, field by field (no struct padding hashed). */
+static void hash_graphics(prw_gpu *gpu, const prw_graphics_desc *d, prw_hash128 *h)
+{
+    prw_hash128_init(h);
+    static const char tag[] = "graphics";
+    prw_hash128_add(h, tag, sizeof tag);
+    hash_spirv(h, d->vs);
+    hash_spirv(h, d->fs);
+    prw_hash128_add(h, &d->fs_spec_count, sizeof d->fs_spec_count);
+    prw_hash128_add(h, d->fs_spec, d->fs_spec_count * sizeof d->fs_spec[0]);
+    prw_playout_hash(gpu, d->layout, h);
+    for (uint32_t i = 0; i < d->vertex_binding_count; i++) {
+        const VkVertexInputBindingDescription *b = &d->vertex_bindings[i];
+        uint32_t f[3] = {b->binding, b->stride, (uint32_t)b->inputRate};
+        prw_hash128_add(h, f, sizeof f);
+    }
+    for (uint32_t i = 0; i < d->vertex_attr_count; i++) {
+        const VkVertexInputAttributeDescription *a = &d->vertex_attrs[i];
+        uint32_t f[4] = {a->location, a->binding, (uint32_t)a->format, a->offset};
+        prw_hash128_add(h, f, sizeof f);
+    }
+    uint32_t f[] = {d->vertex_binding_count,
+                    d->vertex_attr_count,
+                    (uint32_t)d->topology,
+                    d->color_count,
+                    (uint32_t)d->color_formats[0],
+                    (uint32_t)d->color_formats[1],
+                    (uint32_t)d->color_formats[2],
+                    (uint32_t)d->color_formats[3],
+                    (uint32_t)d->depth_format,
+                    (uint32_t)d->samples,
+                    (uint32_t)d->cull,
+                    (uint32_t)d->front_face,
+                    d->depth_test,
+                    d->depth_write,
+                    (uint32_t)d->depth_compare,
+                    d->depth_bias,
+                    d->blend_additive,
+                    d->blend_over,
+                    d->no_color_write,
+                    d->stencil_test,
+                    (uint32_t)d->stencil.failOp,
+                    (uint32_t)d->stencil.passOp,
+                    (uint32_t)d->stencil.depthFailOp,
+                    (uint32_t)d->stencil.compareOp,
+                    d->stencil.compareMask,
+                    d->stencil.writeMask,
+                    d->stencil.reference,
+                    d->view_mask};
+    prw_hash128_add(h, f, sizeof f);
 }
 
 static bool has_stencil(VkFormat f) { return prw_format_aspect(f) & VK_IMAGE_ASPECT_STENCIL_BIT; }
@@ -57,14 +133,20 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
     if (d->view_mask && !gpu->features.multiview)
         return prw_fail(e, "gpu: graphics pipeline uses multiview (view mask 0x%x) but the device lacks it",
                         d->view_mask);
+    if (d->fs_spec_count > PRW_GPU_MAX_FS_SPEC)
+        return prw_fail(e, "gpu: %u specialisation constants (at most %d)", d->fs_spec_count, PRW_GPU_MAX_FS_SPEC);
+    prw_hash128 key;
+    bool memo = prw_pipe_memo_enabled(gpu);
+    if (memo) {
+        hash_graphics(gpu, d, &key);
+        if (prw_pipe_memo_find(gpu, &key, out)) return true;
+    }
     VkShaderModule vs = VK_NULL_HANDLE, fs = VK_NULL_HANDLE;
     if (!make_module(gpu, d->vs, "vertex", &vs, e)) return false;
     if (d->fs.code && !make_module(gpu, d->fs, "fragment", &fs, e)) {
         vkDestroyShaderModule(gpu->device, vs, NULL);
         return false;
     }
-    if (d->fs_spec_count > PRW_GPU_MAX_FS_SPEC)
-        return prw_fail(e, "gpu: %u specialisation constants (at most %d)", d->fs_spec_count, PRW_GPU_MAX_FS_SPEC);
     VkSpecializationMapEntry spec_map[PRW_GPU_MAX_FS_SPEC];
     for (uint32_t i = 0; i < d->fs_spec_count; i++)
         spec_map[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
@@ -181,7 +263,9 @@ bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *d, VkPipeline 
     VkResult r = vkCreateGraphicsPipelines(gpu->device, gpu->pipeline_cache, 1, &ci, NULL, out);
     vkDestroyShaderModule(gpu->device, vs, NULL);
     if (fs) vkDestroyShaderModule(gpu->device, fs, NULL);
-    return prw_vk_check(r, "gpu: vkCreateGraphicsPipelines", e);
+    if (!prw_vk_check(r, "gpu: vkCreateGraphicsPipelines", e)) return false;
+    if (memo) prw_pipe_memo_add(gpu, &key, *out);
+    return true;
 }
 
 bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, VkPipeline *out, prw_error *e)
@@ -198,6 +282,18 @@ bool prw_pipeline_compute_spec(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layo
     for (uint32_t i = 0; i < spec_count; i++) map[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
     VkSpecializationInfo si = {.mapEntryCount = spec_count, .pMapEntries = map, .dataSize = 4 * (size_t)spec_count,
                                .pData = spec};
+    prw_hash128 key;
+    bool memo = prw_pipe_memo_enabled(gpu);
+    if (memo) {
+        prw_hash128_init(&key);
+        static const char tag[] = "compute";
+        prw_hash128_add(&key, tag, sizeof tag);
+        hash_spirv(&key, cs);
+        prw_hash128_add(&key, &spec_count, sizeof spec_count);
+        if (spec_count) prw_hash128_add(&key, spec, spec_count * sizeof spec[0]);
+        prw_playout_hash(gpu, layout, &key);
+        if (prw_pipe_memo_find(gpu, &key, out)) return true;
+    }
     VkShaderModule m;
     if (!make_module(gpu, cs, "compute", &m, e)) return false;
     VkComputePipelineCreateInfo ci = {
@@ -211,5 +307,7 @@ bool prw_pipeline_compute_spec(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layo
     };
     VkResult r = vkCreateComputePipelines(gpu->device, gpu->pipeline_cache, 1, &ci, NULL, out);
     vkDestroyShaderModule(gpu->device, m, NULL);
-    return prw_vk_check(r, "gpu: vkCreateComputePipelines", e);
+    if (!prw_vk_check(r, "gpu: vkCreateComputePipelines", e)) return false;
+    if (memo) prw_pipe_memo_add(gpu, &key, *out);
+    return true;
 }

@@ -29,7 +29,7 @@ bool prw_pipeline_table_create(prw_gpu *gpu, prw_pipeline_table **out, prw_error
 void prw_pipeline_table_destroy(prw_pipeline_table *t)
 {
     if (!t) return;
-    for (uint32_t i = 0; i < t->count; i++) vkDestroyPipeline(t->gpu->device, t->e[i].pipe, NULL);
+    for (uint32_t i = 0; i < t->count; i++) prw_pipeline_release(t->gpu, t->e[i].pipe);
     free(t->e);
     free(t);
 }
@@ -44,7 +44,7 @@ VkPipeline prw_pipeline_table_find(const prw_pipeline_table *t, const void *key,
 bool prw_pipeline_table_add(prw_pipeline_table *t, const void *key, size_t size, VkPipeline pipe, prw_error *e)
 {
     if (size > PRW_PIPELINE_KEY_MAX) {
-        vkDestroyPipeline(t->gpu->device, pipe, NULL);
+        prw_pipeline_release(t->gpu, pipe);
         return prw_fail(e, "gpu: pipeline key of %zu bytes (at most %d)", size, PRW_PIPELINE_KEY_MAX);
     }
     if (t->count == t->cap) {
@@ -64,7 +64,7 @@ void prw_pipeline_table_remove(prw_pipeline_table *t, bool (*match)(const void *
 {
     uint32_t k = 0;
     for (uint32_t i = 0; i < t->count; i++) {
-        if (match(t->e[i].key, t->e[i].size, user)) vkDestroyPipeline(t->gpu->device, t->e[i].pipe, NULL);
+        if (match(t->e[i].key, t->e[i].size, user)) prw_pipeline_release(t->gpu, t->e[i].pipe);
         else t->e[k++] = t->e[i];
     }
     t->count = k;

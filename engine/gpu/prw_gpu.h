@@ -236,15 +236,25 @@ typedef struct prw_graphics_desc {
     uint32_t view_mask;           /* multiview; 0 = off */
 } prw_graphics_desc;
 
-/* Viewport and scissor are dynamic state. */
+/* Pipelines are shared within the process: for a description equal to an earlier one (same SPIR-V
+ * bytes, constants and state, and a pipeline layout of equal content: the same set-layout bindings
+ * and push range) these return the pipeline made then instead of compiling it again.  The gpu owns
+ * every pipeline they return: give it back with prw_pipeline_release, never vkDestroyPipeline; shared
+ * ones live until prw_gpu_destroy.  PRW_PIPELINE_MEMO=0 in the environment turns sharing off (each
+ * call compiles, release destroys).  Viewport and scissor are dynamic state. */
 bool prw_pipeline_graphics(prw_gpu *gpu, const prw_graphics_desc *desc, VkPipeline *out, prw_error *e);
 bool prw_pipeline_compute(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, VkPipeline *out, prw_error *e);
 /* The same with specialisation constants: constant_id i = spec[i] (32-bit int or bool each, at most 8). */
 bool prw_pipeline_compute_spec(prw_gpu *gpu, prw_spirv cs, VkPipelineLayout layout, const uint32_t *spec,
                                uint32_t spec_count, VkPipeline *out, prw_error *e);
 
+void prw_pipeline_release(prw_gpu *gpu, VkPipeline pipe); /* VK_NULL_HANDLE: nothing */
+/* Shared pipelines made so far, and how many requests they answered without compiling. */
+void prw_pipeline_memo_stats(const prw_gpu *gpu, uint32_t *pipelines, uint64_t *hits);
+
 /* Pipelines by key (a byte string of at most PRW_PIPELINE_KEY_MAX bytes; zero padding is part of the
- * key, so keys should be memset before they are filled).  The table owns its pipelines. */
+ * key, so keys should be memset before they are filled).  The table holds its pipelines (released
+ * with prw_pipeline_release when removed or destroyed). */
 #define PRW_PIPELINE_KEY_MAX 64
 typedef struct prw_pipeline_table prw_pipeline_table;
 bool prw_pipeline_table_create(prw_gpu *gpu, prw_pipeline_table **out, prw_error *e);

@@ -52,7 +52,7 @@ void prw_composer_destroy(prw_composer *c)
     prw_image_destroy(c->gpu, &c->eye[0]);
     prw_image_destroy(c->gpu, &c->eye[1]);
     prw_image_destroy(c->gpu, &c->out);
-    if (c->pipe) vkDestroyPipeline(dev, c->pipe, NULL);
+    if (c->pipe) prw_pipeline_release(c->gpu, c->pipe);
     if (c->layout) vkDestroyPipelineLayout(dev, c->layout, NULL);
     if (c->set_layout) vkDestroyDescriptorSetLayout(dev, c->set_layout, NULL);
     if (c->pool) prw_desc_pool_destroy(c->gpu, c->pool);

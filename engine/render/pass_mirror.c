@@ -477,7 +477,7 @@ static void add_destroy(const prw_pass_init *in, void *state)
     add_state *a = state;
     if (!a) return;
     VkDevice dev = prw_gpu_device(in->env->gpu);
-    if (a->pipe) vkDestroyPipeline(dev, a->pipe, NULL);
+    if (a->pipe) prw_pipeline_release(in->env->gpu, a->pipe);
     if (a->layout) vkDestroyPipelineLayout(dev, a->layout, NULL);
     if (a->set_layout) vkDestroyDescriptorSetLayout(dev, a->set_layout, NULL);
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++)

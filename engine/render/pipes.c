@@ -242,7 +242,7 @@ void prw_pipes_destroy(prw_pipes *p)
     if (!p) return;
     VkDevice dev = prw_gpu_device(p->gpu);
     prw_pipeline_table_destroy(p->table);
-    if (p->downsample) vkDestroyPipeline(dev, p->downsample, NULL);
+    if (p->downsample) prw_pipeline_release(p->gpu, p->downsample);
     VkPipelineLayout pls[3] = {p->base_layout, p->shadow_layout, p->storage2_pl};
     for (int i = 0; i < 3; i++)
         if (pls[i]) vkDestroyPipelineLayout(dev, pls[i], NULL);

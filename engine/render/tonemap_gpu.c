@@ -301,18 +301,18 @@ void prw_tm_gpu_destroy(prw_tm_gpu *tm)
     prw_buffer_destroy(tm->gpu, &tm->tiles);
     prw_image_destroy(tm->gpu, &tm->sep_img);
     prw_image_destroy(tm->gpu, &tm->dummy_sig);
-    if (tm->sep_final_nosig) vkDestroyPipeline(dev, tm->sep_final_nosig, NULL);
-    if (tm->local_nosig) vkDestroyPipeline(dev, tm->local_nosig, NULL);
+    if (tm->sep_final_nosig) prw_pipeline_release(tm->gpu, tm->sep_final_nosig);
+    if (tm->local_nosig) prw_pipeline_release(tm->gpu, tm->local_nosig);
     VkPipeline pipes[8] = {tm->stats_pipe, tm->reduce_pipe,  tm->classify_pipe, tm->compact_pipe,
                            tm->local_pipe, tm->sep_lum_pipe, tm->sep_blur_pipe, tm->sep_final_pipe};
     for (int i = 0; i < 8; i++)
-        if (pipes[i]) vkDestroyPipeline(dev, pipes[i], NULL);
+        if (pipes[i]) prw_pipeline_release(tm->gpu, pipes[i]);
     VkPipeline *spec = &tm->apply_spec[0][0][0][0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_spec / sizeof *spec; i++)
-        if (spec[i]) vkDestroyPipeline(dev, spec[i], NULL);
+        if (spec[i]) prw_pipeline_release(tm->gpu, spec[i]);
     VkPipeline *fsp = &tm->apply_fs[0][0][0][0];
     for (size_t i = 0; i < sizeof tm->apply_fs / sizeof *fsp; i++)
-        if (fsp[i]) vkDestroyPipeline(dev, fsp[i], NULL);
+        if (fsp[i]) prw_pipeline_release(tm->gpu, fsp[i]);
     if (tm->sep_layout) vkDestroyPipelineLayout(dev, tm->sep_layout, NULL);
     if (tm->sep_set_layout) vkDestroyDescriptorSetLayout(dev, tm->sep_set_layout, NULL);
     if (tm->layout) vkDestroyPipelineLayout(dev, tm->layout, NULL);
@@ -767,7 +767,7 @@ static void floor_destroy(prw_tm_session *s)
 {
     VkDevice dev = prw_gpu_device(s->r->gpu);
     for (int i = 0; i < PRW_TM_FLOOR_COUNT; i++)
-        if (s->floor_pipe[i]) vkDestroyPipeline(dev, s->floor_pipe[i], NULL);
+        if (s->floor_pipe[i]) prw_pipeline_release(s->r->gpu, s->floor_pipe[i]);
     if (s->floor_layout) vkDestroyPipelineLayout(dev, s->floor_layout, NULL);
     if (s->floor_set_layout) vkDestroyDescriptorSetLayout(dev, s->floor_set_layout, NULL);
     prw_buffer_destroy(s->r->gpu, &s->floor_buf);

@@ -354,7 +354,7 @@ static void test_compute_buffer(void)
     CHECK(!prw_buffer_upload(gpu, &out, n * 4 - 4, data, sizeof data, &e));
 
     prw_desc_pool_destroy(gpu, pool);
-    vkDestroyPipeline(dev, pipe, NULL);
+    prw_pipeline_release(gpu, pipe);
     vkDestroyPipelineLayout(dev, pl, NULL);
     vkDestroyDescriptorSetLayout(dev, dsl, NULL);
     prw_buffer_destroy(gpu, &out);
@@ -464,7 +464,7 @@ static void test_pipeline_cache(void)
         double t0 = prw_now();
         CHECK_OK(prw_pipeline_compute(gpu, prw_shader_fill_comp(), pl, &pipe, &e), &e);
         printf("  run %d: pipeline in %.1f ms\n", run, (prw_now() - t0) * 1e3);
-        vkDestroyPipeline(prw_gpu_device(gpu), pipe, NULL);
+        prw_pipeline_release(gpu, pipe);
         vkDestroyPipelineLayout(prw_gpu_device(gpu), pl, NULL);
         vkDestroyDescriptorSetLayout(prw_gpu_device(gpu), dsl, NULL);
         TEST_GPU_CLOSE(gpu);
@@ -474,6 +474,122 @@ static void test_pipeline_cache(void)
             CHECK_OK(prw_write_file_atomic(file, junk, sizeof junk, &e), &e);
         }
     }
+}
+
+/* fill.comp through pipe (made with any layout equal to pl's): v[i] = i * i + add for i < n. */
+static int fill_wrong(prw_gpu *gpu, VkPipeline pipe, VkPipelineLayout pl, VkDescriptorSetLayout dsl, uint32_t n,
+                      uint32_t add, prw_error *e)
+{
+    prw_buffer out = {0}, rb = {0};
+    prw_desc_pool *pool = NULL;
+    VkDescriptorSet set;
+    VkCommandBuffer cmd;
+    int bad = -1;
+    if (!prw_buffer_create(gpu, n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                           PRW_MEM_GPU, &out, e) ||
+        !prw_buffer_create(gpu, n * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_READBACK, &rb, e) ||
+        !prw_desc_pool_create(gpu, &pool, e) || !prw_desc_alloc(gpu, pool, dsl, &set, e) || !prw_cmd_begin(gpu, &cmd, e))
+        goto done;
+    prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &out, 0, 0);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
+    uint32_t push[2] = {n, add};
+    vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, push);
+    vkCmdDispatch(cmd, (n + 63) / 64, 1, 1);
+    VkMemoryBarrier2 mb[2] = {
+        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+         .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+         .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+         .dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+         .dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT},
+        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+         .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+         .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+         .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
+         .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT},
+    };
+    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
+                            .pMemoryBarriers = &mb[0]};
+    vkCmdPipelineBarrier2(cmd, &dep);
+    VkBufferCopy region = {0, 0, n * 4};
+    vkCmdCopyBuffer(cmd, out.buffer, rb.buffer, 1, &region);
+    dep.pMemoryBarriers = &mb[1];
+    vkCmdPipelineBarrier2(cmd, &dep);
+    if (!prw_cmd_submit_wait(gpu, cmd, e)) goto done;
+    const uint32_t *v = rb.mapped;
+    bad = 0;
+    for (uint32_t i = 0; i < n; i++) bad += v[i] != i * i + add;
+done:
+    if (pool) prw_desc_pool_destroy(gpu, pool);
+    prw_buffer_destroy(gpu, &out);
+    prw_buffer_destroy(gpu, &rb);
+    return bad;
+}
+
+/* Shared pipelines (prw_gpu.h): a pipeline requested again with an equal description and a layout of
+ * equal content made separately is the same pipeline, and it still computes right after the layout it
+ * was made with is destroyed; a layout of other content (push range) gets its own pipeline; with
+ * PRW_PIPELINE_MEMO=0 every request compiles. */
+static void test_pipeline_memo(void)
+{
+    prw_error e;
+    prw_gpu *gpu;
+    CHECK_OK(test_gpu_open(&gpu, &e), &e);
+    VkDevice dev = prw_gpu_device(gpu);
+    VkDescriptorSetLayoutBinding b = {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL};
+    VkDescriptorSetLayout dsl1, dsl2, dsl3;
+    VkPipelineLayout pl1, pl2, pl3;
+    VkPipeline a, c, d;
+    CHECK_OK(prw_desc_layout_create(gpu, &b, 1, &dsl1, &e), &e);
+    CHECK_OK(prw_pipeline_layout_create_stages(gpu, &dsl1, 1, 8, VK_SHADER_STAGE_COMPUTE_BIT, &pl1, &e), &e);
+    CHECK_OK(prw_pipeline_compute(gpu, prw_shader_fill_comp(), pl1, &a, &e), &e);
+    uint32_t n0;
+    uint64_t h0;
+    prw_pipeline_memo_stats(gpu, &n0, &h0);
+    /* "another renderer": its own layouts of equal content */
+    CHECK_OK(prw_desc_layout_create(gpu, &b, 1, &dsl2, &e), &e);
+    CHECK_OK(prw_pipeline_layout_create_stages(gpu, &dsl2, 1, 8, VK_SHADER_STAGE_COMPUTE_BIT, &pl2, &e), &e);
+    CHECK(pl2 != pl1 && dsl2 != dsl1);
+    prw_pipeline_release(gpu, a);
+    vkDestroyPipelineLayout(dev, pl1, NULL);
+    vkDestroyDescriptorSetLayout(dev, dsl1, NULL);
+    VkPipeline a2;
+    CHECK_OK(prw_pipeline_compute(gpu, prw_shader_fill_comp(), pl2, &a2, &e), &e);
+    uint32_t n1;
+    uint64_t h1;
+    prw_pipeline_memo_stats(gpu, &n1, &h1);
+    CHECK_MSG(a2 == a && n1 == n0 && h1 == h0 + 1, "not shared: same handle %d, pipelines %u -> %u, hits %llu -> %llu",
+              a2 == a, n0, n1, (unsigned long long)h0, (unsigned long long)h1);
+    int bad = fill_wrong(gpu, a2, pl2, dsl2, 1000, 5, &e);
+    CHECK_MSG(bad == 0, "shared pipeline, its first layout destroyed: %d wrong values (%s)", bad, bad < 0 ? e.msg : "");
+    /* other content: a 16-byte push range */
+    CHECK_OK(prw_desc_layout_create(gpu, &b, 1, &dsl3, &e), &e);
+    CHECK_OK(prw_pipeline_layout_create_stages(gpu, &dsl3, 1, 16, VK_SHADER_STAGE_COMPUTE_BIT, &pl3, &e), &e);
+    CHECK_OK(prw_pipeline_compute(gpu, prw_shader_fill_comp(), pl3, &c, &e), &e);
+    CHECK(c != a2);
+    CHECK(fill_wrong(gpu, c, pl3, dsl3, 100, 9, &e) == 0);
+    prw_pipeline_release(gpu, c);
+    prw_pipeline_release(gpu, a2);
+    vkDestroyPipelineLayout(dev, pl3, NULL);
+    vkDestroyDescriptorSetLayout(dev, dsl3, NULL);
+    vkDestroyPipelineLayout(dev, pl2, NULL);
+    vkDestroyDescriptorSetLayout(dev, dsl2, NULL);
+    TEST_GPU_CLOSE(gpu);
+
+    /* off: each request compiles its own pipeline */
+    setenv("PRW_PIPELINE_MEMO", "0", 1);
+    CHECK_OK(test_gpu_open(&gpu, &e), &e);
+    CHECK_OK(prw_desc_layout_create(gpu, &b, 1, &dsl1, &e), &e);
+    CHECK_OK(prw_pipeline_layout_create_stages(gpu, &dsl1, 1, 8, VK_SHADER_STAGE_COMPUTE_BIT, &pl1, &e), &e);
+    CHECK_OK(prw_pipeline_compute(gpu, prw_shader_fill_comp(), pl1, &a, &e), &e);
+    CHECK_OK(prw_pipeline_compute(gpu, prw_shader_fill_comp(), pl1, &d, &e), &e);
+    CHECK(a != d);
+    prw_pipeline_release(gpu, a);
+    prw_pipeline_release(gpu, d);
+    vkDestroyPipelineLayout(prw_gpu_device(gpu), pl1, NULL);
+    vkDestroyDescriptorSetLayout(prw_gpu_device(gpu), dsl1, NULL);
+    TEST_GPU_CLOSE(gpu);
+    unsetenv("PRW_PIPELINE_MEMO");
 }
 
 /* A submit that waits on an event nobody sets must time out with a clear error; setting the event
@@ -525,6 +641,7 @@ int main(int argc, char **argv)
         {"suballocator", test_suballocator},
         {"suballocator_random", test_suballocator_random},
         {"compute_buffer", test_compute_buffer},
+        {"pipeline_memo", test_pipeline_memo},
         {"desc_pool_growth", test_desc_pool_growth},
         {"timestamps", test_timestamps},
         {"pipeline_cache", test_pipeline_cache},

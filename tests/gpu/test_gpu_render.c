@@ -74,7 +74,7 @@ static void probe_destroy(prw_gpu *gpu, probe *p)
     VkDevice dev = prw_gpu_device(gpu);
     prw_buffer_destroy(gpu, &p->out);
     prw_desc_pool_destroy(gpu, p->pool);
-    if (p->pipe) vkDestroyPipeline(dev, p->pipe, NULL);
+    if (p->pipe) prw_pipeline_release(gpu, p->pipe);
     if (p->pl) vkDestroyPipelineLayout(dev, p->pl, NULL);
     if (p->dsl) vkDestroyDescriptorSetLayout(dev, p->dsl, NULL);
 }
@@ -161,7 +161,7 @@ static void test_msaa_triangle(void)
     if (prw_gpu_properties(gpu)->limits.standardSampleLocations) CHECK_NEAR(px[4 * (7 * W + 8)], 0.5, 1e-3);
     free(px);
 
-    vkDestroyPipeline(dev, pipe, NULL);
+    prw_pipeline_release(gpu, pipe);
     vkDestroyPipelineLayout(dev, pl, NULL);
     prw_image_destroy(gpu, &msaa);
     prw_image_destroy(gpu, &resolved);

@@ -71,7 +71,7 @@ bool compute_case_run(prw_spirv shader, const compute_buffer *bufs, int nbufs, c
     for (int i = 0; ok && i < nbufs; i++)
         if (bufs[i].readback) memcpy(bufs[i].readback, buf[i].mapped, bufs[i].size);
     if (pool) prw_desc_pool_destroy(gpu, pool);
-    if (pipe) vkDestroyPipeline(prw_gpu_device(gpu), pipe, NULL);
+    if (pipe) prw_pipeline_release(gpu, pipe);
     if (pl) vkDestroyPipelineLayout(prw_gpu_device(gpu), pl, NULL);
     if (dsl) vkDestroyDescriptorSetLayout(prw_gpu_device(gpu), dsl, NULL);
     if (tex) prw_image_destroy(gpu, &image);

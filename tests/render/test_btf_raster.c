@@ -26,6 +26,7 @@
 #include "prw_reference.h"
 #include "prw_render.h"
 #include "prw_test.h"
+#include "prw_test_gpu.h"
 
 enum { SIZE = 64 };
 #define BOUND 0.01
@@ -108,18 +109,14 @@ static bool render_raster_at(const prw_scene *s, const prw_view *v, uint32_t w, 
 {
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
-    prw_gpu_desc gd = {.device_index = -1, .validation = true};
     prw_render_desc rd = {.width = w, .height = h, .quality = prw_quality_default()};
     rd.quality.msaa = msaa;
     rd.quality.shadow_size = 2048;
-    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
+    bool ok = (gpu = prw_test_gpu(e)) != NULL && prw_renderer_create(gpu, s, &rd, &r, e) &&
               prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);
-    if (gpu) {
-        prw_gpu_destroy(gpu);
-        uint32_t msgs = prw_gpu_validation_total();
-        if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
-    }
+    uint32_t msgs = prw_gpu_validation_total(); /* the process's so far; leak reports come at the end */
+    if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     return ok;
 }
 
@@ -303,5 +300,6 @@ static void test_rect(void) { run_case("rect", k_rect, RECT_BOUND, RECT_PIXEL_BO
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {{"point", test_point}, {"rect", test_rect}, {"scale_rule", test_scale_rule}};
-    return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    return prw_test_gpu_finish() ? 1 : rc; /* one gpu for all cases: pipelines compiled once */
 }

@@ -40,6 +40,7 @@
 #include "prw_reference.h"
 #include "prw_render.h"
 #include "prw_test.h"
+#include "prw_test_gpu.h"
 
 #define MEAN_BOUND 0.03
 #define INDIRECT_BOUND 0.05
@@ -58,18 +59,14 @@ static bool render_raster(const prw_scene *s, const prw_view *v, const prw_light
 {
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
-    prw_gpu_desc gd = {.device_index = -1, .validation = true};
     prw_render_desc rd = {.width = g_size, .height = g_size, .quality = prw_quality_default(), .lightmaps = lm};
     rd.quality.msaa = 4;
     rd.quality.shadow_size = 2048;
-    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
+    bool ok = (gpu = prw_test_gpu(e)) != NULL && prw_renderer_create(gpu, s, &rd, &r, e) &&
               prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);
-    if (gpu) {
-        prw_gpu_destroy(gpu);
-        uint32_t msgs = prw_gpu_validation_total();
-        if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
-    }
+    uint32_t msgs = prw_gpu_validation_total(); /* the process's so far; leak reports come at the end */
+    if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     return ok;
 }
 
@@ -288,5 +285,6 @@ static void test_cornell_full_gi(void)
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {{"cornell_full_gi", test_cornell_full_gi}};
-    return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    return prw_test_gpu_finish() ? 1 : rc; /* one gpu for all cases: pipelines compiled once */
 }

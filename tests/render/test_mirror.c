@@ -45,6 +45,7 @@
 #include "prw_reference.h"
 #include "prw_render.h"
 #include "prw_test.h"
+#include "prw_test_gpu.h"
 #include "term_error.h"
 
 #define W 128u
@@ -76,13 +77,12 @@ static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t recurs
     memset(&st, 0, sizeof st);
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
-    prw_gpu_desc gd = {.device_index = -1, .validation = true};
     prw_render_desc rd = {.width = v->width, .height = v->height, .quality = prw_quality_default()};
     rd.quality.msaa = 4;
     rd.quality.shadow_size = 2048;
     rd.quality.mirror_recursion = recursion;
     if (!floor_too) rd.quality.glossy_max_roughness = 0; /* the mirror alone */
-    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
+    bool ok = (gpu = prw_test_gpu(e)) != NULL && prw_renderer_create(gpu, s, &rd, &r, e) &&
               prw_renderer_render(r, v, 1, &st, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);
     if (status) {
@@ -91,11 +91,8 @@ static bool render_raster(const prw_scene *s, const prw_view *v, uint32_t recurs
             if (st.passes[k].name && strcmp(st.passes[k].name, "mirror") == 0)
                 snprintf(status, 96, "%s", st.passes[k].skipped ? st.passes[k].reason : "ran");
     }
-    if (gpu) {
-        prw_gpu_destroy(gpu);
-        uint32_t msgs = prw_gpu_validation_total();
-        if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
-    }
+    uint32_t msgs = prw_gpu_validation_total(); /* the process's so far; leak reports come at the end */
+    if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     return ok;
 }
 
@@ -344,5 +341,6 @@ static void test_finite(void)
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {{"term", test_term}, {"finite", test_finite}};
-    return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    return prw_test_gpu_finish() ? 1 : rc; /* one gpu for all cases: pipelines compiled once */
 }

@@ -48,7 +48,7 @@ bool tp_fullscreen_create(const prw_render_env *env, bool ms_input1, tp_fullscre
 void tp_fullscreen_destroy(const prw_render_env *env, tp_fullscreen *f)
 {
     VkDevice dev = prw_gpu_device(env->gpu);
-    if (f->pipe) vkDestroyPipeline(dev, f->pipe, NULL);
+    if (f->pipe) prw_pipeline_release(env->gpu, f->pipe);
     if (f->layout) vkDestroyPipelineLayout(dev, f->layout, NULL);
     if (f->set_layout) vkDestroyDescriptorSetLayout(dev, f->set_layout, NULL);
 }
