@@ -259,10 +259,14 @@ static void hud_lines(char lines[HUD_ROWS][96], int *n, const walk_ctx *c, const
     }
     snprintf(lines[k++], 96, "eye %.2f %.2f %.2f m  yaw %.1f pitch %.1f deg", eye.x, eye.y, eye.z, yaw * 180 / PI,
              pitch * 180 / PI);
-    if (c->measure.have)
-        snprintf(lines[k++], 96, "vs reference: LDR-FLIP %.3f (ref noise %.3f) %ux%u %llu spp, %.0f s ago [R]",
-                 c->measure.ldr_flip, c->measure.noise_flip, c->measure.width, c->measure.height,
+    if (c->measure.have) {
+        char beyond[32];
+        if (c->measure.below_noise) snprintf(beyond, sizeof beyond, "below ref noise");
+        else snprintf(beyond, sizeof beyond, "%.3f beyond noise", c->measure.beyond_noise);
+        snprintf(lines[k++], 96, "vs ref: LDR-FLIP %.3f, noise %.3f: %s; %ux%u %llu spp, %.0f s ago [R]",
+                 c->measure.ldr_flip, c->measure.noise_flip, beyond, c->measure.width, c->measure.height,
                  (unsigned long long)c->measure.spp, prw_now() - c->measure.when);
+    }
     else snprintf(lines[k++], 96, "[R] measure the error against the reference path tracer");
     if (c->o->record) snprintf(lines[k++], 96, "REC %u keys -> %.60s", rec->count, c->o->record);
     *n = k;
@@ -439,9 +443,10 @@ static int walk_run(const walk_opts *o)
                     o->measure_spp);
             if (!walk_measure_run(c.gpu, c.scene, &full, &md, o->measure_width, o->measure_spp, 0, &c.measure, &e))
                 goto done;
-            printf("walk: t %.3f s: raster vs reference LDR-FLIP %.4f (reference noise %.4f: half vs half), %ux%u, "
-                   "%llu spp, %.1f s\n",
-                   sim_t, c.measure.ldr_flip, c.measure.noise_flip, c.measure.width, c.measure.height,
+            printf("walk: t %.3f s: raster vs reference LDR-FLIP %.4f, reference noise %.4f (seed 2 vs 1), beyond "
+                   "noise %.4f%s, %ux%u, %llu spp each, %.1f s\n",
+                   sim_t, c.measure.ldr_flip, c.measure.noise_flip, c.measure.beyond_noise,
+                   c.measure.below_noise ? " (below reference noise)" : "", c.measure.width, c.measure.height,
                    (unsigned long long)c.measure.spp, c.measure.seconds);
             hud_t = -1;
             t_start += c.measure.seconds; /* the measurement is not walking time */

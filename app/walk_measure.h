@@ -1,8 +1,9 @@
 /* walk_measure — "how far off is what I see": the walkthrough's current pose rendered by the
  * rasterizer (the walk's own quality settings) and by the reference path tracer at a small size,
  * compared with the project's metrics (LDR-FLIP with the frozen metric tone map at the view's
- * exposure).  The reference is two independent halves of the sample budget; their FLIP against each
- * other bounds the reference's own noise, so the HUD can say whether an error is above noise.
+ * exposure).  Two independent references of spp samples each (seeds 1 and 2), as `prw compare REF1
+ * TEST --ref2 REF2` takes them: the error is the raster against the first, the noise the second
+ * against the first, so the HUD can say how far the error is beyond the reference's own noise.
  * Blocking (seconds); the walk triggers it on demand ([R] or a script's key R). */
 #ifndef PRW_WALK_MEASURE_H
 #define PRW_WALK_MEASURE_H
@@ -12,9 +13,11 @@
 typedef struct walk_measure {
     bool have;
     uint32_t width, height; /* measured image */
-    uint64_t spp;           /* reference samples per pixel (both halves) */
-    double ldr_flip;        /* raster vs reference, mean LDR-FLIP */
-    double noise_flip;      /* half vs half of the reference: its noise at spp/2 (an upper bound) */
+    uint64_t spp;           /* reference samples per pixel (each of the two) */
+    double ldr_flip;        /* raster vs reference (seed 1), mean LDR-FLIP */
+    double noise_flip;      /* reference seed 2 vs seed 1: the reference's noise */
+    double beyond_noise;    /* max(0, ldr_flip - noise_flip) */
+    bool below_noise;       /* ldr_flip < 2 noise_flip ("below reference noise", as prw compare says) */
     double seconds;         /* wall time of the measurement */
     double when;            /* prw_now() when it finished */
 } walk_measure;
