@@ -23,13 +23,18 @@
  * or the box's sides within LEAK_BAND above the floor: mean(R - A) <= LEAK_K x the standard deviation
  * of that mean (from B - A), i.e. not brighter than the reference beyond its noise.
  *
+ * Texel placement (noise-free, on the bake alone): on the floor quads' charts every texel whose centre
+ * lies in a triangle must be hidden exactly when the world point of that centre lies under the box
+ * (placement() below): a bake that gathers texels elsewhere than at the centres the renderer's uvs
+ * assume (e.g. half a texel off) hides the wrong texels along the box's outline.
  * Controls, rendered every run from the same bake:
  *  - "no dilation": every texel the baker did not sample (dilated or unused) set to 0, as if
  *    dilation were off: must FAIL the seam criterion;
  *  - "half-texel offset": every atlas uv moved by half a texel in u and v (lookups off by half a
  *    texel against where the texels were gathered): printed only — at the default texel size the
  *    shifted maps differ from the right ones by less than the reference's noise at 128 spp (dilation
- *    extends every chart by constants, so a shift shows only where the irradiance bends: contact).
+ *    extends every chart by constants, so a shift shows only where the irradiance bends: contact);
+ *    the placement check above is what catches a half-texel offset in the bake.
  * Bake: the default texel size (radiosity_size of prw_quality_default()) and filter radius, 32
  * samples (the default is PRW_GI_DEFAULT_SAMPLES, 128: a noisier light map, same layout);
  * PRW_SEAM_RADIOSITY / PRW_SEAM_SAMPLES / PRW_SEAM_FILTER override them, PRW_SEAM_SPP the reference's
@@ -325,6 +330,54 @@ static seam_result seams(const pixinfo *pi, const prw_image *r, const prw_image 
     return out;
 }
 
+/* Texel placement, noise-free: on the floor quads' charts, every texel whose centre (by the bake's uvs:
+ * texel (i, j) centred at ((i + 0.5) / width, (j + 0.5) / height)) lies in a triangle is gathered at
+ * that centre's world point, so it must be hidden (not sampled: the point is inside the box, whose
+ * faces its rays meet from behind) exactly when that point lies under the box's foot print.  Texels
+ * within EDGE_EPS texels of the foot print's outline are not judged.  Returns the texels judged and
+ * counts the disagreements. */
+#define EDGE_EPS 0.05
+static uint32_t placement(const prw_scene *s, const prw_gi_bake *b, uint32_t *bad)
+{
+    uint32_t judged = 0;
+    *bad = 0;
+    for (uint32_t ii = 0; ii < b->instance_count; ii++) {
+        const prw_gi_instance *in = &b->inst[ii];
+        if (in->mode != PRW_GI_ATLAS || strncmp(s->meshes[in->mesh].name, "floor", 5) != 0) continue;
+        const prw_gi_atlas *A = &b->atlases[in->atlas];
+        const prw_mesh *m = &s->meshes[in->mesh];
+        for (uint32_t t = 0; t < in->triangle_count; t++) {
+            double X[3], Y[3], P[3][3];
+            for (int k = 0; k < 3; k++) {
+                X[k] = in->uv[6 * t + 2 * k] * A->width - 0.5, Y[k] = in->uv[6 * t + 2 * k + 1] * A->height - 0.5;
+                const float *q = m->positions + 3 * m->indices[3 * t + k];
+                prw_dvec3 w = prw_dm4_point(s->nodes[in->node].world, prw_v3(q[0], q[1], q[2]));
+                P[k][0] = w.x, P[k][1] = w.y, P[k][2] = w.z;
+            }
+            double det = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+            if (!(fabs(det) > 1e-9)) continue;
+            int x0 = (int)floor(fmin(X[0], fmin(X[1], X[2]))), x1 = (int)ceil(fmax(X[0], fmax(X[1], X[2])));
+            int y0 = (int)floor(fmin(Y[0], fmin(Y[1], Y[2]))), y1 = (int)ceil(fmax(Y[0], fmax(Y[1], Y[2])));
+            double texel_m = b->texel_size;
+            for (int j = y0 > 0 ? y0 : 0; j <= y1 && j < (int)A->height; j++)
+                for (int i = x0 > 0 ? x0 : 0; i <= x1 && i < (int)A->width; i++) {
+                    double b1 = ((i - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (j - Y[0])) / det;
+                    double b2 = ((X[1] - X[0]) * (j - Y[0]) - (i - X[0]) * (Y[1] - Y[0])) / det, b0 = 1 - b1 - b2;
+                    if (b0 < 1e-6 || b1 < 1e-6 || b2 < 1e-6) continue; /* centre inside, off the triangle's edges */
+                    double px = b0 * P[0][0] + b1 * P[1][0] + b2 * P[2][0], pz = b0 * P[0][2] + b1 * P[1][2] + b2 * P[2][2];
+                    /* signed distance to the foot print's outline (negative inside) */
+                    double dx = fmax(BOX_LO[0] - px, px - BOX_HI[0]), dz = fmax(BOX_LO[2] - pz, pz - BOX_HI[2]);
+                    double d = dx > 0 || dz > 0 ? sqrt(fmax(dx, 0) * fmax(dx, 0) + fmax(dz, 0) * fmax(dz, 0)) : fmax(dx, dz);
+                    if (fabs(d) < EDGE_EPS * texel_m) continue;
+                    bool sampled = A->state[(size_t)j * A->width + i] == 1;
+                    judged++;
+                    if (sampled != (d > 0)) (*bad)++;
+                }
+        }
+    }
+    return judged;
+}
+
 typedef struct leak_result {
     uint32_t pixels;
     double excess, sigma, level; /* mean(R - A), the standard deviation of that mean, mean(A) */
@@ -425,6 +478,11 @@ static void test_gi_seam_box_room(void)
            o.radiosity_size, o.samples, o.filter_radius, b->texel_size, (unsigned long long)b->charts,
            (unsigned long long)b->sampled_texels, (unsigned long long)b->hidden_texels,
            (unsigned long long)b->sampled_vertices, gr.seconds_total);
+    uint32_t misplaced = 0, judged = placement(s, b, &misplaced);
+    printf("texel placement on the floor: %u texels judged, %u hidden where their centre is not under the box or "
+           "sampled where it is\n", judged, misplaced);
+    CHECK_MSG(judged > 1000, "only %u floor texels judged", judged);
+    CHECK_MSG(misplaced == 0, "%u floor texels gathered elsewhere than at their centres", misplaced);
     uint32_t nt = 0;
     wtri *tris = chart_triangles(s, b, &nt);
     pixinfo *pi = prw_calloc((size_t)W * H, sizeof *pi);
