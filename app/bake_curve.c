@@ -208,6 +208,7 @@ int prw_bake_curve(const prw_bake_curve_opts *o)
     int rc = 1, def_row = -1;
     double def_wall = 0, def_cpu = 0, def_load = 0;
     size_t nm = 0;
+    char cam_name[128] = "";
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     for (int k = 0; k < ns; k++) {
         char dir[4096], *old = NULL;
@@ -231,6 +232,7 @@ int prw_bake_curve(const prw_bake_curve_opts *o)
         int cam = ok ? prw_scene_find_camera(s, o->camera) : -1;
         if (ok && cam < 0) ok = prw_fail(&e, "%s: no camera named '%s'", s->source, o->camera ? o->camera : "(first)");
         ok = ok && prw_view_from_camera(s, cam, o->width, o->height, &v, &e);
+        if (ok) snprintf(cam_name, sizeof cam_name, "%s", s->cameras[cam].name);
         uint64_t texels = ok ? b->sampled_texels : 0, verts = ok ? b->sampled_vertices : 0;
         double texel = ok ? b->texel_size : 0;
         if (ok && k == 0) { /* the references, once */
@@ -277,7 +279,7 @@ int prw_bake_curve(const prw_bake_curve_opts *o)
     printf("%s, camera %s, %ux%u, term indirect-diffuse vs reference indirect-diffuse-last %u spp (seeds 1, 2), "
            "%zu of %u pixels where the term > 1 %% of the full reference, metric EV100 %.3f (the term's own); "
            "reference noise: LDR-FLIP %.4f, relMSE %.4f\n",
-           o->scene, o->camera ? o->camera : "(first)", o->width, o->height, o->ref_spp, nm, o->width * o->height, ev,
+           o->scene, cam_name, o->width, o->height, o->ref_spp, nm, o->width * o->height, ev,
            noise.flip, noise.relmse);
     double la[3] = {0, 0, 0};
     int nla = getloadavg(la, 3);
@@ -291,6 +293,7 @@ int prw_bake_curve(const prw_bake_curve_opts *o)
 done:
     if (rc) fprintf(stderr, "prw bake: error: %s\n", e.msg);
     if (o->csv) fclose(f);
+    if (rc != 0 && o->csv) remove(o->csv); /* no partial file */
     if (rc == 0 && o->png) {
         if (plot(o->csv, o->png, o->scene)) fprintf(stderr, "prw bake: wrote %s\n", o->png);
         else fprintf(stderr, "prw bake: warning: %s not written (gnuplot missing or failed; the CSV is complete)\n", o->png);

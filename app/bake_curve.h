@@ -10,7 +10,8 @@
  * the pixels where the term exceeds 1 % of it), at the term's own metric exposure:
  *   LDR-FLIP beyond noise = FLIP(raster, A) - FLIP(B, A),  relMSE beyond noise = relMSE(raster, A) -
  *   relMSE(B, A) / 2  (as tests/render/test_gi_raster.c).
- * One CSV row per setting; the plot (gnuplot, optional) shows both errors against bake CPU seconds.
+ * One CSV row per setting (the file is removed when the run fails); the plot (gnuplot, optional) shows
+ * both errors against bake CPU seconds.
  * The row whose setting is the renderer's default bake (the quality's radiosity_size,
  * PRW_GI_DEFAULT_SAMPLES) is printed again at the end with the machine's load average. */
 #ifndef PRW_APP_BAKE_CURVE_H
