@@ -47,6 +47,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gltf_writer.h"
 #include "lightmaps.h"
 #include "prw_gi.h"
 #include "prw_image.h"
@@ -66,7 +67,8 @@
 
 /* The box room: 4 x 2.5 x 3 m; the box x 0.4..1.2, y 0..0.7, z -0.6..0.2. */
 static const double BOX_LO[3] = {0.4, 0.0, -0.6}, BOX_HI[3] = {1.2, 0.7, 0.2};
-static const char *k_manifest =
+/* The room; the first %s: the box mesh entry (or empty), the second: a "gltf" section (or empty). */
+static const char *k_manifest_fmt =
     "{\n"
     "  \"prw_manifest\": 1,\n"
     "  \"materials\": [\n"
@@ -84,9 +86,8 @@ static const char *k_manifest =
     "    {\"name\": \"back left\", \"quad\": {\"centre\": [-1, 1.25, -1.499], \"half_u\": [1, 0, 0], \"half_v\": [0, 1.25, 0]}, "
     "\"material\": \"white\"},\n"
     "    {\"name\": \"back right\", \"quad\": {\"centre\": [1, 1.25, -1.499], \"half_u\": [1, 0, 0], \"half_v\": [0, 1.25, 0]}, "
-    "\"material\": \"white\"},\n"
-    "    {\"name\": \"box\", \"box\": {\"min\": [0.4, 0, -0.6], \"max\": [1.2, 0.7, 0.2]}, \"material\": \"red\"}\n"
-    "  ],\n"
+    "\"material\": \"white\"}%s\n"
+    "  ],\n%s"
     "  \"lights\": [\n"
     "    {\"type\": \"point\", \"name\": \"lamp\", \"position\": [-0.6, 2.2, 0.3], \"intensity\": 400, \"unit\": \"cd\"}\n"
     "  ],\n"
@@ -454,12 +455,17 @@ static prw_gi_bake *bake_clone(const prw_gi_bake *b, prw_error *e)
     return c;
 }
 
-static void test_gi_seam_box_room(void)
+static const char *k_box_entry =
+    ",\n    {\"name\": \"box\", \"box\": {\"min\": [0.4, 0, -0.6], \"max\": [1.2, 0.7, 0.2]}, \"material\": \"red\"}";
+
+static void run_room(const char *name, const char *box_entry, const char *gltf_section)
 {
     bool light = prw_test_light();
     prw_error e = {{0}};
-    const char *path = prw_test_path("seam-room.json");
-    prw_test_write_file(path, k_manifest, strlen(k_manifest));
+    const char *path = prw_test_path(name);
+    char manifest[8192];
+    snprintf(manifest, sizeof manifest, k_manifest_fmt, box_entry, gltf_section);
+    prw_test_write_file(path, manifest, strlen(manifest));
     prw_scene *s = prw_scene_create();
     CHECK_OK(prw_scene_load_manifest(s, path, &e), &e);
     prw_scene_update(s);
@@ -595,8 +601,53 @@ static void test_gi_seam_box_room(void)
     prw_scene_destroy(s);
 }
 
+static void test_gi_seam_box_room(void) { run_room("seam-room.json", k_box_entry, ""); }
+
+/* The same room with the box as a glTF mesh carrying TEXCOORD_1: its six faces laid out by the
+ * "author" as islands in a 3 x 2 grid, 0.01 uv apart (under a texel at the bake's scale), so that the
+ * baker, not the layout's padding, has to keep the islands' texels apart. */
+static void test_gi_seam_uv1_islands(void)
+{
+    static const double C[3] = {0.8, 0.35, -0.2}, HE[3] = {0.4, 0.35, 0.4};
+    const double fc[6][3] = {{HE[0], 0, 0}, {-HE[0], 0, 0}, {0, HE[1], 0}, {0, -HE[1], 0}, {0, 0, HE[2]}, {0, 0, -HE[2]}};
+    const double fu[6][3] = {{0, 0, -HE[2]}, {0, 0, HE[2]}, {0, 0, HE[2]}, {HE[0], 0, 0}, {HE[0], 0, 0}, {-HE[0], 0, 0}};
+    const double fv[6][3] = {{0, HE[1], 0}, {0, HE[1], 0}, {HE[0], 0, 0}, {0, 0, HE[2]}, {0, HE[1], 0}, {0, HE[1], 0}};
+    const double sc = 0.3 / 0.8, gap = 0.01; /* uv1 units per metre; between the islands */
+    gmesh box = {.nv = 24, .ni = 36, .material = 0};
+    box.pos = prw_malloc(24 * 3 * sizeof(float)), box.nrm = prw_malloc(24 * 3 * sizeof(float));
+    box.uv = prw_malloc(24 * 2 * sizeof(float)), box.uv1 = prw_malloc(24 * 2 * sizeof(float));
+    box.idx = prw_malloc(36 * sizeof(uint32_t));
+    for (int f = 0; f < 6; f++) {
+        gmesh q = gltfw_quad(fc[f], fu[f], fv[f], 0);
+        double lu = 2 * sqrt(fu[f][0] * fu[f][0] + fu[f][1] * fu[f][1] + fu[f][2] * fu[f][2]);
+        double lv = 2 * sqrt(fv[f][0] * fv[f][0] + fv[f][1] * fv[f][1] + fv[f][2] * fv[f][2]);
+        double ou = (f % 3) * (0.3 + gap), ov = (f / 3) * (0.3 + gap);
+        for (int v = 0; v < 4; v++) {
+            for (int k = 0; k < 3; k++) {
+                box.pos[3 * (4 * f + v) + k] = (float)(q.pos[3 * v + k] + fc[f][k]);
+                box.nrm[3 * (4 * f + v) + k] = q.nrm[3 * v + k];
+            }
+            box.uv[2 * (4 * f + v)] = q.uv[2 * v], box.uv[2 * (4 * f + v) + 1] = q.uv[2 * v + 1];
+            box.uv1[2 * (4 * f + v)] = (float)(ou + q.uv[2 * v] * lu * sc);
+            box.uv1[2 * (4 * f + v) + 1] = (float)(ov + q.uv[2 * v + 1] * lv * sc);
+        }
+        for (int k = 0; k < 6; k++) box.idx[6 * f + k] = 4 * (uint32_t)f + q.idx[k];
+        gltfw_mesh_free(&q);
+    }
+    for (int k = 0; k < 3; k++) box.at[k] = C[k];
+    gfile g = {.mesh_count = 1,
+               .materials = "{\"name\":\"red\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.65,0.12,0.08,1],"
+                            "\"metallicFactor\":0,\"roughnessFactor\":0.9}}",
+               .eye = {0, 1, 3}, .target = {0, 0.5, 0}, .yfov = 1.0};
+    g.mesh[0] = box;
+    gltfw_write("seam-box", &g, 16.0 / 9.0);
+    gltfw_mesh_free(&box);
+    run_room("seam-room-uv1.json", "", "  \"gltf\": [{\"file\": \"seam-box.gltf\"}],\n");
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"gi_seam_box_room", test_gi_seam_box_room}};
+    static const prw_test_case cases[] = {{"gi_seam_box_room", test_gi_seam_box_room},
+                                          {"gi_seam_uv1_islands", test_gi_seam_uv1_islands}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
