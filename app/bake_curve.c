@@ -178,7 +178,7 @@ static bool plot(const char *csv, const char *png, const char *scene)
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-int prw_bake_curve(const prw_bake_curve_opts *o)
+int bake_curve_run(const bake_curve_opts *o)
 {
     setting set[MAX_SETTINGS];
     char defaults[64];

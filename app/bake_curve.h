@@ -21,7 +21,7 @@
 
 #include "prw_quality.h"
 
-typedef struct prw_bake_curve_opts {
+typedef struct bake_curve_opts {
     const char *scene;    /* path or "demo" */
     const char *camera;   /* NULL: the first */
     const char *settings; /* "R:S,R:S,..."; NULL: the default list */
@@ -30,9 +30,9 @@ typedef struct prw_bake_curve_opts {
     uint64_t seed;        /* the bakes' seed */
     const char *csv, *png;
     prw_quality q;        /* the renderer's quality (its radiosity_size is the default bake's) */
-} prw_bake_curve_opts;
+} bake_curve_opts;
 
 /* Process exit code: 0, 1 (a failure, one line on stderr), 2 (bad settings). */
-int prw_bake_curve(const prw_bake_curve_opts *o);
+int bake_curve_run(const bake_curve_opts *o);
 
 #endif

@@ -315,9 +315,9 @@ static int bake_gi(prw_args *a)
             fprintf(stderr, "prw bake: error: --curve excludes --sweep and --out\n");
             return 2;
         }
-        prw_bake_curve_opts co = {.scene = path, .camera = camera, .settings = settings, .width = cw, .height = ch,
+        bake_curve_opts co = {.scene = path, .camera = camera, .settings = settings, .width = cw, .height = ch,
                                   .ref_spp = ref_spp, .seed = o.seed, .csv = csv, .png = png, .q = q};
-        return prw_bake_curve(&co);
+        return bake_curve_run(&co);
     }
     if (out && !prw_check_writable(out, false, &e)) {
         fprintf(stderr, "prw bake: error: %s\n", e.msg);
