@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "bake_curve.h"
 #include "prw_bake.h"
 #include "prw_gi.h"
 #include "quality_args.h"
@@ -76,6 +77,8 @@ static void gi_help(void)
     printf("usage: prw bake SCENE --gi [--samples N] [--seed N] [--preset CONFIG] [--out FILE.gi] [--no-cache]\n"
            "       prw bake SCENE --gi --sweep [--samples-list A,B,..] [--ref-samples N] [--preset CONFIG] [--csv FILE]\n"
            "            [--png FILE]\n"
+           "       prw bake SCENE --gi --curve [--settings R:S,..] [--size WxH] [--camera NAME] [--ref-spp N]\n"
+           "            [--preset CONFIG] [--csv FILE] [--png FILE]\n"
            "  Bakes the indirect-diffuse light maps of SCENE (engine/bake/prw_gi.h): at every light-map texel\n"
            "  (flat charts of our own unwrapper, packed into atlases) and at the vertices of dense meshes, the\n"
            "  irradiance of light that scattered at least once (never direct light), gathered by the reference\n"
@@ -97,9 +100,18 @@ static void gi_help(void)
            "                     seed at the same texels; nothing is cached\n"
            "  --samples-list L   the sweep's sample counts (default 16,32,64,128,256)\n"
            "  --csv FILE         the sweep's CSV (default: stdout)\n"
-           "  --png FILE         the sweep's plot (error against CPU seconds, log-log; needs --csv and gnuplot)\n"
+           "  --png FILE         the sweep's / curve's plot (error against CPU seconds; needs --csv and gnuplot)\n"
+           "  --curve            benchmark: per setting radiosity_size:samples, the scene loaded and baked from a\n"
+           "                     fresh (temporary) cache, timed (wall, CPU), then the base pass's light-map term\n"
+           "                     against the reference's indirect-diffuse-last term (two seeds): LDR-FLIP and\n"
+           "                     relMSE beyond noise (CSV: one row per setting); ends with the default bake's time\n"
+           "  --settings L       the curve's settings (default 64:32,128:32,128:128,Q:32,Q:64,Q:%d,Q:256, Q the\n"
+           "                     preset's radiosity_size)\n"
+           "  --size WxH         the curve's image size (default 128x72)\n"
+           "  --camera NAME      the curve's camera (default: the first)\n"
+           "  --ref-spp N        the curve's reference samples per pixel (default 512)\n"
            "%s",
-           PRW_GI_DEFAULT_SAMPLES, PRW_GI_DEFAULT_FILTER_RADIUS, prw_quality_args_help());
+           PRW_GI_DEFAULT_SAMPLES, PRW_GI_DEFAULT_FILTER_RADIUS, PRW_GI_DEFAULT_SAMPLES, prw_quality_args_help());
 }
 
 /* Relative RMS difference of the sampled texels / vertices of a against ref (same layout), over
@@ -277,6 +289,15 @@ static int bake_gi(prw_args *a)
     if (!bad && png && !csv) bad = !prw_fail(&e, "--png needs --csv FILE (the plot reads it)");
     if (!bad && png && (strchr(png, '\'') || strchr(csv, '\'')))
         bad = !prw_fail(&e, "--png / --csv: a path with a single quote cannot be handed to gnuplot");
+    bool curve = prw_args_flag(a, "curve");
+    const char *settings = bad ? NULL : prw_args_value(a, "settings", &e, &bad);
+    const char *camera = bad ? NULL : prw_args_value(a, "camera", &e, &bad);
+    uint32_t cw = 128, ch = 72, ref_spp = 512;
+    if (!bad && (v = prw_args_value(a, "size", &e, &bad)) && !prw_parse_size(v, &cw, &ch, &e)) bad = true;
+    if (!bad && (v = prw_args_value(a, "ref-spp", &e, &bad))) {
+        if (prw_parse_int(v, "--ref-spp", 1, 1 << 20, &n, &e)) ref_spp = (uint32_t)n;
+        else bad = true;
+    }
     bool sweep = prw_args_flag(a, "sweep");
     bool no_cache = prw_args_flag(a, "no-cache");
     if (!bad && !prw_args_finish(a, &e)) bad = true;
@@ -289,6 +310,15 @@ static int bake_gi(prw_args *a)
         return 2;
     }
     const char *path = a->positional[0];
+    if (curve) {
+        if (sweep || out) {
+            fprintf(stderr, "prw bake: error: --curve excludes --sweep and --out\n");
+            return 2;
+        }
+        bake_curve_opts co = {.scene = path, .camera = camera, .settings = settings, .width = cw, .height = ch,
+                                  .ref_spp = ref_spp, .seed = o.seed, .csv = csv, .png = png, .q = q};
+        return bake_curve_run(&co);
+    }
     if (out && !prw_check_writable(out, false, &e)) {
         fprintf(stderr, "prw bake: error: %s\n", e.msg);
         return 1;
