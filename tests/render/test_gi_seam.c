@@ -57,6 +57,7 @@
 #include "prw_reference.h"
 #include "prw_render.h"
 #include "prw_test.h"
+#include "prw_test_gpu.h"
 #include "prw_view.h"
 
 #define W 160u
@@ -111,18 +112,14 @@ static bool render_raster(const prw_scene *s, const prw_view *v, const prw_light
 {
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
-    prw_gpu_desc gd = {.device_index = -1, .validation = true};
     prw_render_desc rd = {.width = W, .height = H, .quality = prw_quality_default(), .lightmaps = lm,
                           .terms = PRW_TERM_INDIRECT_DIFFUSE};
     rd.quality.msaa = 4;
-    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
+    bool ok = (gpu = prw_test_gpu(e)) != NULL && prw_renderer_create(gpu, s, &rd, &r, e) &&
               prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
     prw_renderer_destroy(r);
-    if (gpu) {
-        prw_gpu_destroy(gpu);
-        uint32_t msgs = prw_gpu_validation_total();
-        if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
-    }
+    uint32_t msgs = prw_gpu_validation_total(); /* the process's so far; leak reports come at the end */
+    if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     return ok;
 }
 
@@ -655,5 +652,6 @@ int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {{"gi_seam_box_room", test_gi_seam_box_room},
                                           {"gi_seam_uv1_islands", test_gi_seam_uv1_islands}};
-    return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
+    return prw_test_gpu_finish() ? 1 : rc; /* one gpu for all cases: pipelines compiled once */
 }
