@@ -5,7 +5,9 @@
  *               clip plane just in front of the mirror (gl_ClipDistance: what lies behind it is not
  *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size, one sample);
  *               emission left out (globals params.z): a light seen in the mirror is carried by the
- *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2.
+ *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2:
+ *               direct light at the reflected surfaces and, with light maps, their baked indirect diffuse
+ *               (the recipe is `lightmapped`: the base pass's PRW_PIPE_GI pipelines with the clip plane).
  *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
  *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag); for a
  *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
@@ -278,7 +280,9 @@ static bool mirror_create(const prw_pass_init *in, void **state, prw_error *e)
     *state = m;
     reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &m->set);
     m->images = m->set.count < max_drawn(env) ? m->set.count : max_drawn(env);
-    m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe};
+    /* lightmapped: the reflected surfaces carry their baked indirect diffuse as in the base pass */
+    m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe,
+                                  .lightmapped = true};
     prw_gpu_image *shadow = prw_graph_image(in->graph, "shadow_map", 0);
     for (uint32_t v = 0; v < env->desc->max_views; v++)
         for (uint32_t k = 0; k < m->images; k++) { /* one globals block per mirror image: each is its own view */
