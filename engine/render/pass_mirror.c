@@ -3,13 +3,15 @@
  *   mirror      the scene's drawables re-rendered from the view reflected in the reflector's plane
  *               (camera-relative to the reflected eye, double until then), winding flipped, with a user
  *               clip plane just in front of the mirror (gl_ClipDistance: what lies behind it is not
- *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size, one sample);
+ *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size times the knob
+ *               mirror_scale, one sample);
  *               emission left out (globals params.z): a light seen in the mirror is carried by the
  *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2:
  *               direct light at the reflected surfaces and, with light maps, their baked indirect diffuse
  *               (the recipe is `lightmapped`: the base pass's PRW_PIPE_GI pipelines with the clip plane).
  *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
- *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag); for a
+ *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag; at
+ *               mirror_scale < 1 looked up bilinearly, its depth at the nearest texel); for a
  *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
  *               lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from "mirror_depth", kernel_taps taps
  *               importance-sampled from D_GGX cos over the cone holding 99.5 % of it) times the split-sum
@@ -254,8 +256,16 @@ static void mirror_setup(prw_setup *s)
 {
     uint32_t n = in_graph(s);
     if (!n) return;
-    prw_image_decl hdr = {.format = prw_pipes_radiance_format(prw_setup_env(s)), .size = PRW_SIZE_INTERNAL};
-    prw_image_decl depth = {.format = PRW_DEPTH_FORMAT, .size = PRW_SIZE_INTERNAL};
+    const prw_render_env *env = prw_setup_env(s);
+    prw_image_decl hdr = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL};
+    double scale = env->desc->quality.mirror_scale;
+    if (scale > 0 && scale < 1) { /* the knob mirror_scale: a smaller image, upsampled by mirror_add */
+        hdr.size = PRW_SIZE_FIXED;
+        hdr.width = (uint32_t)fmax(1.0, round(env->desc->width * scale));
+        hdr.height = (uint32_t)fmax(1.0, round(env->desc->height * scale));
+    }
+    prw_image_decl depth = hdr;
+    depth.format = PRW_DEPTH_FORMAT;
     for (uint32_t k = 0; k < n; k++) {
         prw_setup_image(s, HDR_NAMES[k], &hdr);
         prw_setup_image(s, DEPTH_NAMES[k], &depth);
