@@ -75,35 +75,46 @@ static prw_scene *load_room(prw_error *e)
     return s;
 }
 
-/* status (may be NULL): "ran" or the mirror pass's reason for skipping, after the frame */
-static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, uint32_t recursion,
-                          bool floor_too, prw_image *hdr, char *status, prw_error *e)
+/* The n views v[] (one size) rendered in turn by one renderer into hdr[]; status[k] (status may be NULL):
+ * "ran" or the mirror pass's reason for skipping in view k.  skip: the knob reflection_skip, or < 0 for
+ * the default. */
+static bool render_views(const prw_scene *s, const prw_view *v, size_t n, const prw_lightmaps *lm, uint32_t recursion,
+                         bool floor_too, double skip, prw_image *hdr, char (*status)[96], prw_error *e)
 {
-    prw_frame_stats st;
-    memset(&st, 0, sizeof st);
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
-    prw_render_desc rd = {.width = v->width, .height = v->height, .quality = prw_quality_default(), .lightmaps = lm};
+    prw_render_desc rd = {.width = v[0].width, .height = v[0].height, .quality = prw_quality_default(), .lightmaps = lm};
     rd.quality.msaa = 4;
     rd.quality.shadow_size = 2048;
     rd.quality.mirror_recursion = recursion;
     if (!floor_too) rd.quality.glossy_max_roughness = 0; /* the mirror alone */
-    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
-              prw_renderer_render(r, v, 1, &st, e) && prw_renderer_read_hdr(r, 0, hdr, e);
-    prw_renderer_destroy(r);
-    if (status) {
-        snprintf(status, 96, "not in the frame");
-        for (uint32_t k = 0; k < st.pass_count; k++)
-            if (st.passes[k].name && strcmp(st.passes[k].name, "mirror") == 0)
-                snprintf(status, 96, "%s", st.passes[k].skipped ? st.passes[k].reason : "ran");
+    if (skip >= 0) rd.quality.reflection_skip = skip;
+    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e);
+    for (size_t k = 0; ok && k < n; k++) {
+        prw_frame_stats st;
+        memset(&st, 0, sizeof st);
+        ok = prw_renderer_render(r, &v[k], 1, &st, e) && prw_renderer_read_hdr(r, 0, &hdr[k], e);
+        if (ok && status) {
+            snprintf(status[k], 96, "not in the frame");
+            for (uint32_t p = 0; p < st.pass_count; p++)
+                if (st.passes[p].name && strcmp(st.passes[p].name, "mirror") == 0)
+                    snprintf(status[k], 96, "%s", st.passes[p].skipped ? st.passes[p].reason : "ran");
+        }
     }
+    prw_renderer_destroy(r);
     if (gpu) {
         prw_gpu_destroy(gpu);
         uint32_t msgs = prw_gpu_validation_total();
         if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     }
     return ok;
+}
+
+static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, uint32_t recursion,
+                          bool floor_too, prw_image *hdr, char *status, prw_error *e)
+{
+    return render_views(s, v, 1, lm, recursion, floor_too, -1, hdr, (char(*)[96])status, e);
 }
 
 static bool render_ref(prw_ref_renderer *ref, const prw_view *v, uint64_t spp, uint64_t seed, prw_ref_filter f,
@@ -346,30 +357,91 @@ static void test_finite(void)
         {"mirror outside the frustum", prw_v3(-2.6, 1.5, 2.2), prw_v3(-3.0, 1.0, 0.0), 0},
         {"mirror seen from its back", prw_v3(1.7, 1.5, -2.6), prw_v3(1.7, 1.5, 2.0), 0},
     };
-    for (size_t k = 0; k < 2 * PRW_ARRAY_LEN(cases); k++) {
-        bool floor_too = k >= PRW_ARRAY_LEN(cases);
-        size_t ci = k % PRW_ARRAY_LEN(cases);
-        prw_view v = prw_view_look_at(cases[ci].eye, cases[ci].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05, 64,
-                                      36, 7.0);
-        prw_image on = {0};
-        char status[96];
-        CHECK_OK(render_raster(s, &v, NULL, 1, floor_too, &on, status, &e), &e);
-        size_t bad = 0;
-        for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on.rgba[i]);
-        printf("%-44s %-7s mirror pass: %-40s %zu non-finite values\n", cases[ci].what,
-               floor_too ? "+floor" : "mirror", status, bad);
-        bool ran = strcmp(status, "ran") == 0;
-        /* with the floor a reflector too, the pass also runs for the floor: only "must run" holds */
-        CHECK_MSG(cases[ci].runs < 0 || (floor_too ? !(cases[ci].runs == 1) || ran : ran == (cases[ci].runs == 1)),
-                  "%s: mirror pass %s", cases[ci].what, status);
-        CHECK_MSG(bad == 0, "%s: %zu non-finite values", cases[ci].what, bad);
-        prw_image_free(&on);
+    enum { N = PRW_ARRAY_LEN(cases) };
+    prw_view v[N];
+    for (size_t k = 0; k < N; k++)
+        v[k] = prw_view_look_at(cases[k].eye, cases[k].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05, 64, 36, 7.0);
+    for (int floor_too = 0; floor_too < 2; floor_too++) { /* one renderer for every view */
+        prw_image on[N];
+        char status[N][96];
+        memset(on, 0, sizeof on);
+        CHECK_OK(render_views(s, v, N, NULL, 1, floor_too, -1, on, status, &e), &e);
+        for (size_t ci = 0; ci < N; ci++) {
+            size_t bad = 0;
+            for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on[ci].rgba[i]);
+            printf("%-44s %-7s mirror pass: %-40s %zu non-finite values\n", cases[ci].what,
+                   floor_too ? "+floor" : "mirror", status[ci], bad);
+            bool ran = strcmp(status[ci], "ran") == 0;
+            /* with the floor a reflector too, the pass also runs for the floor: only "must run" holds */
+            CHECK_MSG(cases[ci].runs < 0 || (floor_too ? !(cases[ci].runs == 1) || ran : ran == (cases[ci].runs == 1)),
+                      "%s: mirror pass %s", cases[ci].what, status[ci]);
+            CHECK_MSG(bad == 0, "%s: %zu non-finite values", cases[ci].what, bad);
+            prw_image_free(&on[ci]);
+        }
     }
+    prw_scene_destroy(s);
+}
+
+/* The skip rule (knob reflection_skip, pass_mirror.c reflection_share): gi-room with a white glossy floor
+ * (base 0.9, roughness 0.2) and the wall mirror made matte (not a reflector), seen from above (fov 40
+ * degrees, every visible floor point within ~37 degrees of the normal: dielectric F <= 0.046, so the
+ * estimated reflection 0.046 x 0.79 (gold) / (0.954 x 0.9) is below 5 %): the mirror passes are skipped by
+ * default, run with reflection_skip=0, and run by default at a grazing view (camera main: F near 1 at the
+ * far floor).  A diffuse-only room (every specular 0, metallic 0) has no reflector: the passes are out of
+ * the graph.  Every frame finite. */
+static void test_skip(void)
+{
+    prw_error e = {{0}};
+    prw_scene *s = load_room(&e);
+    CHECK_MSG(s != NULL, "%s", e.msg);
+    for (uint32_t k = 0; k < s->material_count; k++) {
+        prw_material *m = &s->materials[k];
+        if (strcmp(m->name, "oak floor") == 0)
+            for (int c = 0; c < 3; c++) m->base_color[c] = 0.9f;
+        if (strcmp(m->name, "mirror") == 0) {
+            m->metallic = 0, m->roughness = 0.9f;
+            for (int c = 0; c < 3; c++) m->base_color[c] = 0.5f;
+        }
+    }
+    prw_scene_update(s);
+    prw_view top = prw_view_look_at(prw_v3(0.5, 2.9, 1.0), prw_v3(0.5, 0.0, 1.0), prw_v3(0, 0, -1), 40.0 * PI / 180.0,
+                                    0.05, 64, 36, 7.0);
+    prw_view main_v;
+    CHECK_OK(prw_ref_view_for_camera(s, "main", 64, 36, &main_v, &e), &e);
+    struct {
+        const char *what;
+        const prw_view *v;
+        double skip;
+        bool runs;
+    } cases[] = {
+        {"from above, default (0.05)", &top, -1, false},
+        {"from above, reflection_skip=0", &top, 0, true},
+        {"camera main (grazing), default", &main_v, -1, true},
+    };
+    for (size_t k = 0; k < PRW_ARRAY_LEN(cases); k++) {
+        prw_image im = {0};
+        char status[1][96];
+        CHECK_OK(render_views(s, cases[k].v, 1, NULL, 1, true, cases[k].skip, &im, status, &e), &e);
+        size_t bad = 0;
+        for (size_t i = 0; i < (size_t)im.width * im.height * 4; i++) bad += !isfinite(im.rgba[i]);
+        printf("white glossy floor, %-34s mirror pass: %s\n", cases[k].what, status[0]);
+        CHECK_MSG((strcmp(status[0], "ran") == 0) == cases[k].runs, "%s: mirror pass %s", cases[k].what, status[0]);
+        CHECK_MSG(bad == 0, "%s: %zu non-finite values", cases[k].what, bad);
+        prw_image_free(&im);
+    }
+    for (uint32_t k = 0; k < s->material_count; k++) s->materials[k].specular = 0, s->materials[k].metallic = 0;
+    prw_scene_update(s);
+    prw_image im = {0};
+    char status[96];
+    CHECK_OK(render_raster(s, &main_v, NULL, 1, true, &im, status, &e), &e);
+    printf("diffuse-only room, camera main: mirror pass: %s\n", status);
+    CHECK_MSG(strcmp(status, "ran") != 0, "diffuse-only room: the mirror pass ran");
+    prw_image_free(&im);
     prw_scene_destroy(s);
 }
 
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"term", test_term}, {"finite", test_finite}};
+    static const prw_test_case cases[] = {{"term", test_term}, {"finite", test_finite}, {"skip", test_skip}};
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
