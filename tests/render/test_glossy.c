@@ -73,36 +73,46 @@ static prw_scene *load_black_floor(prw_error *e)
     return s;
 }
 
-/* status: "ran" or the mirror pass's reason for skipping */
-static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, double max_roughness,
-                          prw_image *hdr, char *status, prw_error *e)
+/* The n views v[] (one size) rendered in turn by one renderer into hdr[]; status[k] (status may be NULL):
+ * "ran" or mirror_add's reason for skipping in view k.  taps: the kernel_taps knob (0: the default). */
+static bool render_views(const prw_scene *s, const prw_view *v, size_t n, const prw_lightmaps *lm, double max_roughness,
+                         uint32_t taps, prw_image *hdr, char (*status)[96], prw_error *e)
 {
-    prw_frame_stats st;
-    memset(&st, 0, sizeof st);
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
     prw_gpu_desc gd = {.device_index = -1, .validation = true};
-    prw_render_desc rd = {.width = v->width, .height = v->height, .quality = prw_quality_default(), .lightmaps = lm};
+    prw_render_desc rd = {.width = v[0].width, .height = v[0].height, .quality = prw_quality_default(), .lightmaps = lm};
     rd.quality.msaa = 4;
     rd.quality.shadow_size = 2048;
     rd.quality.glossy_max_roughness = max_roughness;
-    const char *taps = getenv("PRW_GLOSSY_TAPS");
-    if (taps && *taps) rd.quality.kernel_taps = (uint32_t)strtoul(taps, NULL, 10);
-    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e) &&
-              prw_renderer_render(r, v, 1, &st, e) && prw_renderer_read_hdr(r, 0, hdr, e);
-    prw_renderer_destroy(r);
-    if (status) {
-        snprintf(status, 96, "not in the frame");
-        for (uint32_t k = 0; k < st.pass_count; k++)
-            if (st.passes[k].name && strcmp(st.passes[k].name, "mirror_add") == 0)
-                snprintf(status, 96, "%s", st.passes[k].skipped ? st.passes[k].reason : "ran");
+    const char *taps_env = getenv("PRW_GLOSSY_TAPS");
+    if (taps_env && *taps_env) rd.quality.kernel_taps = (uint32_t)strtoul(taps_env, NULL, 10);
+    if (taps) rd.quality.kernel_taps = taps;
+    bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e);
+    for (size_t k = 0; ok && k < n; k++) {
+        prw_frame_stats st;
+        memset(&st, 0, sizeof st);
+        ok = prw_renderer_render(r, &v[k], 1, &st, e) && prw_renderer_read_hdr(r, 0, &hdr[k], e);
+        if (ok && status) {
+            snprintf(status[k], 96, "not in the frame");
+            for (uint32_t p = 0; p < st.pass_count; p++)
+                if (st.passes[p].name && strcmp(st.passes[p].name, "mirror_add") == 0)
+                    snprintf(status[k], 96, "%s", st.passes[p].skipped ? st.passes[p].reason : "ran");
+        }
     }
+    prw_renderer_destroy(r);
     if (gpu) {
         prw_gpu_destroy(gpu);
         uint32_t msgs = prw_gpu_validation_total();
         if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     }
     return ok;
+}
+
+static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, double max_roughness,
+                          prw_image *hdr, char *status, prw_error *e)
+{
+    return render_views(s, v, 1, lm, max_roughness, 0, hdr, (char(*)[96])status, e);
 }
 
 static bool render_ref(prw_ref_renderer *ref, const prw_view *v, uint64_t spp, uint64_t seed, prw_ref_filter f,
@@ -349,23 +359,24 @@ static void test_finite(void)
         CHECK_MSG(s != NULL, "%s", e.msg);
         for (uint32_t k = 0; k < s->material_count; k++)
             if (rough && strcmp(s->materials[k].name, "oak floor") == 0) s->materials[k].roughness = 1.0f;
-        for (size_t k = 0; k < PRW_ARRAY_LEN(views); k++)
-            for (int taps = 1; taps <= 32; taps += 31) {
-                prw_view v = prw_view_look_at(views[k].eye, views[k].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05,
-                                              64, 36, 7.0);
-                prw_image on = {0};
-                char status[96], t[8];
-                snprintf(t, sizeof t, "%d", taps);
-                setenv("PRW_GLOSSY_TAPS", t, 1);
-                CHECK_OK(render_raster(s, &v, NULL, 1.0, &on, status, &e), &e);
+        enum { N = PRW_ARRAY_LEN(views) };
+        prw_view v[N];
+        for (size_t k = 0; k < N; k++)
+            v[k] = prw_view_look_at(views[k].eye, views[k].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05, 64, 36, 7.0);
+        for (uint32_t taps = 1; taps <= 32; taps += 31) { /* one renderer for every view */
+            prw_image on[N];
+            char status[N][96];
+            memset(on, 0, sizeof on);
+            CHECK_OK(render_views(s, v, N, NULL, 1.0, taps, on, status, &e), &e);
+            for (size_t k = 0; k < N; k++) {
                 size_t bad = 0;
-                for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on.rgba[i]);
-                printf("roughness %s, %2d taps, %-28s mirror_add: %-36s %zu non-finite values\n",
-                       rough ? "1  " : "0.2", taps, views[k].what, status, bad);
+                for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on[k].rgba[i]);
+                printf("roughness %s, %2u taps, %-28s mirror_add: %-36s %zu non-finite values\n",
+                       rough ? "1  " : "0.2", taps, views[k].what, status[k], bad);
                 CHECK_MSG(bad == 0, "%s: %zu non-finite values", views[k].what, bad);
-                prw_image_free(&on);
+                prw_image_free(&on[k]);
             }
-        unsetenv("PRW_GLOSSY_TAPS");
+        }
         prw_scene_destroy(s);
     }
 }

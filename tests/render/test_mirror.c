@@ -35,7 +35,7 @@
  * Case finite: no NaN/Inf in the frame with the camera in the mirror's plane, the mirror seen edge-on
  * from 1e-6 m in front of its plane, and at grazing angles; with the floor a reflector (default quality)
  * and without it (glossy_max_roughness 0: then the mirror pass runs or is skipped for the mirror alone,
- * which the case checks).
+ * which the case checks); and with the floor and mirror images at 1/8 of the view's size (mirror_scale).
  *
  * Environment: PRW_MIR_SPP (default 128) reference samples per pixel; PRW_MIR_OUT=DIR writes the
  * images (EXR) for `prw compare`.
@@ -77,9 +77,10 @@ static prw_scene *load_room(prw_error *e)
 
 /* The n views v[] (one size) rendered in turn by one renderer into hdr[]; status[k] (status may be NULL):
  * "ran" or the mirror pass's reason for skipping in view k.  skip: the knob reflection_skip, or < 0 for
- * the default. */
-static bool render_views(const prw_scene *s, const prw_view *v, size_t n, const prw_lightmaps *lm, uint32_t recursion,
-                         bool floor_too, double skip, prw_image *hdr, char (*status)[96], prw_error *e)
+ * the default; scale: the knob mirror_scale (0: the default). */
+static bool render_views_scaled(const prw_scene *s, const prw_view *v, size_t n, const prw_lightmaps *lm,
+                                uint32_t recursion, bool floor_too, double skip, double scale, prw_image *hdr,
+                                char (*status)[96], prw_error *e)
 {
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
@@ -90,6 +91,7 @@ static bool render_views(const prw_scene *s, const prw_view *v, size_t n, const 
     rd.quality.mirror_recursion = recursion;
     if (!floor_too) rd.quality.glossy_max_roughness = 0; /* the mirror alone */
     if (skip >= 0) rd.quality.reflection_skip = skip;
+    if (scale > 0) rd.quality.mirror_scale = scale;
     bool ok = prw_gpu_create(&gd, &gpu, e) && prw_renderer_create(gpu, s, &rd, &r, e);
     for (size_t k = 0; ok && k < n; k++) {
         prw_frame_stats st;
@@ -109,6 +111,12 @@ static bool render_views(const prw_scene *s, const prw_view *v, size_t n, const 
         if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
     }
     return ok;
+}
+
+static bool render_views(const prw_scene *s, const prw_view *v, size_t n, const prw_lightmaps *lm, uint32_t recursion,
+                         bool floor_too, double skip, prw_image *hdr, char (*status)[96], prw_error *e)
+{
+    return render_views_scaled(s, v, n, lm, recursion, floor_too, skip, 0, hdr, status, e);
 }
 
 static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, uint32_t recursion,
@@ -361,16 +369,17 @@ static void test_finite(void)
     prw_view v[N];
     for (size_t k = 0; k < N; k++)
         v[k] = prw_view_look_at(cases[k].eye, cases[k].target, prw_v3(0, 1, 0), 60.0 * PI / 180.0, 0.05, 64, 36, 7.0);
-    for (int floor_too = 0; floor_too < 2; floor_too++) { /* one renderer for every view */
+    for (int config = 0; config < 3; config++) { /* one renderer for every view; 2: mirror images at 1/8 */
+        bool floor_too = config > 0;
         prw_image on[N];
         char status[N][96];
         memset(on, 0, sizeof on);
-        CHECK_OK(render_views(s, v, N, NULL, 1, floor_too, -1, on, status, &e), &e);
+        CHECK_OK(render_views_scaled(s, v, N, NULL, 1, floor_too, -1, config == 2 ? 0.125 : 0, on, status, &e), &e);
         for (size_t ci = 0; ci < N; ci++) {
             size_t bad = 0;
             for (size_t i = 0; i < (size_t)64 * 36 * 4; i++) bad += !isfinite(on[ci].rgba[i]);
             printf("%-44s %-7s mirror pass: %-40s %zu non-finite values\n", cases[ci].what,
-                   floor_too ? "+floor" : "mirror", status[ci], bad);
+                   config == 2 ? "1/8" : floor_too ? "+floor" : "mirror", status[ci], bad);
             bool ran = strcmp(status[ci], "ran") == 0;
             /* with the floor a reflector too, the pass also runs for the floor: only "must run" holds */
             CHECK_MSG(cases[ci].runs < 0 || (floor_too ? !(cases[ci].runs == 1) || ran : ran == (cases[ci].runs == 1)),
