@@ -37,6 +37,7 @@
 #include <string.h>
 
 #include "gpu_types.h"
+#include "lightmap_gpu.h"
 #include "prw_brdf.h"
 #include "prw_env.h"
 #include "pipes.h"
@@ -146,10 +147,11 @@ static bool reflector_of(const prw_scene *s, int mi, reflector *out)
 
 static double luma(const float *c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
 
-static void reflectors_find(const prw_scene *s, const prw_quality *q, reflector_set *set)
+/* lit: the base pass draws light maps (the skip rule's estimate needs the reflector's indirect light) */
+static void reflectors_find(const prw_scene *s, const prw_quality *q, bool lit, reflector_set *set)
 {
     set->count = 0;
-    set->skip = q->reflection_skip;
+    set->skip = lit ? q->reflection_skip : 0;
     for (uint32_t mi = 0; mi < s->material_count && set->count < MIRROR_MAX_REFLECTORS; mi++)
         if (mirror_like(&s->materials[mi], q->glossy_max_roughness) && reflector_of(s, (int)mi, &set->r[set->count])) {
             reflector *r = &set->r[set->count++];
@@ -168,8 +170,10 @@ static void reflectors_find(const prw_scene *s, const prw_quality *q, reflector_
  * reflectance at the smallest n.v among the footprint's candidate points (the reflector's corners in the
  * frustum and the plane's hits along the view's border inside its bounds: the farthest visible point,
  * where F is largest, is one of them), rho_seen the brightest other material's albedo.  A metal (no
- * diffuse lobe) is never skipped.  Not conservative where the reflected scene is lit more brightly than
- * the reflector (a shaded floor reflecting a sunlit wall). */
+ * diffuse lobe) is never skipped, and nothing is skipped without light maps (the reflector's own radiance
+ * then lacks its indirect light: in its shadowed parts the reflection measured up to ~1000 x the rest).
+ * Not conservative where the reflected scene is lit more brightly than the reflector (a shaded floor
+ * reflecting a sunlit wall). */
 static double reflection_share(const reflector *r, const prw_scene *s, const prw_view *v)
 {
     const prw_material *m = &s->materials[r->material];
@@ -293,7 +297,7 @@ static uint32_t in_graph(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
     reflector_set *set = prw_calloc(1, sizeof *set);
-    reflectors_find(env->scene, &env->desc->quality, set);
+    reflectors_find(env->scene, &env->desc->quality, false, set); /* only the count */
     uint32_t count = set->count;
     free(set);
     if (count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), 0;
@@ -363,7 +367,7 @@ static bool mirror_create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     mirror_state *m = prw_calloc(1, sizeof *m);
     *state = m;
-    reflectors_find(env->scene, &env->desc->quality, &m->set);
+    reflectors_find(env->scene, &env->desc->quality, env->lm->active, &m->set);
     m->images = m->set.count < max_drawn(env) ? m->set.count : max_drawn(env);
     /* lightmapped: the reflected surfaces carry their baked indirect diffuse as in the base pass */
     m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe,
@@ -517,7 +521,7 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     add_state *a = prw_calloc(1, sizeof *a);
     *state = a;
-    reflectors_find(env->scene, &env->desc->quality, &a->set);
+    reflectors_find(env->scene, &env->desc->quality, env->lm->active, &a->set);
     a->images = a->set.count < max_drawn(env) ? a->set.count : max_drawn(env);
     VkDescriptorSetLayoutBinding b[5] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},

@@ -325,12 +325,17 @@ static void test_term(void)
            nogi.relmse - noise.relmse, nogi.flip - noise.flip);
     printf("  without the passes: relMSE %.4f, LDR-FLIP %.4f beyond noise (must fail)\n", none.relmse - noise.relmse,
            none.flip - noise.flip);
-    CHECK_MSG(err.relmse - noise.relmse <= BOUND, "relMSE beyond noise %.4f", err.relmse - noise.relmse);
-    CHECK_MSG(err.flip - noise.flip <= FLIP_BOUND, "LDR-FLIP beyond noise %.4f", err.flip - noise.flip);
-    CHECK_MSG(nogi.relmse - noise.relmse > BOUND || nogi.flip - noise.flip > FLIP_BOUND,
-              "the criteria pass without GI in the mirror image: they cannot tell");
-    CHECK_MSG(none.relmse - noise.relmse > BOUND || none.flip - noise.flip > FLIP_BOUND,
-              "the criteria pass without the passes: they cannot tell");
+    if (prw_test_light()) { /* sanitizers: a tiny bake and references; the bounds are not checked */
+        printf("  light mode: only the controls are checked\n");
+        CHECK_MSG(nogi.flip > err.flip && none.flip > err.flip, "the controls are not worse than the term");
+    } else {
+        CHECK_MSG(err.relmse - noise.relmse <= BOUND, "relMSE beyond noise %.4f", err.relmse - noise.relmse);
+        CHECK_MSG(err.flip - noise.flip <= FLIP_BOUND, "LDR-FLIP beyond noise %.4f", err.flip - noise.flip);
+        CHECK_MSG(nogi.relmse - noise.relmse > BOUND || nogi.flip - noise.flip > FLIP_BOUND,
+                  "the criteria pass without GI in the mirror image: they cannot tell");
+        CHECK_MSG(none.relmse - noise.relmse > BOUND || none.flip - noise.flip > FLIP_BOUND,
+                  "the criteria pass without the passes: they cannot tell");
+    }
     prw_image_free(&on), prw_image_free(&off), prw_image_free(&term), prw_image_free(&zero);
     prw_image_free(&on0), prw_image_free(&off0), prw_image_free(&term0);
     prw_app_lightmaps_destroy(lms);
