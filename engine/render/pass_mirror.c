@@ -26,7 +26,8 @@
  * covering the most of the view's pixels (a bounding-rectangle estimate), each into its own mirror image
  * ("mirror_hdr"/"mirror_depth" for the first, "mirror_hdrK"/"mirror_depthK" for the K+1-th: graph images,
  * kept across frames) and added in its own pixels (G-buffer id); the others show only their direct term.
- * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
+ * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size), a single term
+ * drawn (prw_render_desc.terms: direct or indirect diffuse, which hold no reflection).  needed() is
  * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is
  * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel
  * centre (the rectangle bounding its vertices' projections, clipped to the view, tested against the
@@ -303,6 +304,10 @@ static uint32_t in_graph(prw_setup *s)
     if (count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), 0;
     if (env->desc->quality.mirror_recursion == 0) return prw_setup_skip(s, "mirror_recursion=0"), 0;
     if (env->desc->quality.supersample > 1) return prw_setup_skip(s, "not with supersampling yet"), 0;
+    /* one term drawn (prw render --term): the reflections are the specular term, k >= 2 paths through the
+     * reflector's specular lobe, in neither the direct nor the indirect-diffuse one */
+    if (env->desc->terms != 0 && env->desc->terms != PRW_TERM_ALL)
+        return prw_setup_skip(s, "one term drawn (--term): reflections are the specular term"), 0;
     return count < max_drawn(env) ? count : max_drawn(env);
 }
 
