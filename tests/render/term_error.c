@@ -42,12 +42,12 @@ void masked_error(const prw_image *test, const prw_image *ref, const unsigned ch
     *out = (term_err){n ? rel / (3.0 * (double)n) : 0, n ? fl / (double)n : 0};
 }
 
-void term_bake(const prw_scene *s, prw_app_lightmaps **out)
+void term_bake(const prw_scene *s, uint32_t radiosity_size, uint32_t samples, prw_app_lightmaps **out)
 {
     *out = NULL;
     prw_error e = {{0}};
     bool light = prw_test_light();
-    prw_gi_options o = {.radiosity_size = light ? 32 : 128, .samples = light ? 8 : 64, .seed = 7,
+    prw_gi_options o = {.radiosity_size = light ? 32 : radiosity_size, .samples = light ? 8 : samples, .seed = 7,
                         .filter_radius = PRW_GI_DEFAULT_FILTER_RADIUS};
     prw_gi_bake *b = NULL;
     prw_gi_result gr;

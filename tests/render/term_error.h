@@ -14,9 +14,9 @@ typedef struct term_err {
  * tone mapped at EV100 ev. */
 void masked_error(const prw_image *test, const prw_image *ref, const unsigned char *mask, double ev, term_err *out);
 
-/* The light maps of s from a reduced bake made here, no cache (radiosity_size 128, 64 samples, seed 7, as
- * test_gi_raster; 32 and 8 in light mode): the baked indirect diffuse the base pass and the mirror images
- * draw, into *out.  Prints its figures; CHECK failures end the test. */
-void term_bake(const prw_scene *s, prw_app_lightmaps **out);
+/* The light maps of s from a reduced bake made here, no cache (radiosity_size and samples as given, seed 7;
+ * 32 and 8 in light mode): the baked indirect diffuse the base pass and the mirror images draw, into
+ * *out.  Prints its figures; CHECK failures end the test. */
+void term_bake(const prw_scene *s, uint32_t radiosity_size, uint32_t samples, prw_app_lightmaps **out);
 
 #endif

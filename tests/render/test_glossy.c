@@ -4,8 +4,8 @@
  *
  * The term: raster(glossy_max_roughness=0.3) - raster(glossy_max_roughness=0) over the floor's pixels,
  * i.e. what the convolved mirror image adds there, both frames with the light maps of a reduced bake made
- * by the test (term_bake) in the base pass and in the mirror image.  Which reference filter is the same
- * term: the floor is a dielectric, so its k >= 2 paths leave through both lobes; both renderers run on
+ * by the test (term_bake: radiosity_size 128, 64 samples) in the base pass and in the mirror image.
+ * Which reference filter is the same term: the floor is a dielectric, so its k >= 2 paths leave through both lobes; both renderers run on
  * gi-room with the floor's base colour set to black (the bake too): its diffuse lobe is then 0 while its
  * specular lobe (specular 1, IOR 1.5) is unchanged, and `indirect-glossy-last` (= indirect there) over
  * the floor's pixels is the specular lobe's k >= 2 part — what the mirror image carries: emission-free
@@ -27,7 +27,7 @@
  * at floor roughness 0.2 and 1 (knob glossy_max_roughness 1), 1 and 32 taps (the reflector drawn is
  * whichever covers the most pixels: with the eye in the floor's plane it is the wall mirror).
  *
- * Environment: PRW_GLOSSY_SPP (default 128) reference samples per pixel; PRW_GLOSSY_TAPS the kernel_taps
+ * Environment: PRW_GLOSSY_SPP (default 96) reference samples per pixel; PRW_GLOSSY_TAPS the kernel_taps
  * knob (default: the "high" preset's); PRW_GLOSSY_OUT=DIR writes the images (EXR).
  */
 #define _POSIX_C_SOURCE 200809L
@@ -47,7 +47,7 @@
 #define W 128u
 #define H 72u
 #define BOUND 0.05      /* the bound, on relMSE beyond noise */
-#define FLIP_BOUND 0.09 /* LDR-FLIP beyond noise: measured 0.082 at 128 spp (the issue's 0.05 is not met yet: the
+#define FLIP_BOUND 0.09 /* LDR-FLIP beyond noise: measured 0.080 at 96 spp (the issue's 0.05 is not met yet: the
                             k >= 3 paths through the reflected surfaces' specular lobes are missing) */
 #define PI 3.14159265358979323846
 
@@ -248,7 +248,7 @@ static void test_term(void)
     CHECK_MSG(nf > 1000, "%zu floor pixels", nf);
 
     prw_app_lightmaps *lms = NULL;
-    term_bake(s, &lms);
+    term_bake(s, 128, 64, &lms); /* the floor's term is sensitive to the light maps' detail (64/32: 0.088) */
     const prw_lightmaps *lm = prw_app_lightmaps_get(lms);
     prw_image on = {0}, off = {0}, term = {0}, on0 = {0}, off0 = {0}, term0 = {0};
     char status[96];
@@ -268,7 +268,7 @@ static void test_term(void)
     CHECK_MSG(nonfinite == 0, "%zu non-finite values", nonfinite);
 
     const char *spp_env = getenv("PRW_GLOSSY_SPP");
-    uint64_t spp = spp_env ? strtoull(spp_env, NULL, 10) : 128;
+    uint64_t spp = spp_env ? strtoull(spp_env, NULL, 10) : 96;
     if (spp < 1) spp = 1;
     if (prw_test_light() && spp > 32) spp = 32;
     prw_ref_renderer *ref = NULL;
