@@ -8,6 +8,11 @@
  * two medians does not guarantee on a path whose frame cost varies.  median(A) and median(B) are
  * printed beside it.  Writes ab.csv
  * (pair, frame, a_ms, b_ms) and ab.json in --out; no references are rendered in this mode.
+ * After the timing (untimed): B's image against A's at up to AB_IMAGE_FRAMES path frames spread over the
+ * sampled ones, LDR-FLIP (metric tone map at the scene camera's EV100, 67 ppd) as the mean over the
+ * image and over the pixels where the two differ (what a knob such as mirror_scale or reflection_skip
+ * changes: the reflectors' pixels), both renderers being deterministic (no noise to subtract); and in
+ * how many of those frames each configuration ran the reflection passes (mirror, mirror_add).
  *
  * The known-slowdown check (`--vs extra_gpu_work=F`, A without extra work): before timing, the
  * replay fraction of B's extra pass (pass_extra_work.c) is calibrated so that the pass takes F x A's
@@ -28,6 +33,7 @@
 #define AB_SEED 1
 #define CALIB_FRAMES 8
 #define CALIB_ROUNDS 3
+#define AB_IMAGE_FRAMES 4
 
 static double sum_gpu(const prw_frame_stats *st, const char *only)
 {
@@ -110,6 +116,54 @@ static bool write_ab(const bench_ctx *c, const uint32_t *frames, const double *t
     return true;
 }
 
+static bool reflection_ran(const prw_frame_stats *st)
+{
+    for (uint32_t i = 0; i < st->pass_count; i++)
+        if (st->passes[i].name && strcmp(st->passes[i].name, "mirror") == 0 && !st->passes[i].skipped) return true;
+    return false;
+}
+
+/* See the top: B's image against A's after the timing. */
+static bool image_diff(bench_ctx *c, prw_renderer *ra, prw_renderer *rb, prw_error *e)
+{
+    uint32_t k = c->nframes < AB_IMAGE_FRAMES ? c->nframes : AB_IMAGE_FRAMES;
+    double flip_sum = 0, changed_flip = 0;
+    size_t changed = 0, pixels = 0;
+    uint32_t ran_a = 0, ran_b = 0;
+    bool ok = true;
+    for (uint32_t i = 0; ok && i < k; i++) {
+        prw_view v;
+        prw_frame_stats sa, sb;
+        prw_image ia = {0}, ib = {0}, ta = {0}, tb = {0};
+        ok = bench_frame_view(c, c->frames[(size_t)i * c->nframes / k], &v, e) &&
+             prw_renderer_render(ra, &v, 1, &sa, e) && prw_renderer_read_hdr(ra, 0, &ia, e) &&
+             prw_renderer_render(rb, &v, 1, &sb, e) && prw_renderer_read_hdr(rb, 0, &ib, e) &&
+             prw_metric_tonemap(&ia, c->ev100, &ta, e) && prw_metric_tonemap(&ib, c->ev100, &tb, e);
+        size_t n = (size_t)ia.width * ia.height;
+        float *map = ok ? prw_malloc(n * sizeof *map) : NULL;
+        if (ok) ok = prw_flip_ldr_encoded(&tb, &ta, PRW_FLIP_DEFAULT_PPD, map, e);
+        if (ok) {
+            ran_a += reflection_ran(&sa), ran_b += reflection_ran(&sb);
+            for (size_t p = 0; p < n; p++) {
+                flip_sum += map[p];
+                bool diff = false;
+                for (int ch = 0; ch < 3; ch++) diff |= ia.rgba[4 * p + ch] != ib.rgba[4 * p + ch];
+                if (diff) changed++, changed_flip += map[p];
+            }
+            pixels += n;
+        }
+        free(map);
+        prw_image_free(&ia), prw_image_free(&ib), prw_image_free(&ta), prw_image_free(&tb);
+    }
+    if (ok && pixels)
+        printf("A/B: image of B against A (untimed, %u path frames, metric tone map EV100 %.2f, no noise: both "
+               "deterministic): LDR-FLIP mean %.4f over the image, %.4f over the %.2f %% of pixels that differ; "
+               "reflection passes ran in %u/%u frames of A, %u/%u of B\n",
+               k, c->ev100, flip_sum / (double)pixels, changed ? changed_flip / (double)changed : 0.0,
+               100.0 * (double)changed / (double)pixels, ran_a, k, ran_b, k);
+    return ok;
+}
+
 bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_quality *b, const char *b_text,
                   prw_error *e)
 {
@@ -142,6 +196,7 @@ bool bench_run_ab(bench_ctx *c, prw_gpu *gpu, const prw_quality *a, const prw_qu
         fflush(stderr);
     }
     fprintf(stderr, "\n");
+    if (ok) ok = image_diff(c, ra, rb, e);
     prw_renderer_destroy(ra);
     prw_renderer_destroy(rb);
     prw_stats_ratio ratio;

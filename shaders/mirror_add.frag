@@ -16,7 +16,7 @@
 // across the plane of incidence shortened by mu = n.v (below), equal weights, summed in float;
 // times the split-sum reflectance per channel: metallic (base A + B) + (1 - metallic) specular (0.04 A + B).
 
-layout(set = 0, binding = 0) uniform sampler2D u_mirror;  // the mirrored view's radiance, same pixel grid
+layout(set = 0, binding = 0) uniform sampler2D u_mirror;  // the mirrored view's radiance (the target's grid x mirror_scale)
 layout(set = 0, binding = 1) uniform sampler2D u_normal;  // G-buffer: camera-relative normal, roughness
 layout(set = 0, binding = 2) uniform usampler2D u_id;     // G-buffer: material slot + 1
 layout(set = 0, binding = 3) uniform sampler2D u_mdepth;  // the mirrored view's depth (reversed infinite Z)
@@ -60,8 +60,12 @@ void main()
     vec3 v = ld > 1e-20 ? -d / ld : vec3(0.0, 0.0, 1.0);
     float mu = clamp(abs(dot(n, v)), 0.0, 1.0);
     float m = clamp(pc.base.a, 0.0, 1.0);
+    // the mirror image may be smaller than the target (knob mirror_scale): then upsampled bilinearly
+    vec2 msize = vec2(textureSize(u_mirror, 0));
+    bool full = msize == pc.misc.zw;
+    ivec2 mp = full ? p : min(ivec2(gl_FragCoord.xy * msize / pc.misc.zw), ivec2(msize) - 1);
     if (pc.glossy.x > 0.0) {
-        float mdepth = texelFetch(u_mdepth, p, 0).r;
+        float mdepth = texelFetch(u_mdepth, mp, 0).r;
         float cphi = max(dot(v, -pc.fwd.xyz), 1e-4);                 // ray against the view axis
         float ts = pc.glossy.y / max(abs(dot(n, v)), 1e-4);          // eye to the reflection point
         float dm = mdepth > 0.0 ? pc.fwd.w / mdepth : 1e30;          // depth in the mirror image
@@ -108,6 +112,6 @@ void main()
     F.g = m * prw_F_schlick(pc.base.g, mu) + fd;
     F.b = m * prw_F_schlick(pc.base.b, mu) + fd;
     // no NaN/Inf into the radiance: a non-finite mirror sample adds nothing
-    vec3 L = finite_or_zero(texelFetch(u_mirror, p, 0).rgb);
+    vec3 L = finite_or_zero(full ? texelFetch(u_mirror, p, 0).rgb : textureLod(u_mirror, gl_FragCoord.xy / pc.misc.zw, 0.0).rgb);
     o_color = vec4(F * L, 0.0);
 }

@@ -5,7 +5,7 @@
  * (MASK, BLEND) casters through the alpha-tested caster pipeline.  Light-mapped meshes (lightmap_gpu.h)
  * are drawn from the light maps' buffers with the light-map shaders (PRW_PIPE_GI) by the base pass's
  * plain, pre-pass and EQUAL draws and their G-buffer forms (the pre-pass from the same buffers and vertex shader, so EQUAL
- * matches), unless their material is blended or clear-coated; every other draw is as before. */
+ * matches) and by the colour draws of the other lightmapped recipes (the mirror image's, with its clip plane), unless their material is blended or clear-coated; every other draw is as before. */
 #include <stdlib.h>
 
 #include "lightmap_gpu.h"
@@ -59,9 +59,7 @@ static void record_shadow(const prw_render_env *env, prw_draw_ctx *c)
 /* The light maps' draw of (node, mesh k) in this context, or NULL: the draw is as before. */
 static const prw_gpu_mesh *gi_draw(const prw_render_env *env, const prw_draw_ctx *c, uint32_t node, uint32_t k)
 {
-    if (!env->lm->active || c->kind != PRW_DRAW_COLOR || c->recipe != &env->pipes->base || c->view_mask ||
-        c->view->clip)
-        return NULL;
+    if (!env->lm->active || c->kind != PRW_DRAW_COLOR || !c->recipe->lightmapped || c->view_mask) return NULL;
     if (c->variant != PRW_BASE_VARIANT_PLAIN && c->variant != PRW_BASE_VARIANT_PREPASS &&
         c->variant != PRW_BASE_VARIANT_EQUAL && c->variant != PRW_BASE_VARIANT_GBUFFER &&
         c->variant != PRW_BASE_VARIANT_PREPASS_GBUFFER && c->variant != PRW_BASE_VARIANT_EQUAL_GBUFFER)

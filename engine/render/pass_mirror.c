@@ -3,11 +3,15 @@
  *   mirror      the scene's drawables re-rendered from the view reflected in the reflector's plane
  *               (camera-relative to the reflected eye, double until then), winding flipped, with a user
  *               clip plane just in front of the mirror (gl_ClipDistance: what lies behind it is not
- *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size, one sample);
+ *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size times the knob
+ *               mirror_scale, one sample);
  *               emission left out (globals params.z): a light seen in the mirror is carried by the
- *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2.
+ *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2:
+ *               direct light at the reflected surfaces and, with light maps, their baked indirect diffuse
+ *               (the recipe is `lightmapped`: the base pass's PRW_PIPE_GI pipelines with the clip plane).
  *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
- *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag); for a
+ *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag; at
+ *               mirror_scale < 1 looked up bilinearly, its depth at the nearest texel); for a
  *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
  *               lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from "mirror_depth", kernel_taps taps
  *               importance-sampled from D_GGX cos over the cone holding 99.5 % of it) times the split-sum
@@ -22,7 +26,8 @@
  * covering the most of the view's pixels (a bounding-rectangle estimate), each into its own mirror image
  * ("mirror_hdr"/"mirror_depth" for the first, "mirror_hdrK"/"mirror_depthK" for the K+1-th: graph images,
  * kept across frames) and added in its own pixels (G-buffer id); the others show only their direct term.
- * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size).  needed() is
+ * Not in the graph: no reflector, mirror_recursion = 0, supersampling (the G-buffer size), a single term
+ * drawn (prw_render_desc.terms: direct or indirect diffuse, which hold no reflection).  needed() is
  * false in multiview and reprojected stereo frames (not yet), and for a view when the reflector is
  * behind the eye, outside the frustum, seen edge-on or from its back, or its footprint holds no pixel
  * centre (the rectangle bounding its vertices' projections, clipped to the view, tested against the
@@ -33,6 +38,8 @@
 #include <string.h>
 
 #include "gpu_types.h"
+#include "lightmap_gpu.h"
+#include "prw_brdf.h"
 #include "prw_env.h"
 #include "pipes.h"
 #include "prw_shaders.h"
@@ -56,11 +63,16 @@ typedef struct reflector {
     prw_dvec3 corners[MIRROR_MAX_CORNERS];
     uint32_t corner_count;
     float dfg[MIRROR_DFG_COUNT][4]; /* glossy: A, B of the split sum at mu_i (unused for sharp mirrors) */
+    prw_dvec3 lo, hi;   /* world bounds of its triangles */
+    double rho_d;       /* luminance of its diffuse albedo, (1 - metallic) x base colour (the factor) */
+    double rho_seen;    /* the largest albedo luminance of the other materials (base colour factors): what it
+                           may reflect, for the skip rule */
 } reflector;
 
 typedef struct reflector_set {
     reflector r[MIRROR_MAX_REFLECTORS];
     uint32_t count;
+    double skip; /* the knob reflection_skip */
 } reflector_set;
 
 static bool mirror_like(const prw_material *m, double max_roughness)
@@ -117,6 +129,7 @@ static bool reflector_of(const prw_scene *s, int mi, reflector *out)
             }
         }
     if (!have_plane || tri == 0) return false;
+    out->lo = lo, out->hi = hi;
     if (out->corner_count > MIRROR_MAX_CORNERS) { /* the world box's corners: conservative */
         out->corner_count = 8;
         for (int c = 0; c < 8; c++)
@@ -133,11 +146,77 @@ static bool reflector_of(const prw_scene *s, int mi, reflector *out)
     return true;
 }
 
-static void reflectors_find(const prw_scene *s, double max_roughness, reflector_set *set)
+static double luma(const float *c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+/* lit: the base pass draws light maps (the skip rule's estimate needs the reflector's indirect light) */
+static void reflectors_find(const prw_scene *s, const prw_quality *q, bool lit, reflector_set *set)
 {
     set->count = 0;
+    set->skip = lit ? q->reflection_skip : 0;
     for (uint32_t mi = 0; mi < s->material_count && set->count < MIRROR_MAX_REFLECTORS; mi++)
-        if (mirror_like(&s->materials[mi], max_roughness) && reflector_of(s, (int)mi, &set->r[set->count])) set->count++;
+        if (mirror_like(&s->materials[mi], q->glossy_max_roughness) && reflector_of(s, (int)mi, &set->r[set->count])) {
+            reflector *r = &set->r[set->count++];
+            const prw_material *m = &s->materials[mi];
+            r->rho_d = (1.0 - m->metallic) * luma(m->base_color);
+            r->rho_seen = 0;
+            for (uint32_t k = 0; k < s->material_count; k++) /* a plane never reflects itself */
+                if (k != mi) r->rho_seen = fmax(r->rho_seen, luma(s->materials[k].base_color));
+        }
+}
+
+/* The skip rule (Meseth §11.3; knob reflection_skip): an estimate, from the materials and the view alone,
+ * of the reflection's share of the reflector's own radiance at its most grazing visible point.  Assumes
+ * what it reflects is lit like itself (no lighting or GPU read-back is used): the reflection is then
+ * F x rho_seen x E / pi against (1 - F) x rho_d x E / pi of its diffuse lobe, F its specular
+ * reflectance at the smallest n.v among the footprint's candidate points (the reflector's corners in the
+ * frustum and the plane's hits along the view's border inside its bounds: the farthest visible point,
+ * where F is largest, is one of them), rho_seen the brightest other material's albedo.  A metal (no
+ * diffuse lobe) is never skipped, and nothing is skipped without light maps (the reflector's own radiance
+ * then lacks its indirect light: in its shadowed parts the reflection measured up to ~1000 x the rest).
+ * Not conservative where the reflected scene is lit more brightly than the reflector (a shaded floor
+ * reflecting a sunlit wall). */
+static double reflection_share(const reflector *r, const prw_scene *s, const prw_view *v)
+{
+    const prw_material *m = &s->materials[r->material];
+    if (r->rho_d <= 0) return INFINITY;
+    double mu = 1.0;
+    const double *vm = v->view.m; /* camera axes: rows of the view matrix */
+    prw_dvec3 ax = prw_v3(vm[0], vm[4], vm[8]), ay = prw_v3(vm[1], vm[5], vm[9]), az = prw_v3(vm[2], vm[6], vm[10]);
+    double pad = 1e-6 * fmax(prw_v3_len(prw_v3_sub(r->hi, r->lo)), 1.0);
+    bool any = false;
+    for (uint32_t k = 0; k < r->corner_count; k++) { /* corners in front of the eye, inside the frustum */
+        prw_dvec3 d = prw_v3_sub(r->corners[k], v->eye);
+        double z = -prw_v3_dot(d, az);
+        if (z <= 0) continue;
+        double tx = prw_v3_dot(d, ax) / z, ty = prw_v3_dot(d, ay) / z;
+        if (tx < v->tan_left || tx > v->tan_right || ty < v->tan_bottom || ty > v->tan_top) continue;
+        double l = prw_v3_len(d);
+        if (l > 0) mu = fmin(mu, fabs(prw_v3_dot(r->n, d)) / l), any = true;
+    }
+    enum { STEPS = 32 }; /* the view's border, 4 x STEPS rays */
+    for (int e = 0; e < 4; e++)
+        for (int i = 0; i <= STEPS; i++) {
+            double t = (double)i / STEPS;
+            double tx = e < 2 ? v->tan_left + (v->tan_right - v->tan_left) * t : e == 2 ? v->tan_left : v->tan_right;
+            double ty = e >= 2 ? v->tan_bottom + (v->tan_top - v->tan_bottom) * t : e == 0 ? v->tan_bottom : v->tan_top;
+            prw_dvec3 d = prw_v3_add(prw_v3_add(prw_v3_scale(ax, tx), prw_v3_scale(ay, ty)), prw_v3_scale(az, -1.0));
+            double dn = prw_v3_dot(r->n, d);
+            if (fabs(dn) < 1e-12) continue;
+            double h = (r->d - prw_v3_dot(r->n, v->eye)) / dn;
+            if (h <= 0) continue;
+            prw_dvec3 p = prw_v3_add(v->eye, prw_v3_scale(d, h));
+            if (p.x < r->lo.x - pad || p.y < r->lo.y - pad || p.z < r->lo.z - pad || p.x > r->hi.x + pad ||
+                p.y > r->hi.y + pad || p.z > r->hi.z + pad)
+                continue;
+            mu = fmin(mu, fabs(dn) / prw_v3_len(d)), any = true;
+        }
+    if (!any) return INFINITY; /* no candidate point: never skipped */
+    float f[3];
+    for (int c = 0; c < 3; c++)
+        f[c] = m->metallic * prw_F_schlick(m->base_color[c], (float)mu) +
+               (1.0f - m->metallic) * m->specular * prw_F_dielectric((float)mu);
+    double F = fmin(luma(f), 1.0);
+    return F >= 1.0 ? INFINITY : F * r->rho_seen / ((1.0 - F) * r->rho_d);
 }
 
 /* The pixels of view v the reflector may cover (bounding rectangle of its projected vertices, clipped to
@@ -175,10 +254,11 @@ static double reflector_pixels(const reflector *r, const prw_view *v, const char
     return nx * ny;
 }
 
-/* The reflectors rendered for view v: up to max of those covering pixels, most pixels first (ties: the
- * first found), their indices into set in pick[]; returns how many (0: why set). */
-static uint32_t reflectors_pick(const reflector_set *set, const prw_view *v, uint32_t max, int *pick,
-                                const char **why)
+/* The reflectors rendered for view v: up to max of those covering pixels and not skipped by the skip rule,
+ * most pixels first (ties: the first found), their indices into set in pick[]; returns how many (0: why
+ * set). */
+static uint32_t reflectors_pick(const reflector_set *set, const prw_scene *s, const prw_view *v, uint32_t max,
+                                int *pick, const char **why)
 {
     double px[MIRROR_MAX_REFLECTORS];
     uint32_t n = 0;
@@ -187,6 +267,10 @@ static uint32_t reflectors_pick(const reflector_set *set, const prw_view *v, uin
     for (uint32_t k = 0; k < set->count; k++) {
         double p = reflector_pixels(&set->r[k], v, why);
         if (p <= 0) continue;
+        if (set->skip > 0 && reflection_share(&set->r[k], s, v) < set->skip) {
+            *why = "reflection below reflection_skip of the surface (estimate)";
+            continue;
+        }
         uint32_t at = n < max ? n : max; /* insertion into the sorted list, dropping beyond max */
         while (at > 0 && px[at - 1] < p) at--;
         if (at >= max) continue;
@@ -214,12 +298,16 @@ static uint32_t in_graph(prw_setup *s)
 {
     const prw_render_env *env = prw_setup_env(s);
     reflector_set *set = prw_calloc(1, sizeof *set);
-    reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, set);
+    reflectors_find(env->scene, &env->desc->quality, false, set); /* only the count */
     uint32_t count = set->count;
     free(set);
     if (count == 0) return prw_setup_skip(s, "no planar mirror in the scene"), 0;
     if (env->desc->quality.mirror_recursion == 0) return prw_setup_skip(s, "mirror_recursion=0"), 0;
     if (env->desc->quality.supersample > 1) return prw_setup_skip(s, "not with supersampling yet"), 0;
+    /* one term drawn (prw render --term): the reflections are the specular term, k >= 2 paths through the
+     * reflector's specular lobe, in neither the direct nor the indirect-diffuse one */
+    if (env->desc->terms != 0 && env->desc->terms != PRW_TERM_ALL)
+        return prw_setup_skip(s, "one term drawn (--term): reflections are the specular term"), 0;
     return count < max_drawn(env) ? count : max_drawn(env);
 }
 
@@ -252,8 +340,16 @@ static void mirror_setup(prw_setup *s)
 {
     uint32_t n = in_graph(s);
     if (!n) return;
-    prw_image_decl hdr = {.format = prw_pipes_radiance_format(prw_setup_env(s)), .size = PRW_SIZE_INTERNAL};
-    prw_image_decl depth = {.format = PRW_DEPTH_FORMAT, .size = PRW_SIZE_INTERNAL};
+    const prw_render_env *env = prw_setup_env(s);
+    prw_image_decl hdr = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL};
+    double scale = env->desc->quality.mirror_scale;
+    if (scale > 0 && scale < 1) { /* the knob mirror_scale: a smaller image, upsampled by mirror_add */
+        hdr.size = PRW_SIZE_FIXED;
+        hdr.width = (uint32_t)fmax(1.0, round(env->desc->width * scale));
+        hdr.height = (uint32_t)fmax(1.0, round(env->desc->height * scale));
+    }
+    prw_image_decl depth = hdr;
+    depth.format = PRW_DEPTH_FORMAT;
     for (uint32_t k = 0; k < n; k++) {
         prw_setup_image(s, HDR_NAMES[k], &hdr);
         prw_setup_image(s, DEPTH_NAMES[k], &depth);
@@ -276,9 +372,11 @@ static bool mirror_create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     mirror_state *m = prw_calloc(1, sizeof *m);
     *state = m;
-    reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &m->set);
+    reflectors_find(env->scene, &env->desc->quality, env->lm->active, &m->set);
     m->images = m->set.count < max_drawn(env) ? m->set.count : max_drawn(env);
-    m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe};
+    /* lightmapped: the reflected surfaces carry their baked indirect diffuse as in the base pass */
+    m->recipe = (prw_pipe_recipe){.name = "mirror", .layout = env->pipes->base_layout, .describe = mirror_describe,
+                                  .lightmapped = true};
     prw_gpu_image *shadow = prw_graph_image(in->graph, "shadow_map", 0);
     for (uint32_t v = 0; v < env->desc->max_views; v++)
         for (uint32_t k = 0; k < m->images; k++) { /* one globals block per mirror image: each is its own view */
@@ -316,7 +414,7 @@ static bool mirror_needed(const prw_pass_ctx *c, const char **why)
     const mirror_state *m = c->state;
     if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
     int pick[MIRROR_MAX_DRAWN];
-    return reflectors_pick(&m->set, &c->frame->views[c->view], m->images, pick, why) > 0;
+    return reflectors_pick(&m->set, c->env->scene, &c->frame->views[c->view], m->images, pick, why) > 0;
 }
 
 /* Mirror image k of view c->view: the scene reflected in r. */
@@ -366,7 +464,7 @@ static bool mirror_record(prw_pass_ctx *c, prw_error *e)
     mirror_state *m = c->state;
     const char *why;
     int pick[MIRROR_MAX_DRAWN];
-    uint32_t n = reflectors_pick(&m->set, &c->frame->views[c->view], m->images, pick, &why);
+    uint32_t n = reflectors_pick(&m->set, c->env->scene, &c->frame->views[c->view], m->images, pick, &why);
     if (n == 0) return prw_fail(e, "mirror: %s", why);
     for (uint32_t k = 0; k < n; k++)
         if (!mirror_record_one(c, m, &m->set.r[pick[k]], k, e)) return false;
@@ -428,7 +526,7 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     const prw_render_env *env = in->env;
     add_state *a = prw_calloc(1, sizeof *a);
     *state = a;
-    reflectors_find(env->scene, env->desc->quality.glossy_max_roughness, &a->set);
+    reflectors_find(env->scene, &env->desc->quality, env->lm->active, &a->set);
     a->images = a->set.count < max_drawn(env) ? a->set.count : max_drawn(env);
     VkDescriptorSetLayoutBinding b[5] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
@@ -490,7 +588,7 @@ static bool add_needed(const prw_pass_ctx *c, const char **why)
     const add_state *a = c->state;
     if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
     int pick[MIRROR_MAX_DRAWN];
-    return reflectors_pick(&a->set, &c->frame->views[c->view], a->images, pick, why) > 0;
+    return reflectors_pick(&a->set, c->env->scene, &c->frame->views[c->view], a->images, pick, why) > 0;
 }
 
 /* The push constants of reflector r in view v (its glossy split-sum table into dfg). */
@@ -534,7 +632,7 @@ static bool add_record(prw_pass_ctx *c, prw_error *e)
     const prw_view *v = &c->frame->views[c->view];
     const char *why;
     int pick[MIRROR_MAX_DRAWN];
-    uint32_t n = reflectors_pick(&a->set, v, a->images, pick, &why);
+    uint32_t n = reflectors_pick(&a->set, env->scene, v, a->images, pick, &why);
     if (n == 0) return prw_fail(e, "mirror_add: %s", why);
     prw_gpu_image *out = prw_pass_image(c, out_name(env));
     mirror_push pc[MIRROR_MAX_DRAWN];

@@ -105,11 +105,12 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         fs = mv ? prw_shader_mv_base_btf_frag() : gbuf ? prw_shader_gbuf_base_btf_frag() : prw_shader_base_btf_frag();
     }
     bool gi = (k->features & PRW_PIPE_GI) != 0;
-    if (gi && (btf || mv || k->clip || floor || blend || (k->features & PRW_PIPE_COAT)))
-        return prw_fail(e, "render: the light-map shaders have no BTF, multiview, clip-plane, floor, blended or "
-                           "clear-coat variant");
-    if (gi) {
-        vs = ext ? prw_shader_gi_ext_base_vert() : prw_shader_gi_base_vert();
+    if (gi && (btf || mv || floor || blend || (k->features & PRW_PIPE_COAT)))
+        return prw_fail(e, "render: the light-map shaders have no BTF, multiview, floor, blended or clear-coat "
+                           "variant");
+    if (gi) { /* with a clip plane: the mirror image's draws (pass_mirror.c) */
+        vs = k->clip ? (ext ? prw_shader_gi_clip_ext_base_vert() : prw_shader_gi_clip_base_vert())
+                     : (ext ? prw_shader_gi_ext_base_vert() : prw_shader_gi_base_vert());
         fs = ext ? (gbuf ? prw_shader_gi_gbuf_ext_base_frag() : prw_shader_gi_ext_base_frag())
                  : (gbuf ? prw_shader_gi_gbuf_base_frag() : prw_shader_gi_base_frag());
     }
@@ -232,7 +233,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
                               p->storage2_pl, &p->downsample, e) ||
         !prw_pipeline_table_create(p->gpu, &p->table, e))
         return false;
-    p->base = (prw_pipe_recipe){.name = "base", .layout = p->base_layout, .describe = describe_base};
+    p->base = (prw_pipe_recipe){.name = "base", .layout = p->base_layout, .describe = describe_base, .lightmapped = true};
     p->shadow = (prw_pipe_recipe){.name = "shadow", .layout = p->shadow_layout, .describe = describe_shadow};
     return true;
 }

@@ -48,8 +48,9 @@ enum {
     PRW_PIPE_BACK = 8u,   /* with BLEND: front faces culled (a two-sided blended mesh: its far side first) */
     PRW_PIPE_MASK = 16u,  /* shadow recipe: the alpha-tested caster (shadow_mask.vert + mask.frag, material set 1) */
     PRW_PIPE_COAT = 32u,  /* with EXT: the clear-coated shaders (PRW_GLTF_COAT) */
-    PRW_PIPE_GI = 1u << 16, /* base recipe, plain / pre-pass / EQUAL variants, not COAT or BLEND: the light-map
-                               shaders (PRW_GI: gi_lightmap.glsl), bindings 0-2 of lightmap_gpu.h */
+    PRW_PIPE_GI = 1u << 16, /* base recipe (and the clip-plane draws of a lightmapped recipe), plain / pre-pass /
+                               EQUAL variants, not COAT or BLEND: the light-map shaders (PRW_GI:
+                               gi_lightmap.glsl), bindings 0-2 of lightmap_gpu.h */
     PRW_PIPE_LACKS_SHIFT = 6, /* bits 6..: PRW_GPU_MAT_* (prw_constants.h), the base shaders' PRW_SC_MAT: what
                                  the material slot has no texture or lobe for (scene_gpu.h) */
     /* PRW_PIPE_MASK in the base recipe: the material is alpha-tested (its fragments may be discarded) */
@@ -62,6 +63,8 @@ typedef struct prw_pipe_recipe {
     bool (*describe)(const struct prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
                      prw_graphics_desc *d, prw_error *e);
     const void *user;
+    bool lightmapped; /* its colour draws of light-mapped meshes use the light-map shaders (PRW_PIPE_GI):
+                         the base recipe and those drawing the scene as the base pass does (the mirror's) */
 } prw_pipe_recipe;
 
 typedef struct prw_pipes {

@@ -58,6 +58,11 @@ typedef struct prw_quality {
     uint32_t kernel_taps;       /* taps of the glossy reflectors' convolution (pass_mirror.c) */
     uint32_t max_reflectors;    /* planar reflectors (pass_mirror.c): at most this many reflected per view, those
                                    covering the most pixels, each with its own mirror image (1..4) */
+    double mirror_scale;        /* planar reflectors (pass_mirror.c): the mirror images' resolution as a fraction of
+                                   the view's (1, 0.5, 0.25, ...; 0.125..1), upsampled bilinearly where added */
+    double reflection_skip;     /* planar reflectors (pass_mirror.c): a reflector is not reflected in a view when its
+                                   estimated reflection is below this share of its own radiance (Meseth §11.3:
+                                   0.05); 0: always reflected */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */

@@ -1,5 +1,8 @@
 /* term_error — see term_error.h. */
+#include <stdio.h>
 #include <stdlib.h>
+
+#include "prw_gi.h"
 
 #include "prw_metrics.h"
 #include "prw_test.h"
@@ -37,4 +40,19 @@ void masked_error(const prw_image *test, const prw_image *ref, const unsigned ch
     free(map);
     prw_image_free(&t), prw_image_free(&rf), prw_image_free(&tt), prw_image_free(&tr);
     *out = (term_err){n ? rel / (3.0 * (double)n) : 0, n ? fl / (double)n : 0};
+}
+
+void term_bake(const prw_scene *s, uint32_t radiosity_size, uint32_t samples, prw_app_lightmaps **out)
+{
+    *out = NULL;
+    prw_error e = {{0}};
+    bool light = prw_test_light();
+    prw_gi_options o = {.radiosity_size = light ? 32 : radiosity_size, .samples = light ? 8 : samples, .seed = 7,
+                        .filter_radius = PRW_GI_DEFAULT_FILTER_RADIUS};
+    prw_gi_bake *b = NULL;
+    prw_gi_result gr;
+    CHECK_OK(prw_gi_run(s, &o, true, NULL, NULL, &b, &gr, &e), &e);
+    printf("bake: radiosity_size %u, %u samples, texel %.4f m, %u atlases, %.1f s\n", o.radiosity_size, o.samples,
+           b->texel_size, b->atlas_count, gr.seconds_total);
+    CHECK_OK(prw_app_lightmaps_from_bake(s, b, out, &e), &e);
 }
