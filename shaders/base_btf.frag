@@ -35,6 +35,13 @@ layout(std140, set = 1, binding = 0) uniform prw_material_block {
 } mat;
 layout(std430, set = 1, binding = 8) readonly buffer prw_btf_words { uint btf_blob[]; };
 #define PRW_BTF_BLOB(i) btf_blob[i]
+// the same words as RGBA16F texels: an RGB entry in one vector fetch (a storage-buffer load is a loop
+// over the lanes on lavapipe)
+layout(set = 1, binding = 9) uniform samplerBuffer btf_rgb_texels;
+#define PRW_BTF_RGB(e) texelFetch(btf_rgb_texels, int(e)).rgb
+// the slot's codec (engine/render/scene_gpu.c puts it where the glTF kind's PRW_SC_MAT says what it lacks)
+layout(constant_id = PRW_SC_MAT) const uint prw_btf_codec_sc = 0u;
+#define PRW_BTF_CODEC prw_btf_codec_sc
 #include "btf_eval.glsl"
 #include "btf_lights.glsl"
 

@@ -49,34 +49,46 @@ static uint32_t put_table(prw_btf_gpu_words *a, const prw_btf_dirtab *t)
     uint32_t inv = put32(a, t->tri_inv, (uint64_t)9 * t->tri_count);
     uint32_t vert = put32(a, t->tri_vert, (uint64_t)3 * t->tri_count);
     uint32_t cs = put32(a, t->cos_theta, t->count);
-    uint32_t grid = grow(a, PRW_BTF_GRID_T * PRW_BTF_GRID_P); /* no grid: try triangle 0 first, as the C side */
-    if (t->grid) memcpy(a->w + grid, t->grid, sizeof(uint32_t) * PRW_BTF_GRID_T * PRW_BTF_GRID_P);
+    uint32_t grid = grow(a, PRW_BTF_GRID_WORDS); /* no grid: triangle 0 as every candidate, as the C side */
+    if (t->grid) memcpy(a->w + grid, t->grid, sizeof(uint32_t) * PRW_BTF_GRID_WORDS);
     uint32_t h[5] = {t->tri_count, inv, vert, cs, grid};
     memcpy(a->w + at, h, sizeof h);
     return at;
 }
 
+/* The RGB rows (prw_btf_gpu.h): entry (row, col) = halves (v[src(c)] for c = 0..2, 0) at 2 words each.
+ * A row of `cols` entries holds channel triples that lie at stride 3 in the codec array. */
+static void put_rgb_row(prw_btf_gpu_words *a, uint32_t at, uint64_t row, uint64_t cols, const uint16_t *v, uint64_t first,
+                        uint64_t step)
+{
+    uint32_t *w = a->w + at + 2 * row * cols;
+    for (uint64_t col = 0; col < cols; col++) {
+        const uint16_t *q = v + first + col * 3 * step;
+        w[2 * col] = (uint32_t)q[0] | (uint32_t)q[step] << 16;
+        w[2 * col + 1] = q[2 * step];
+    }
+}
+
 bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *a, uint32_t *offset, prw_error *e)
 {
     const prw_btf_packed *p = &m->p;
-    uint64_t D = (uint64_t)p->views * p->lights * 3, N = (uint64_t)p->width * p->height, k = p->components;
-    uint64_t nu = 0, nw = 0, nm = 0, nb = 0, ni = 0, M = 0;
-    if (p->codec == PRW_BTF_CODEC_FMF) nu = D * k, nw = N * k;
+    uint64_t P = (uint64_t)p->views * p->lights, D = P * 3, N = (uint64_t)p->width * p->height, k = p->components;
+    uint64_t nw = 0, ni = 0, M = 0, rows = 0, cols = P;
+    if (p->codec == PRW_BTF_CODEC_FMF) nw = N * k, rows = k;
     else if (p->codec == PRW_BTF_CODEC_CLUSTER || p->codec == PRW_BTF_CODEC_SPARSE)
-        nw = N * k, nm = (uint64_t)p->clusters * D, nb = (uint64_t)p->clusters * k * D, ni = N;
-    else nw = p->views * N * k, nm = (uint64_t)p->views * p->lights * 3, nb = p->views * k * p->lights * 3;
+        nw = N * k, ni = N, rows = (uint64_t)p->clusters * (k + 1);
+    else nw = p->views * N * k, rows = (uint64_t)p->views * (k + 1), cols = p->lights;
     if (p->codec == PRW_BTF_CODEC_SPARSE) M = p->sparse_count;
-    /* the codec arrays (halves two per word), then at most two tables of <= 2 x 512 triangles (12 words
-     * each), 256 cosines and the grid */
-    uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_T * PRW_BTF_GRID_P;
-    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nu + nw + nm + nb + 4 * M) / 2 + 6 + ni + (N + 1) + 2 * table;
+    /* the codec arrays (halves two per word; RGB entries two words), then at most two tables of <= 2 x 512
+     * triangles (12 words each), 256 cosines and the grid */
+    uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_WORDS;
+    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nw + 4 * M) / 2 + 8 + ni + (N + 1) + 2 * rows * cols + 2 * table;
+    if (k > PRW_BTF_GPU_KMAX)
+        return prw_fail(e, "%s: %u components: the base pass holds at most %u", name, p->components, PRW_BTF_GPU_KMAX);
     if (need >= (1ull << 31)) return prw_fail(e, "%s: %llu words do not fit one GPU buffer", name, (unsigned long long)need);
     uint32_t at = grow(a, PRW_BTF_GPU_HEADER);
     uint32_t h[PRW_BTF_GPU_HEADER] = {(uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters};
-    h[7] = put16(a, p->u, nu);
     h[8] = put16(a, p->w, nw);
-    h[9] = put16(a, p->mean, nm);
-    h[10] = put16(a, p->basis, nb);
     h[11] = put32(a, p->index, ni);
     if (p->codec == PRW_BTF_CODEC_SPARSE) {
         h[12] = put32(a, p->sp_start, N + 1);
@@ -85,6 +97,19 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
     }
     h[15] = put_table(a, &m->views);
     h[16] = m->shared ? h[15] : put_table(a, &m->lights);
+    if (a->count & 1) grow(a, 1); /* entries start at an even word */
+    uint32_t rgb = grow(a, (size_t)(2 * rows * cols));
+    for (uint64_t r = 0; r < rows; r++) {
+        if (p->codec == PRW_BTF_CODEC_FMF) put_rgb_row(a, rgb, r, cols, p->u, r, k); /* U[d][r], d = col * 3 + c */
+        else if (p->codec == PRW_BTF_CODEC_PVF) {
+            uint64_t v = r / (k + 1), j = r % (k + 1), E = cols * 3; /* M[v][e], B[v][j - 1][e], e = col * 3 + c */
+            put_rgb_row(a, rgb, r, cols, j == 0 ? p->mean : p->basis, j == 0 ? v * E : (v * k + j - 1) * E, 1);
+        } else {
+            uint64_t i = r / (k + 1), j = r % (k + 1); /* M[i][d], B[i][j - 1][d] */
+            put_rgb_row(a, rgb, r, cols, j == 0 ? p->mean : p->basis, j == 0 ? i * D : (i * k + j - 1) * D, 1);
+        }
+    }
+    h[17] = rgb / 2, h[18] = (uint32_t)cols;
     memcpy(a->w + at, h, sizeof h);
     *offset = at;
     return true;

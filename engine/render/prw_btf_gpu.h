@@ -4,16 +4,22 @@
  * Promises:
  *  - prw_btf_gpu_pack appends material m at the end of *words (a growing array, freed by the caller
  *    with free()) and returns the word offset of its header: several materials share one buffer.
- *  - The layout (offsets are absolute word indices into the whole array):
+ *  - The layout (offsets are absolute word indices into the whole array; 0: absent):
  *      header (PRW_BTF_GPU_HEADER words): codec, width, height, views, lights, components, clusters,
- *        u, w, mean, basis, index, sp_start, sp_pair, sp_val (offsets of the codec arrays; 0: absent),
- *        view table, light table (offsets of direction tables; equal when the sets are shared);
+ *        -, w, -, -, index, sp_start, sp_pair, sp_val (offsets of the per-texel arrays), view table,
+ *        light table (offsets of direction tables; equal when the sets are shared), rgb (offset of the
+ *        RGB rows in entries of 2 words), cols (entries per RGB row);
  *      direction table (5 words): triangle count, offsets of tri_inv (floats), tri_vert, cos_theta
- *        (floats), grid (PRW_BTF_GRID_T x PRW_BTF_GRID_P words);
- *      halves (u, w, mean, basis, sp_val) and sp_pair's u16 two per word, the lower first; floats as
- *      their bits.  Values equal the C material's to the bit, so btf_eval.glsl decodes what
- *      prw_btf_material_eval decodes.
- *  - Fails (naming `name`) when the array would pass 2^31 words.
+ *        (floats), grid (PRW_BTF_GRID_WORDS words);
+ *      halves (w, sp_val) and sp_pair's u16 two per word, the lower first; floats as their bits;
+ *      the RGB rows: the codec's direction-side arrays with a direction's 3 channels in one entry
+ *        (halves R, G in the first word, B and 0 in the second): FMF row j = U[.][j] over the
+ *        direction pairs; CLUSTER / SPARSE row i (K + 1) = M[i], row i (K + 1) + 1 + j = B[i][j] over
+ *        the pairs; PVF row v (K + 1) = M[v], v (K + 1) + 1 + j = B[v][j] over the lights (K components).
+ *    Values equal the C material's to the bit, so btf_eval.glsl decodes what prw_btf_material_eval
+ *    decodes, in its order of operations.
+ *  - Fails (naming `name`) when the array would pass 2^31 words or the material has more than
+ *    PRW_BTF_GPU_KMAX components (what btf_eval.glsl holds per texel).
  */
 #ifndef PRW_BTF_GPU_H
 #define PRW_BTF_GPU_H
@@ -25,6 +31,7 @@
 #include "prw_core.h"
 
 #define PRW_BTF_GPU_HEADER 20u
+#define PRW_BTF_GPU_KMAX 16u /* btf_eval.glsl PRW_BTF_KMAX */
 
 typedef struct prw_btf_gpu_words {
     uint32_t *w;
