@@ -39,9 +39,12 @@ layout(std430, set = 1, binding = 8) readonly buffer prw_btf_words { uint btf_bl
 // over the lanes on lavapipe)
 layout(set = 1, binding = 9) uniform samplerBuffer btf_rgb_texels;
 #define PRW_BTF_RGB(e) texelFetch(btf_rgb_texels, int(e)).rgb
-// the slot's codec (engine/render/scene_gpu.c puts it where the glTF kind's PRW_SC_MAT says what it lacks)
-layout(constant_id = PRW_SC_MAT) const uint prw_btf_codec_sc = 0u;
-#define PRW_BTF_CODEC prw_btf_codec_sc
+// the slot's codec and component count (prw_btf_gpu_spec, engine/render/scene_gpu.c puts it where the
+// glTF kind's PRW_SC_MAT says what it lacks): (codec - 1) | (components + 1) << 2, or just the codec
+// (components + 1 = 0: read from the words)
+layout(constant_id = PRW_SC_MAT) const uint prw_btf_sc = 0u;
+#define PRW_BTF_CODEC ((prw_btf_sc & 3u) + 1u)
+#define PRW_BTF_K1 (prw_btf_sc >> 2u)
 #include "btf_eval.glsl"
 #include "btf_lights.glsl"
 

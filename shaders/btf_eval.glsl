@@ -22,6 +22,11 @@ struct BtfHeader {
 #ifndef PRW_BTF_CODEC
 #define PRW_BTF_CODEC 0u
 #endif
+// Likewise the components + 1 (PRW_BTF_K1; 0: the header's): constant loop counts unroll, and the
+// per-texel components then sit in registers instead of a dynamically indexed array.
+#ifndef PRW_BTF_K1
+#define PRW_BTF_K1 0u
+#endif
 #define PRW_BTF_KMAX 16u // components held per texel in btf_px (PRW_BTF_GPU_KMAX, prw_btf_gpu.h)
 
 float btf_half(uint base, uint i)
@@ -50,7 +55,7 @@ BtfHeader btf_header(uint m)
     BtfHeader H;
     H.codec = PRW_BTF_CODEC != 0u ? PRW_BTF_CODEC : PRW_BTF_BLOB(m);
     H.width = PRW_BTF_BLOB(m + 1u), H.height = PRW_BTF_BLOB(m + 2u);
-    H.views = PRW_BTF_BLOB(m + 3u), H.lights = PRW_BTF_BLOB(m + 4u), H.k = min(PRW_BTF_BLOB(m + 5u), PRW_BTF_KMAX);
+    H.views = PRW_BTF_BLOB(m + 3u), H.lights = PRW_BTF_BLOB(m + 4u), H.k = PRW_BTF_K1 != 0u ? PRW_BTF_K1 - 1u : min(PRW_BTF_BLOB(m + 5u), PRW_BTF_KMAX);
     H.clusters = PRW_BTF_BLOB(m + 6u), H.w = PRW_BTF_BLOB(m + 8u), H.index = PRW_BTF_BLOB(m + 11u);
     H.sp_start = PRW_BTF_BLOB(m + 12u), H.sp_pair = PRW_BTF_BLOB(m + 13u), H.sp_val = PRW_BTF_BLOB(m + 14u);
     H.rgb = PRW_BTF_BLOB(m + 17u), H.cols = PRW_BTF_BLOB(m + 18u);

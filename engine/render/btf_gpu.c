@@ -114,3 +114,9 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
     *offset = at;
     return true;
 }
+
+uint32_t prw_btf_gpu_spec(const prw_btf_packed *p)
+{
+    uint32_t c = ((uint32_t)p->codec - 1u) & 3u;
+    return p->components <= 14 ? c | (p->components + 1u) << 2 : c;
+}

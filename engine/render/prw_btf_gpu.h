@@ -38,6 +38,10 @@ typedef struct prw_btf_gpu_words {
     size_t count, cap;
 } prw_btf_gpu_words;
 
+/* The base pass's specialisation of a BTF slot (6 bits, base_btf.frag): (codec - 1) | (components + 1) << 2
+ * when the components are at most 14, else (codec - 1) (the components read from the words). */
+uint32_t prw_btf_gpu_spec(const prw_btf_packed *p);
+
 bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *words, uint32_t *offset,
                       prw_error *e);
 

@@ -187,7 +187,7 @@ static bool upload_btfs(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, uint
         }
         prw_btf_material bm;
         ok = prw_btf_material_load(m->btf_file, &bm, e) && prw_btf_gpu_pack(&bm, m->btf_file, &words, &offsets[i], e);
-        if (ok) avg[i] = bm.p.average, has_avg[i] = bm.p.has_average, codec[i] = (uint32_t)bm.p.codec;
+        if (ok) avg[i] = bm.p.average, has_avg[i] = bm.p.has_average, codec[i] = prw_btf_gpu_spec(&bm.p);
         prw_btf_material_free(&bm);
         if (!ok) prw_fail_wrap(e, "%s: material '%s'", s->source, m->name);
         else r->btf_materials++;
