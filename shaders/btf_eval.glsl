@@ -35,11 +35,12 @@ float btf_half(uint base, uint i)
     return (i & 1u) == 0u ? h.x : h.y;
 }
 
-// entry e of the RGB rows (prw_btf_gpu.h); the includer may define PRW_BTF_RGB(e) (e.g. a texel buffer
-// over the same words) instead of the two word loads
-#ifndef PRW_BTF_RGB
-#define PRW_BTF_RGB(e) vec3(unpackHalf2x16(PRW_BTF_BLOB(2u * (e))), unpackHalf2x16(PRW_BTF_BLOB(2u * (e) + 1u)).x)
+// 4-word texel e of the RGB blocks (prw_btf_gpu.h); the includer may define PRW_BTF_BLOCK(e) (e.g. a
+// texel buffer over the same words: one vector fetch) instead of the four word loads
+#ifndef PRW_BTF_BLOCK
+#define PRW_BTF_BLOCK(e) uvec4(PRW_BTF_BLOB(4u * (e)), PRW_BTF_BLOB(4u * (e) + 1u), PRW_BTF_BLOB(4u * (e) + 2u), PRW_BTF_BLOB(4u * (e) + 3u))
 #endif
+#define PRW_BTF_BMAX ((3u * (PRW_BTF_KMAX + 1u) + 7u) / 8u) // texels of the largest block
 
 // a direction table: the offsets of its tri_inv, tri_vert, cos_theta, grid (read once, btf_header)
 #define PRW_BTF_DT_PARAMS uvec4 dt,
@@ -112,28 +113,35 @@ vec3 btf_sparse_residual(BtfHeader H, uint p, uint t)
     return vec3(0.0);
 }
 
-// The RGB value of texel slot q at view v, light l: prw_btf_decode.h's formulas on the RGB rows, each
+// The RGB value of texel slot q at view v, light l: prw_btf_decode.h's formulas on the RGB blocks, each
 // channel summed in its order (component 0 first), so the values equal prw_btf_packed_value's.
 vec3 btf_rgb(btf_px X, uint q, uint v, uint l)
 {
     BtfHeader H = X.H;
-    uint p = v * H.lights + l;
+    uint p = v * H.lights + l, R = H.codec == 1u ? H.k : H.k + 1u, B = (3u * R + 7u) / 8u;
+    uint g = H.codec == 1u ? 0u : H.codec == 3u ? v : X.ci[q], col = H.codec == 3u ? l : p;
+    uint base = H.rgb + (g * H.cols + col) * B;
+    float h[8u * PRW_BTF_BMAX];
+    for (uint b = 0u; b < B; b++) {
+        uvec4 u = PRW_BTF_BLOCK(base + b);
+        vec2 h0 = unpackHalf2x16(u.x), h1 = unpackHalf2x16(u.y), h2 = unpackHalf2x16(u.z), h3 = unpackHalf2x16(u.w);
+        h[8u * b] = h0.x, h[8u * b + 1u] = h0.y, h[8u * b + 2u] = h1.x, h[8u * b + 3u] = h1.y;
+        h[8u * b + 4u] = h2.x, h[8u * b + 5u] = h2.y, h[8u * b + 6u] = h3.x, h[8u * b + 7u] = h3.y;
+    }
     if (H.codec == 1u) { // FMF: sum_j U[d][j] W[t][j]
         vec3 s = vec3(0.0);
-        for (uint j = 0u; j < H.k; j++) s += PRW_BTF_RGB(H.rgb + j * H.cols + p) * X.W[q * PRW_BTF_KMAX + j];
+        for (uint j = 0u; j < H.k; j++) s += vec3(h[3u * j], h[3u * j + 1u], h[3u * j + 2u]) * X.W[q * PRW_BTF_KMAX + j];
         return s;
     }
+    vec3 s = vec3(h[0], h[1], h[2]); // M
     if (H.codec == 3u) { // PVF: M[v][e] + sum_j W[v][t][j] B[v][j][e]
-        uint row = v * (H.k + 1u), N = H.width * H.height;
-        vec3 s = PRW_BTF_RGB(H.rgb + row * H.cols + l);
+        uint N = H.width * H.height;
         for (uint j = 0u; j < H.k; j++)
-            s += btf_half(H.w, (v * N + X.t[q]) * H.k + j) * PRW_BTF_RGB(H.rgb + (row + 1u + j) * H.cols + l);
+            s += btf_half(H.w, (v * N + X.t[q]) * H.k + j) * vec3(h[3u * j + 3u], h[3u * j + 4u], h[3u * j + 5u]);
         return s;
     }
     // CLUSTER, SPARSE: M[i][d] + sum_j W[t][j] B[i][j][d]
-    uint row = X.ci[q] * (H.k + 1u);
-    vec3 s = PRW_BTF_RGB(H.rgb + row * H.cols + p);
-    for (uint j = 0u; j < H.k; j++) s += X.W[q * PRW_BTF_KMAX + j] * PRW_BTF_RGB(H.rgb + (row + 1u + j) * H.cols + p);
+    for (uint j = 0u; j < H.k; j++) s += X.W[q * PRW_BTF_KMAX + j] * vec3(h[3u * j + 3u], h[3u * j + 4u], h[3u * j + 5u]);
     if (H.codec == 4u) s += btf_sparse_residual(H, p, X.t[q]);
     return s;
 }

@@ -56,17 +56,17 @@ static uint32_t put_table(prw_btf_gpu_words *a, const prw_btf_dirtab *t)
     return at;
 }
 
-/* The RGB rows (prw_btf_gpu.h): entry (row, col) = halves (v[src(c)] for c = 0..2, 0) at 2 words each.
- * A row of `cols` entries holds channel triples that lie at stride 3 in the codec array. */
-static void put_rgb_row(prw_btf_gpu_words *a, uint32_t at, uint64_t row, uint64_t cols, const uint16_t *v, uint64_t first,
-                        uint64_t step)
+/* Block (g, col) of the RGB blocks (prw_btf_gpu.h): the R rows' channel triples, row r channel c at half
+ * 3 r + c, 8 halves per 4-word texel; row r of group g is src[r], whose channel triples lie at stride 3
+ * (channel step `step`) from first[r]. */
+static void put_block(uint32_t *w, uint64_t col, uint32_t R, const uint16_t *const *src, const uint64_t *first,
+                      uint64_t step)
 {
-    uint32_t *w = a->w + at + 2 * row * cols;
-    for (uint64_t col = 0; col < cols; col++) {
-        const uint16_t *q = v + first + col * 3 * step;
-        w[2 * col] = (uint32_t)q[0] | (uint32_t)q[step] << 16;
-        w[2 * col + 1] = q[2 * step];
-    }
+    for (uint32_t r = 0; r < R; r++)
+        for (uint32_t c = 0; c < 3; c++) {
+            uint32_t h = 3 * r + c;
+            w[h / 2] |= (uint32_t)src[r][first[r] + col * 3 * step + c * step] << (16 * (h & 1));
+        }
 }
 
 bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *a, uint32_t *offset, prw_error *e)
@@ -82,7 +82,7 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
     /* the codec arrays (halves two per word; RGB entries two words), then at most two tables of <= 2 x 512
      * triangles (12 words each), 256 cosines and the grid */
     uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_WORDS;
-    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nw + 4 * M) / 2 + 8 + ni + (N + 1) + 2 * rows * cols + 2 * table;
+    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nw + 4 * M) / 2 + 8 + ni + (N + 1) + 6 * rows * cols + 4 + 2 * table;
     if (k > PRW_BTF_GPU_KMAX)
         return prw_fail(e, "%s: %u components: the base pass holds at most %u", name, p->components, PRW_BTF_GPU_KMAX);
     if (need >= (1ull << 31)) return prw_fail(e, "%s: %llu words do not fit one GPU buffer", name, (unsigned long long)need);
@@ -97,19 +97,24 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
     }
     h[15] = put_table(a, &m->views);
     h[16] = m->shared ? h[15] : put_table(a, &m->lights);
-    if (a->count & 1) grow(a, 1); /* entries start at an even word */
-    uint32_t rgb = grow(a, (size_t)(2 * rows * cols));
-    for (uint64_t r = 0; r < rows; r++) {
-        if (p->codec == PRW_BTF_CODEC_FMF) put_rgb_row(a, rgb, r, cols, p->u, r, k); /* U[d][r], d = col * 3 + c */
-        else if (p->codec == PRW_BTF_CODEC_PVF) {
-            uint64_t v = r / (k + 1), j = r % (k + 1), E = cols * 3; /* M[v][e], B[v][j - 1][e], e = col * 3 + c */
-            put_rgb_row(a, rgb, r, cols, j == 0 ? p->mean : p->basis, j == 0 ? v * E : (v * k + j - 1) * E, 1);
-        } else {
-            uint64_t i = r / (k + 1), j = r % (k + 1); /* M[i][d], B[i][j - 1][d] */
-            put_rgb_row(a, rgb, r, cols, j == 0 ? p->mean : p->basis, j == 0 ? i * D : (i * k + j - 1) * D, 1);
+    /* the RGB blocks: groups (clusters, views, or one) of R rows */
+    uint32_t R = (uint32_t)(p->codec == PRW_BTF_CODEC_FMF ? k : k + 1), B = (3 * R + 7) / 8;
+    uint64_t groups = rows / R;
+    while (a->count & 3) grow(a, 1); /* blocks start at a multiple of 4 words */
+    uint32_t blk = grow(a, (size_t)(4 * B * groups * cols));
+    const uint16_t *src[PRW_BTF_GPU_KMAX + 1];
+    uint64_t first[PRW_BTF_GPU_KMAX + 1];
+    for (uint64_t g = 0; g < groups; g++) {
+        uint64_t step = 1;
+        for (uint32_t r = 0; r < R; r++) {
+            if (p->codec == PRW_BTF_CODEC_FMF) src[r] = p->u, first[r] = r, step = k; /* U[d][r], d = col * 3 + c */
+            else if (p->codec == PRW_BTF_CODEC_PVF) /* M[v][e], B[v][r - 1][e], e = col * 3 + c */
+                src[r] = r ? p->basis : p->mean, first[r] = r ? (g * k + r - 1) * cols * 3 : g * cols * 3;
+            else src[r] = r ? p->basis : p->mean, first[r] = r ? (g * k + r - 1) * D : g * D; /* M[i][d], B[i][r - 1][d] */
         }
+        for (uint64_t col = 0; col < cols; col++) put_block(a->w + blk + 4 * B * (g * cols + col), col, R, src, first, step);
     }
-    h[17] = rgb / 2, h[18] = (uint32_t)cols;
+    h[17] = blk / 4, h[18] = (uint32_t)cols;
     memcpy(a->w + at, h, sizeof h);
     *offset = at;
     return true;

@@ -7,15 +7,17 @@
  *  - The layout (offsets are absolute word indices into the whole array; 0: absent):
  *      header (PRW_BTF_GPU_HEADER words): codec, width, height, views, lights, components, clusters,
  *        -, w, -, -, index, sp_start, sp_pair, sp_val (offsets of the per-texel arrays), view table,
- *        light table (offsets of direction tables; equal when the sets are shared), rgb (offset of the
- *        RGB rows in entries of 2 words), cols (entries per RGB row);
+ *        light table (offsets of direction tables; equal when the sets are shared), blocks (offset of
+ *        the RGB blocks in 4-word texels), cols (blocks per group);
  *      direction table (5 words): triangle count, offsets of tri_inv (floats), tri_vert, cos_theta
  *        (floats), grid (PRW_BTF_GRID_WORDS words);
  *      halves (w, sp_val) and sp_pair's u16 two per word, the lower first; floats as their bits;
- *      the RGB rows: the codec's direction-side arrays with a direction's 3 channels in one entry
- *        (halves R, G in the first word, B and 0 in the second): FMF row j = U[.][j] over the
- *        direction pairs; CLUSTER / SPARSE row i (K + 1) = M[i], row i (K + 1) + 1 + j = B[i][j] over
- *        the pairs; PVF row v (K + 1) = M[v], v (K + 1) + 1 + j = B[v][j] over the lights (K components).
+ *      the RGB blocks: the codec's direction-side arrays, for each group g and column: the R rows'
+ *        channel triples in ceil(3 R / 8) 4-word texels (row r channel c at half 3 r + c, two halves a
+ *        word, the lower first; the rest 0), block (g, col) at texel blocks + (g cols + col) ceil(3 R / 8).
+ *        FMF: one group, rows U[.][j] (R = K), columns the direction pairs; CLUSTER / SPARSE: group i,
+ *        rows M[i], B[i][0..K-1] (R = K + 1), columns the pairs; PVF: group v, rows M[v], B[v][0..K-1],
+ *        columns the lights (K components).  One fetch of a 4 x 32-bit texel brings 8 halves.
  *    Values equal the C material's to the bit, so btf_eval.glsl decodes what prw_btf_material_eval
  *    decodes, in its order of operations.
  *  - Fails (naming `name`) when the array would pass 2^31 words or the material has more than

@@ -199,8 +199,8 @@ static bool upload_btfs(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, uint
                                  PRW_MEM_GPU, &r->btf, e);
     if (ok && words.count) ok = prw_buffer_upload(gpu, &r->btf, 0, words.w, bytes, e);
     VkBufferViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO, .buffer = r->btf.buffer,
-                                 .format = VK_FORMAT_R16G16B16A16_SFLOAT, .range = bytes / 8 * 8};
-    if (ok && bytes / 8 > prw_gpu_properties(gpu)->limits.maxTexelBufferElements)
+                                 .format = VK_FORMAT_R32G32B32A32_UINT, .range = bytes / 16 * 16};
+    if (ok && bytes / 16 > prw_gpu_properties(gpu)->limits.maxTexelBufferElements)
         ok = prw_fail(e, "%s: the BTF materials take %zu bytes, more than the device's texel buffers hold", s->source, bytes);
     if (ok) ok = prw_vk_check(vkCreateBufferView(prw_gpu_device(gpu), &vi, NULL, &r->btf_rgb), "render: BTF buffer view", e);
     free(words.w);
