@@ -128,14 +128,17 @@ int prw_cmd_btf_bench(int argc, char **argv)
     double *tb = prw_calloc((size_t)pairs, sizeof *tb), *ta = prw_calloc((size_t)pairs, sizeof *ta);
     int rc = 1;
     uint32_t nbtf = 0;
-    if (!prw_app_load_renderable(path, &sb, &e) || !prw_app_load_renderable(path, &sa, &e) ||
-        !prw_app_load_renderable(path, &sm, &e))
-        goto done;
+    if (!prw_app_load_renderable(path, &sb, &e)) goto done;
     for (uint32_t i = 0; i < sb->material_count; i++) nbtf += sb->materials[i].kind == PRW_MATERIAL_BTF;
     if (!nbtf) {
         prw_fail(&e, "%s: no BTF material", sb->source);
         goto done;
     }
+    prw_log_level lvl = prw_log_get_level(); /* the two copies: the loader's notes once is enough */
+    if (lvl > PRW_LOG_WARN) prw_log_set_level(PRW_LOG_WARN);
+    bool loaded = prw_app_load_renderable(path, &sa, &e) && prw_app_load_renderable(path, &sm, &e);
+    prw_log_set_level(lvl);
+    if (!loaded) goto done;
     if (!to_analytic(sa, &e)) goto done;
     to_mask(sm);
     int cam = prw_scene_find_camera(sb, camera);
