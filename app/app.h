@@ -61,6 +61,7 @@ int prw_cmd_tmbench(int argc, char **argv);
 int prw_cmd_bake(int argc, char **argv);
 int prw_cmd_cache(int argc, char **argv);
 int prw_cmd_btf_compress(int argc, char **argv);
+int prw_cmd_btf_bench(int argc, char **argv);
 
 /* The demo job: a window when a display exists, else a headless render to files. */
 int prw_run_demo(void);

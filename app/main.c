@@ -30,6 +30,7 @@ static void usage(FILE *f)
             "  bake MODEL      build / cache the LOD hierarchy of a trimmed-NURBS model (.igs, .iges, .json)\n"
             "  cache clear [KIND]  remove cached entries (LOD hierarchies, references, ...); rebuilt on demand\n"
             "  btf-compress    compress a BTF (synthetic or a Bonn binary) by each codec point: size against error\n"
+            "  btf-bench [SCENE]  frame time with the BTF materials over their fitted analytic averages, interleaved\n"
             "  SCENE is a manifest (.json), a model (.gltf, .glb, .igs, .iges) or 'demo' (the default).  'prw COMMAND --help' for options.\n"
             "\n"
             "global options:\n"
@@ -128,6 +129,7 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "bake") == 0) return prw_cmd_bake(sub_argc, sub_argv);
     if (strcmp(cmd, "cache") == 0) return prw_cmd_cache(sub_argc, sub_argv);
     if (strcmp(cmd, "btf-compress") == 0) return prw_cmd_btf_compress(sub_argc, sub_argv);
+    if (strcmp(cmd, "btf-bench") == 0) return prw_cmd_btf_bench(sub_argc, sub_argv);
     if (strcmp(cmd, "help") == 0) {
         usage(stdout);
         return 0;

@@ -35,6 +35,16 @@ layout(std140, set = 1, binding = 0) uniform prw_material_block {
 } mat;
 layout(std430, set = 1, binding = 8) readonly buffer prw_btf_words { uint btf_blob[]; };
 #define PRW_BTF_BLOB(i) btf_blob[i]
+// the same words as 4 x 32-bit texels: 8 halves of an RGB block in one vector fetch (a storage-buffer
+// load is a loop over the lanes on lavapipe)
+layout(set = 1, binding = 9) uniform usamplerBuffer btf_block_texels;
+#define PRW_BTF_BLOCK(e) texelFetch(btf_block_texels, int(e))
+// the slot's codec and component count (prw_btf_gpu_spec, engine/render/scene_gpu.c puts it where the
+// glTF kind's PRW_SC_MAT says what it lacks): (codec - 1) | (components + 1) << 2, or just the codec
+// (components + 1 = 0: read from the words)
+layout(constant_id = PRW_SC_MAT) const uint prw_btf_sc = 0u;
+#define PRW_BTF_CODEC ((prw_btf_sc & 3u) + 1u)
+#define PRW_BTF_K1 (prw_btf_sc >> 2u)
 #include "btf_eval.glsl"
 #include "btf_lights.glsl"
 

@@ -19,7 +19,7 @@ struct btf_frame {
 
 vec3 btf_to_local(btf_frame F, vec3 d) { return vec3(dot(d, F.t), dot(d, F.b), dot(d, F.n)); }
 
-vec3 btf_light_one(uint m, btf_frame F, vec3 vl, prw_gpu_light L, int type, bool shadowed, bool may_be_cube, vec3 p,
+vec3 btf_light_one(btf_px X, btf_frame F, prw_gpu_light L, int type, bool shadowed, bool may_be_cube, vec3 p,
                    float shadow_offset)
 {
     vec3 l;
@@ -37,23 +37,23 @@ vec3 btf_light_one(uint m, btf_frame F, vec3 vl, prw_gpu_light L, int type, bool
         punctual_incidence(L, type, p, l, E);
         if (dot(F.n, l) <= 0.0 || E <= 0.0) return vec3(0.0);
     }
-    vec3 f = max(btf_eval(m, F.xy, vl, btf_to_local(F, l)), vec3(0.0)); // codec ringing below 0: no light
+    vec3 f = max(btf_eval_light(X, btf_to_local(F, l)), vec3(0.0)); // codec ringing below 0: no light
     return f * L.radiance.rgb * E * (shadowed ? shadow_factor(L, p, F.n, shadow_offset, may_be_cube) : 1.0);
 }
 
 void prw_btf_direct_light(inout vec3 radiance, uint m, btf_frame F, vec3 p, vec3 v, float shadow_offset)
 {
-    vec3 vl = btf_to_local(F, v);
+    btf_px X = btf_setup(m, F.xy, btf_to_local(F, v)); // the view's directions and the texels: once
     if (prw_lights_sorted) {
         for (int i = 0; i < PRW_N_LIGHTS; i++)
-            radiance += btf_light_one(m, F, vl, g.lights[i], PRW_SLOT_RECT(i) ? PRW_GPU_LIGHT_RECT : int(g.lights[i].pos_type.w),
+            radiance += btf_light_one(X, F, g.lights[i], PRW_SLOT_RECT(i) ? PRW_GPU_LIGHT_RECT : int(g.lights[i].pos_type.w),
                                       PRW_SLOT_SHADOWED(i), PRW_SLOT_CUBE(i), p, shadow_offset);
         return;
     }
     int count = int(g.params.x);
     for (int i = 0; i < count; i++) {
         prw_gpu_light L = g.lights[i];
-        radiance += btf_light_one(m, F, vl, L, int(L.pos_type.w), L.cone_shadow.z >= 0.0, true, p, shadow_offset);
+        radiance += btf_light_one(X, F, L, int(L.pos_type.w), L.cone_shadow.z >= 0.0, true, p, shadow_offset);
     }
 }
 

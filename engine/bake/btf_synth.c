@@ -382,3 +382,17 @@ bool prw_btf_synthesize(const prw_btf_synth_params *p, prw_btf *out, prw_error *
     if (!ok) prw_btf_free(out);
     return ok;
 }
+
+bool prw_btf_synth_scene(prw_btf_synth_kind kind, uint32_t size, double texel_m, uint64_t seed, double x0, double x1,
+                         double y0, double y1, prw_scene **out, prw_error *e)
+{
+    *out = NULL;
+    if (kind >= PRW_BTF_SYNTH_COUNT) return prw_fail(e, "btf synth: unknown preset %d", (int)kind);
+    if (size < 1 || !(texel_m > 0) || !(x1 > x0) || !(y1 > y0) || (x1 - x0) * (y1 - y0) > 1e6)
+        return prw_fail(e, "btf synth: scene of size %u, texel %g m, window [%g, %g] x [%g, %g]: out of range", size, texel_m,
+                        x0, x1, y0, y1);
+    geo g = {.kind = kind, .seed = seed, .size = size};
+    g.top = kind == PRW_BTF_SYNTH_FABRIC ? 3.0 : kind == PRW_BTF_SYNTH_LEATHER ? 0.6 : kind == PRW_BTF_SYNTH_FLAKES ? 0.3 : 0.0;
+    *out = sample_scene(&g, x0, x1, y0, y1, texel_m, e);
+    return *out != NULL;
+}

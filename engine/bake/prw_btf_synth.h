@@ -34,6 +34,7 @@
 
 #include "prw_btf.h"
 #include "prw_core.h"
+#include "prw_scene.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -65,6 +66,13 @@ bool prw_btf_synth_parse(const char *name, prw_btf_synth_kind *out);
 const char *prw_btf_synth_name(prw_btf_synth_kind k);
 
 bool prw_btf_synthesize(const prw_btf_synth_params *p, prw_btf *out, prw_error *e);
+
+/* The micro-geometry prw_btf_synthesize measures (preset kind, tile `size` texels, `seed`), as a scene
+ * of meshes and materials only (no light, no camera): the texels [x0, x1] x [y0, y1] of the sample's
+ * frame at texel_m metres each (x -> world X, y -> world -Z, height -> world Y; the reference plane is
+ * Y = 0).  For rendering it directly (the BTF kind's test against its own micro-geometry). */
+bool prw_btf_synth_scene(prw_btf_synth_kind kind, uint32_t size, double texel_m, uint64_t seed, double x0, double x1,
+                         double y0, double y1, prw_scene **out, prw_error *e);
 
 #ifdef __cplusplus
 }

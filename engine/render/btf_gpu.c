@@ -49,34 +49,46 @@ static uint32_t put_table(prw_btf_gpu_words *a, const prw_btf_dirtab *t)
     uint32_t inv = put32(a, t->tri_inv, (uint64_t)9 * t->tri_count);
     uint32_t vert = put32(a, t->tri_vert, (uint64_t)3 * t->tri_count);
     uint32_t cs = put32(a, t->cos_theta, t->count);
-    uint32_t grid = grow(a, PRW_BTF_GRID_T * PRW_BTF_GRID_P); /* no grid: try triangle 0 first, as the C side */
-    if (t->grid) memcpy(a->w + grid, t->grid, sizeof(uint32_t) * PRW_BTF_GRID_T * PRW_BTF_GRID_P);
+    uint32_t grid = grow(a, PRW_BTF_GRID_WORDS); /* no grid: triangle 0 as every candidate, as the C side */
+    if (t->grid) memcpy(a->w + grid, t->grid, sizeof(uint32_t) * PRW_BTF_GRID_WORDS);
     uint32_t h[5] = {t->tri_count, inv, vert, cs, grid};
     memcpy(a->w + at, h, sizeof h);
     return at;
 }
 
+/* Block (g, col) of the RGB blocks (prw_btf_gpu.h): the R rows' channel triples, row r channel c at half
+ * 3 r + c, 8 halves per 4-word texel; row r of group g is src[r], whose channel triples lie at stride 3
+ * (channel step `step`) from first[r]. */
+static void put_block(uint32_t *w, uint64_t col, uint32_t R, const uint16_t *const *src, const uint64_t *first,
+                      uint64_t step)
+{
+    for (uint32_t r = 0; r < R; r++)
+        for (uint32_t c = 0; c < 3; c++) {
+            uint32_t h = 3 * r + c;
+            w[h / 2] |= (uint32_t)src[r][first[r] + col * 3 * step + c * step] << (16 * (h & 1));
+        }
+}
+
 bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *a, uint32_t *offset, prw_error *e)
 {
     const prw_btf_packed *p = &m->p;
-    uint64_t D = (uint64_t)p->views * p->lights * 3, N = (uint64_t)p->width * p->height, k = p->components;
-    uint64_t nu = 0, nw = 0, nm = 0, nb = 0, ni = 0, M = 0;
-    if (p->codec == PRW_BTF_CODEC_FMF) nu = D * k, nw = N * k;
+    uint64_t P = (uint64_t)p->views * p->lights, D = P * 3, N = (uint64_t)p->width * p->height, k = p->components;
+    uint64_t nw = 0, ni = 0, M = 0, rows = 0, cols = P;
+    if (p->codec == PRW_BTF_CODEC_FMF) nw = N * k, rows = k;
     else if (p->codec == PRW_BTF_CODEC_CLUSTER || p->codec == PRW_BTF_CODEC_SPARSE)
-        nw = N * k, nm = (uint64_t)p->clusters * D, nb = (uint64_t)p->clusters * k * D, ni = N;
-    else nw = p->views * N * k, nm = (uint64_t)p->views * p->lights * 3, nb = p->views * k * p->lights * 3;
+        nw = N * k, ni = N, rows = (uint64_t)p->clusters * (k + 1);
+    else nw = p->views * N * k, rows = (uint64_t)p->views * (k + 1), cols = p->lights;
     if (p->codec == PRW_BTF_CODEC_SPARSE) M = p->sparse_count;
-    /* the codec arrays (halves two per word), then at most two tables of <= 2 x 512 triangles (12 words
-     * each), 256 cosines and the grid */
-    uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_T * PRW_BTF_GRID_P;
-    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nu + nw + nm + nb + 4 * M) / 2 + 6 + ni + (N + 1) + 2 * table;
+    /* the codec arrays (halves two per word; RGB entries two words), then at most two tables of <= 2 x 512
+     * triangles (12 words each), 256 cosines and the grid */
+    uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_WORDS;
+    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nw + 4 * M) / 2 + 8 + ni + (N + 1) + 6 * rows * cols + 4 + 2 * table;
+    if (k > PRW_BTF_GPU_KMAX)
+        return prw_fail(e, "%s: %u components: the base pass holds at most %u", name, p->components, PRW_BTF_GPU_KMAX);
     if (need >= (1ull << 31)) return prw_fail(e, "%s: %llu words do not fit one GPU buffer", name, (unsigned long long)need);
     uint32_t at = grow(a, PRW_BTF_GPU_HEADER);
     uint32_t h[PRW_BTF_GPU_HEADER] = {(uint32_t)p->codec, p->width, p->height, p->views, p->lights, p->components, p->clusters};
-    h[7] = put16(a, p->u, nu);
     h[8] = put16(a, p->w, nw);
-    h[9] = put16(a, p->mean, nm);
-    h[10] = put16(a, p->basis, nb);
     h[11] = put32(a, p->index, ni);
     if (p->codec == PRW_BTF_CODEC_SPARSE) {
         h[12] = put32(a, p->sp_start, N + 1);
@@ -85,7 +97,31 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
     }
     h[15] = put_table(a, &m->views);
     h[16] = m->shared ? h[15] : put_table(a, &m->lights);
+    /* the RGB blocks: groups (clusters, views, or one) of R rows */
+    uint32_t R = (uint32_t)(p->codec == PRW_BTF_CODEC_FMF ? k : k + 1), B = (3 * R + 7) / 8;
+    uint64_t groups = rows / R;
+    while (a->count & 3) grow(a, 1); /* blocks start at a multiple of 4 words */
+    uint32_t blk = grow(a, (size_t)(4 * B * groups * cols));
+    const uint16_t *src[PRW_BTF_GPU_KMAX + 1];
+    uint64_t first[PRW_BTF_GPU_KMAX + 1];
+    for (uint64_t g = 0; g < groups; g++) {
+        uint64_t step = 1;
+        for (uint32_t r = 0; r < R; r++) {
+            if (p->codec == PRW_BTF_CODEC_FMF) src[r] = p->u, first[r] = r, step = k; /* U[d][r], d = col * 3 + c */
+            else if (p->codec == PRW_BTF_CODEC_PVF) /* M[v][e], B[v][r - 1][e], e = col * 3 + c */
+                src[r] = r ? p->basis : p->mean, first[r] = r ? (g * k + r - 1) * cols * 3 : g * cols * 3;
+            else src[r] = r ? p->basis : p->mean, first[r] = r ? (g * k + r - 1) * D : g * D; /* M[i][d], B[i][r - 1][d] */
+        }
+        for (uint64_t col = 0; col < cols; col++) put_block(a->w + blk + 4 * B * (g * cols + col), col, R, src, first, step);
+    }
+    h[17] = blk / 4, h[18] = (uint32_t)cols;
     memcpy(a->w + at, h, sizeof h);
     *offset = at;
     return true;
+}
+
+uint32_t prw_btf_gpu_spec(const prw_btf_packed *p)
+{
+    uint32_t c = ((uint32_t)p->codec - 1u) & 3u;
+    return p->components <= 14 ? c | (p->components + 1u) << 2 : c;
 }

@@ -199,13 +199,14 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
-    VkDescriptorSetLayoutBinding material[9];
+    VkDescriptorSetLayoutBinding material[10];
     for (uint32_t i = 0; i < 8; i++)
         material[i] = (VkDescriptorSetLayoutBinding){
             i, i ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
             VK_SHADER_STAGE_FRAGMENT_BIT, NULL};
     /* the scene's BTF words (prw_btf_gpu.h), read by the BTF kind's shader */
     material[8] = (VkDescriptorSetLayoutBinding){8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL};
+    material[9] = (VkDescriptorSetLayoutBinding){9, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL};
     VkDescriptorSetLayoutBinding storage2[2] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
@@ -221,7 +222,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
         return false;
     if (!prw_desc_layout_create(p->gpu, globals, 5, &p->globals_layout, e) ||
-        !prw_desc_layout_create(p->gpu, material, 9, &p->material_layout, e) ||
+        !prw_desc_layout_create(p->gpu, material, 10, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
     VkDescriptorSetLayout base_sets[2] = {p->globals_layout, p->material_layout};

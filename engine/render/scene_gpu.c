@@ -172,7 +172,7 @@ static VkImageView tex_view(const prw_scene_gpu *r, int index, const prw_gpu_ima
 /* The scene's BTF materials in one storage buffer (prw_btf_gpu.h); offsets[i]: material i's words (a file
  * named twice is packed once).  Always a buffer (a word when no material is a BTF): every set binds it. */
 static bool upload_btfs(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, uint32_t *offsets, prw_btf_average *avg,
-                        bool *has_avg, prw_error *e)
+                        bool *has_avg, uint32_t *codec, prw_error *e)
 {
     prw_btf_gpu_words words = {0};
     bool ok = true;
@@ -182,20 +182,27 @@ static bool upload_btfs(prw_gpu *gpu, const prw_scene *s, prw_scene_gpu *r, uint
         uint32_t j = 0;
         while (j < i && !(s->materials[j].kind == PRW_MATERIAL_BTF && strcmp(s->materials[j].btf_file, m->btf_file) == 0)) j++;
         if (j < i) {
-            offsets[i] = offsets[j], avg[i] = avg[j], has_avg[i] = has_avg[j];
+            offsets[i] = offsets[j], avg[i] = avg[j], has_avg[i] = has_avg[j], codec[i] = codec[j];
             continue;
         }
         prw_btf_material bm;
         ok = prw_btf_material_load(m->btf_file, &bm, e) && prw_btf_gpu_pack(&bm, m->btf_file, &words, &offsets[i], e);
-        if (ok) avg[i] = bm.p.average, has_avg[i] = bm.p.has_average;
+        if (ok) avg[i] = bm.p.average, has_avg[i] = bm.p.has_average, codec[i] = prw_btf_gpu_spec(&bm.p);
         prw_btf_material_free(&bm);
         if (!ok) prw_fail_wrap(e, "%s: material '%s'", s->source, m->name);
         else r->btf_materials++;
     }
     size_t bytes = words.count ? words.count * sizeof(uint32_t) : 16;
-    ok = ok && prw_buffer_create(gpu, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+    ok = ok && prw_buffer_create(gpu, bytes,
+                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                  PRW_MEM_GPU, &r->btf, e);
     if (ok && words.count) ok = prw_buffer_upload(gpu, &r->btf, 0, words.w, bytes, e);
+    VkBufferViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO, .buffer = r->btf.buffer,
+                                 .format = VK_FORMAT_R32G32B32A32_UINT, .range = bytes / 16 * 16};
+    if (ok && bytes / 16 > prw_gpu_properties(gpu)->limits.maxTexelBufferElements)
+        ok = prw_fail(e, "%s: the BTF materials take %zu bytes, more than the device's texel buffers hold", s->source, bytes);
+    if (ok) ok = prw_vk_check(vkCreateBufferView(prw_gpu_device(gpu), &vi, NULL, &r->btf_rgb), "render: BTF buffer view", e);
     free(words.w);
     return ok;
 }
@@ -217,8 +224,9 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
     uint32_t *btf_off = prw_calloc(nm, sizeof *btf_off);
     prw_btf_average *btf_avg = prw_calloc(nm, sizeof *btf_avg);
     bool *btf_has_avg = prw_calloc(nm, sizeof *btf_has_avg);
-    if (!upload_btfs(gpu, s, r, btf_off, btf_avg, btf_has_avg, e)) {
-        free(btf_off), free(btf_avg), free(btf_has_avg);
+    uint32_t *btf_codec = prw_calloc(nm, sizeof *btf_codec);
+    if (!upload_btfs(gpu, s, r, btf_off, btf_avg, btf_has_avg, btf_codec, e)) {
+        free(btf_off), free(btf_avg), free(btf_has_avg), free(btf_codec);
         return false;
     }
     for (uint32_t i = 0; i < n; i++) {
@@ -231,6 +239,7 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
             for (int c = 0; c < 3; c++) m.emission[c] = (float)(l->color[c] * l->intensity);
         }
         uint32_t lacks = prw_scene_gpu_material_lacks(&m, r->texture_count);
+        if (i < s->material_count && m.kind == PRW_MATERIAL_BTF) lacks = btf_codec[i]; /* base_btf.frag: PRW_SC_MAT */
         /* the fits' rows at the factor roughness (a white texel's G is 1), by the shader's own float code
          * (material_gltf.glsl prw_material_ggx_view) */
         float rough = (float)prw_roughness_from(m.roughness, 1.0f);
@@ -270,7 +279,7 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
         r->slot_flags[i] |= lacks << PRW_SG_LACKS_SHIFT;
         memcpy((char *)r->material_ubo.mapped + i * r->material_stride, &g, sizeof g);
         if (!prw_desc_alloc(gpu, pool, layout, &r->material_sets[i], e)) {
-            free(btf_off), free(btf_avg), free(btf_has_avg);
+            free(btf_off), free(btf_avg), free(btf_has_avg), free(btf_codec);
             return false;
         }
         VkDescriptorSet set = r->material_sets[i];
@@ -286,8 +295,12 @@ static bool upload_materials(prw_gpu *gpu, const prw_scene *s, VkDescriptorSetLa
         prw_desc_write_image(gpu, set, 6, 0, cis, tex_view(r, m.clearcoat_roughness_tex, &r->white_linear), lin, ro);
         prw_desc_write_image(gpu, set, 7, 0, cis, tex_view(r, m.clearcoat_normal_tex, &r->flat_normal), lin, ro);
         prw_desc_write_buffer(gpu, set, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &r->btf, 0, 0);
+        VkWriteDescriptorSet tw = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = set, .dstBinding = 9,
+                                   .descriptorCount = 1, .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+                                   .pTexelBufferView = &r->btf_rgb};
+        vkUpdateDescriptorSets(prw_gpu_device(gpu), 1, &tw, 0, NULL);
     }
-    free(btf_off), free(btf_avg), free(btf_has_avg);
+    free(btf_off), free(btf_avg), free(btf_has_avg), free(btf_codec);
     return true;
 }
 
@@ -333,6 +346,7 @@ void prw_scene_gpu_destroy(prw_gpu *gpu, prw_scene_gpu *g)
     prw_image_destroy(gpu, &g->white_linear);
     prw_image_destroy(gpu, &g->flat_normal);
     prw_buffer_destroy(gpu, &g->material_ubo);
+    if (g->btf_rgb) vkDestroyBufferView(prw_gpu_device(gpu), g->btf_rgb, NULL);
     prw_buffer_destroy(gpu, &g->btf);
     free(g->material_sets); /* the sets live in the renderer's pool */
     free(g->slot_flags);

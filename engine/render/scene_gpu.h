@@ -60,6 +60,7 @@ typedef struct prw_scene_gpu {
     VkDeviceSize material_stride;
     VkDescriptorSet *material_sets;
     prw_buffer btf;          /* the BTF materials' words (prw_btf_gpu.h), set 1 binding 8 of every slot */
+    VkBufferView btf_rgb;    /* the same words as 4 x 32-bit texels (prw_btf_gpu.h's RGB blocks), binding 9 */
     uint32_t btf_materials;  /* BTF files packed */
 } prw_scene_gpu;
 

@@ -200,23 +200,44 @@ bool prw_btf_dirtab_build(const float *dirs, uint32_t n, prw_btf_dirtab *out, pr
         prw_btf_dirtab_free(out);
         return prw_fail(e, "btf directions: the %u directions give no triangulation", n);
     }
-    /* the lookup grid: the triangle holding each cell's centre direction (found without the grid) */
-    uint32_t *grid = prw_malloc(sizeof(uint32_t) * PRW_BTF_GRID_T * PRW_BTF_GRID_P);
+    /* the lookup grid: per cell the triangles holding a 9 x 9 lattice of its directions (edges included),
+     * found without the grid, the most frequent first (prw_btf_interp.h) */
+    uint32_t *grid = prw_calloc(PRW_BTF_GRID_WORDS, sizeof(uint32_t));
     for (uint32_t i = 0; i < PRW_BTF_GRID_T; i++)
         for (uint32_t j = 0; j < PRW_BTF_GRID_P; j++) {
-            double th = (i + 0.5) / PRW_BTF_GRID_T * 1.5707963267948966, ph = -3.14159265358979 + (j + 0.5) / PRW_BTF_GRID_P * 6.283185307179586;
-            float d[3] = {(float)(sin(th) * cos(ph)), (float)(sin(th) * sin(ph)), (float)cos(th)};
-            uint32_t best = 0;
-            float bm = -3e38f;
-            for (uint32_t t = 0; t < nt; t++) {
-                const float *m = out->tri_inv + 9 * t;
-                float a = m[0] * d[0] + m[1] * d[1] + m[2] * d[2], b = m[3] * d[0] + m[4] * d[1] + m[5] * d[2],
-                      c = m[6] * d[0] + m[7] * d[1] + m[8] * d[2], s = a + b + c;
-                if (!(s > 0)) continue;
-                float mn = fminf(a, fminf(b, c)) / s;
-                if (mn > bm) bm = mn, best = t;
+            uint32_t tri[81], cnt[81], nd = 0;
+            for (int si = 0; si <= 8; si++)
+                for (int sj = 0; sj <= 8; sj++) {
+                    double th = (i + si / 8.0) / PRW_BTF_GRID_T * 1.5707963267948966;
+                    double ph = -3.14159265358979 + (j + sj / 8.0) / PRW_BTF_GRID_P * 6.283185307179586;
+                    th = fmin(th, 1.5707963267948966 - 1e-6);
+                    float d[3] = {(float)(sin(th) * cos(ph)), (float)(sin(th) * sin(ph)), (float)cos(th)};
+                    uint32_t best = 0;
+                    float bm = -3e38f;
+                    for (uint32_t t = 0; t < nt; t++) {
+                        const float *m = out->tri_inv + 9 * t;
+                        float a = m[0] * d[0] + m[1] * d[1] + m[2] * d[2], b = m[3] * d[0] + m[4] * d[1] + m[5] * d[2],
+                              c = m[6] * d[0] + m[7] * d[1] + m[8] * d[2], s = a + b + c;
+                        if (!(s > 0)) continue;
+                        float mn = fminf(a, fminf(b, c)) / s;
+                        if (mn > bm) bm = mn, best = t;
+                    }
+                    uint32_t q = 0;
+                    while (q < nd && tri[q] != best) q++;
+                    if (q == nd) tri[nd] = best, cnt[nd++] = 0;
+                    cnt[q] += si == 4 && sj == 4 ? 1000 : 1; /* the centre's triangle first */
+                }
+            uint32_t pick[PRW_BTF_GRID_C];
+            for (uint32_t k = 0; k < PRW_BTF_GRID_C; k++) {
+                uint32_t bq = 0;
+                for (uint32_t q = 1; q < nd; q++)
+                    if (cnt[q] > cnt[bq]) bq = q;
+                pick[k] = cnt[bq] ? tri[bq] : pick[0]; /* fewer than PRW_BTF_GRID_C: repeat the first */
+                cnt[bq] = 0;
             }
-            grid[i * PRW_BTF_GRID_P + j] = best;
+            uint32_t cell = i * PRW_BTF_GRID_P + j;
+            grid[2 * cell] = pick[0] | pick[1] << 16;
+            grid[2 * cell + 1] = pick[2] | pick[3] << 16;
         }
     out->grid = grid;
     return true;

@@ -37,7 +37,7 @@ typedef struct prw_btf_dirtab {
     uint32_t tri_count;  /* upper triangles */
     float *tri_inv;      /* 9 per triangle */
     float *cos_theta;    /* per measured direction */
-    uint32_t *grid;      /* PRW_BTF_GRID_T x PRW_BTF_GRID_P: the triangle holding the cell's centre direction */
+    uint32_t *grid;      /* PRW_BTF_GRID_WORDS: each cell's candidate triangles (prw_btf_interp.h) */
     uint32_t *tri_vert;  /* 3 per triangle (PRW_BTF_HORIZON flag: a horizon vertex) */
 } prw_btf_dirtab;
 

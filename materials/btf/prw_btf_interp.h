@@ -7,7 +7,8 @@
  *                        index, or PRW_BTF_HORIZON | index for a horizon vertex standing for that index,
  *   PRW_BTF_DT_PARAMS / PRW_BTF_DT_ARGS  leading parameters the fetches use (e.g. "const prw_btf_dirtab *t,"),
  *   PRW_BTF_DIR_COS(i)   cos theta of measured direction i (float),
- *   PRW_BTF_GRID(i)      the triangle to try first for grid cell i (prw_btf_interp_cell),
+ *   PRW_BTF_GRID(i)      word i of the lookup grid: cell c's PRW_BTF_GRID_C candidate triangles in words
+ *                        2 c and 2 c + 1, 16 bits each, the lower first (prw_btf_interp_cell),
  *
  * The method: the measured directions, plus horizon vertices (the outermost ring's azimuths at theta
  * 90 degrees) and the south pole, are unit points whose convex hull is triangulated (coplanar facets
@@ -55,9 +56,15 @@
 #endif
 
 #define PRW_BTF_HORIZON 0x80000000u
-/* The lookup grid: theta in [0, 90] degrees x phi in [-180, 180) degrees, cells of equal angles. */
+/* The lookup grid: theta in [0, 90] degrees x phi in [-180, 180) degrees, cells of equal angles; each
+ * cell lists PRW_BTF_GRID_C triangles that cover it (the most covering first, repeats fill a short
+ * list).  2 words per cell. */
 #define PRW_BTF_GRID_T 16u
 #define PRW_BTF_GRID_P 64u
+#define PRW_BTF_GRID_C 4u
+#define PRW_BTF_GRID_WORDS (PRW_BTF_GRID_T * PRW_BTF_GRID_P * 2u)
+/* A crossing this close to a triangle's edge counts as inside it (the weights are clamped below). */
+#define PRW_BTF_INSIDE_EPS 1e-6f
 
 /* The grid cell of the unit direction (x, y, z) (z clamped to >= 0). */
 PRW_BTF_IFN PRW_BTF_IUINT prw_btf_interp_cell(float x, float y, float z)
@@ -70,18 +77,26 @@ PRW_BTF_IFN PRW_BTF_IUINT prw_btf_interp_cell(float x, float y, float z)
 }
 
 /* The 3 measured directions around the unit direction (x, y, z) and their weights (a partition of unity;
- * zero weights come with a valid index).  ntri: the table's triangle count (> 0).  The triangles are tried
- * from the grid cell's first (almost always the one), then in order: the first containing the crossing
- * wins (at a shared edge or vertex the neighbours' weights agree). */
+ * zero weights come with a valid index).  ntri: the table's triangle count (> 0).  The grid cell's
+ * candidates are tried first (a fixed count: no data-dependent loop, which a SIMD shader pays for its
+ * slowest lane); only when none holds the crossing (within PRW_BTF_INSIDE_EPS) are all triangles tried
+ * in order, the first holding it winning (at a shared edge or vertex the neighbours' weights agree),
+ * else the one it is least outside of. */
 PRW_BTF_IFN void prw_btf_interp_dir(PRW_BTF_DT_PARAMS float x, float y, float z, PRW_BTF_IUINT ntri,
                                     PRW_BTF_IOUT PRW_BTF_IUINT idx[3], PRW_BTF_IOUT float w[3])
 {
-    PRW_BTF_IUINT start = PRW_BTF_GRID(prw_btf_interp_cell(x, y, z));
+    PRW_BTF_IUINT cell = prw_btf_interp_cell(x, y, z);
     z = PRW_BTF_IMAX(z, 1e-6f);
     PRW_BTF_IUINT best = 0u;
     float best_min = -3.0e38f, ba = 1.0f, bb = 0.0f, bc = 0.0f;
-    for (PRW_BTF_IUINT k = 0u; k < ntri; k++) {
-        PRW_BTF_IUINT t = k == 0u ? start : k - (k <= start ? 1u : 0u); /* start, then the others in order */
+    for (PRW_BTF_IUINT k = 0u; k < PRW_BTF_GRID_C + ntri; k++) {
+        PRW_BTF_IUINT t;
+        if (k < PRW_BTF_GRID_C) t = (PRW_BTF_GRID(2u * cell + (k >> 1u)) >> ((k & 1u) * 16u)) & 0xffffu;
+        else {
+            if (best_min >= -PRW_BTF_INSIDE_EPS) break; /* a candidate holds it */
+            t = k - PRW_BTF_GRID_C;
+        }
+        t = PRW_BTF_IMIN(t, ntri - 1u);
         float a = PRW_BTF_TRI_INV(t * 9u + 0u) * x + PRW_BTF_TRI_INV(t * 9u + 1u) * y + PRW_BTF_TRI_INV(t * 9u + 2u) * z;
         float b = PRW_BTF_TRI_INV(t * 9u + 3u) * x + PRW_BTF_TRI_INV(t * 9u + 4u) * y + PRW_BTF_TRI_INV(t * 9u + 5u) * z;
         float c = PRW_BTF_TRI_INV(t * 9u + 6u) * x + PRW_BTF_TRI_INV(t * 9u + 7u) * y + PRW_BTF_TRI_INV(t * 9u + 8u) * z;
@@ -90,10 +105,10 @@ PRW_BTF_IFN void prw_btf_interp_dir(PRW_BTF_DT_PARAMS float x, float y, float z,
         float m = PRW_BTF_IMIN(a, PRW_BTF_IMIN(b, c)) / s;
         if (m > best_min) {
             best_min = m, best = t, ba = a / s, bb = b / s, bc = c / s;
-            if (m >= 0.0f) break; /* inside: the crossing is in this triangle */
+            if (k >= PRW_BTF_GRID_C && m >= -PRW_BTF_INSIDE_EPS) break; /* inside: the crossing is in this triangle */
         }
     }
-    /* rounding at an edge: the nearest triangle's weights clamped to >= 0 and renormalised */
+    /* rounding at an edge: the weights clamped to >= 0 and renormalised */
     ba = PRW_BTF_IMAX(ba, 0.0f), bb = PRW_BTF_IMAX(bb, 0.0f), bc = PRW_BTF_IMAX(bc, 0.0f);
     float s = ba + bb + bc;
     w[0] = ba / s, w[1] = bb / s, w[2] = bc / s;

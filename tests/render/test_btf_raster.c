@@ -294,12 +294,99 @@ static void test_scale_rule(void)
     prw_scene_destroy(s);
 }
 
+/* Must-show 6 over distances: the receding floor of test_scale_rule seen by a camera rising from 0.25 m
+ * to 1.27 m (x 1.5 per frame, its target fixed; light mode: 3 frames), so the switch to the average
+ * BRDF sweeps the floor.  Each frame at 64 x 64 against the same frame at 8 x 8 supersampling:
+ * LDR-FLIP <= 0.05, the floor's mean luminance within 2 %, the frame-to-frame change of the mean
+ * within 2 % of the supersampled frames' change (no pop where the rule switches), and the mean
+ * per-pixel luminance difference within ALIAS_BOUND (what FLIP at 64 x 64 blurs away: aliasing). */
+static void test_scale_rule_distances(void)
+{
+    prw_error e = {{0}};
+    const double a[3] = {0, 0, 0};
+    CHECK_OK(write_btf_alb(prw_test_path("btf_far.btfc"), a, k_alb_contrast, &e), &e);
+    enum { FRAMES = 5 };
+    double mean_lo[FRAMES], mean_ss[FRAMES];
+    int frames = prw_test_light() ? 3 : FRAMES;
+    prw_gpu *gpu = prw_test_gpu(&e);
+    CHECK_OK(gpu != NULL, &e);
+    double h = 0.25;
+    for (int f = 0; gpu && f < frames; f++, h *= 1.5) {
+        char text[2048];
+        snprintf(text, sizeof text,
+                 "{\"prw_manifest\": 1, \"materials\": [{\"name\": \"cloth\", \"btf\": \"btf_far.btfc\", \"btf_texel_m\": 0.01}],"
+                 " \"meshes\": [{\"name\": \"floor\", \"quad\": {\"centre\": [0, 0, -19], \"half_u\": [1, 0, 0], \"half_v\": [0, 0, -20]},"
+                 " \"material\": \"cloth\"}],"
+                 " \"lights\": [{\"type\": \"directional\", \"direction\": [0.3, -1, -0.4], \"intensity\": 2}],"
+                 " \"cameras\": [{\"position\": [0, %.17g, 1], \"target\": [0, 0, -4], \"yfov_deg\": 40}]}",
+                 h);
+        char *path = prw_test_path("btf_far.json");
+        write_text(path, text);
+        prw_scene *s = prw_scene_create();
+        bool ok = prw_scene_load_manifest(s, path, &e);
+        if (ok) prw_scene_update(s);
+        prw_view v, vh;
+        ok = ok && prw_ref_view_for_camera(s, NULL, SIZE, SIZE, &v, &e) &&
+             prw_ref_view_for_camera(s, NULL, 8 * SIZE, 8 * SIZE, &vh, &e);
+        prw_image lo = {0}, hi = {0}, down = {0};
+        v.ev100 = vh.ev100 = 0.0;
+        for (int k = 0; ok && k < 2; k++) {
+            prw_renderer *r = NULL;
+            uint32_t n = k ? 8 * SIZE : SIZE;
+            prw_render_desc rd = {.width = n, .height = n, .quality = prw_quality_default()};
+            rd.quality.msaa = 1;
+            ok = prw_renderer_create(gpu, s, &rd, &r, &e) && prw_renderer_render(r, k ? &vh : &v, 1, NULL, &e) &&
+                 prw_renderer_read_hdr(r, 0, k ? &hi : &lo, &e);
+            prw_renderer_destroy(r);
+        }
+        ok = ok && prw_image_alloc(&down, SIZE, SIZE, &e);
+        CHECK_OK(ok, &e);
+        if (ok) {
+            for (uint32_t y = 0; y < SIZE; y++)
+                for (uint32_t x = 0; x < SIZE; x++)
+                    for (int c = 0; c < 4; c++) {
+                        double sum = 0;
+                        for (uint32_t j = 0; j < 8; j++)
+                            for (uint32_t i = 0; i < 8; i++)
+                                sum += hi.rgba[(((size_t)(8 * y + j) * 8 * SIZE) + 8 * x + i) * 4 + (size_t)c];
+                        down.rgba[((size_t)y * SIZE + x) * 4 + (size_t)c] = (float)(sum / 64);
+                    }
+            double yl = 0, yd = 0, ad = 0;
+            for (size_t i = 0; i < (size_t)SIZE * SIZE; i++) {
+                double a_ = 0.2126 * lo.rgba[4 * i] + 0.7152 * lo.rgba[4 * i + 1] + 0.0722 * lo.rgba[4 * i + 2];
+                double b_ = 0.2126 * down.rgba[4 * i] + 0.7152 * down.rgba[4 * i + 1] + 0.0722 * down.rgba[4 * i + 2];
+                yl += a_, yd += b_, ad += fabs(a_ - b_);
+            }
+            mean_lo[f] = yl, mean_ss[f] = yd;
+            prw_compare_opts o = {.ev100 = v.ev100};
+            prw_compare_metrics m;
+            CHECK_OK(prw_compare_images(&lo, &down, &o, &m, NULL, NULL, &e), &e);
+            double step = f ? (yl / mean_lo[f - 1]) / (yd / mean_ss[f - 1]) - 1 : 0;
+            printf("scale rule, camera at %.3f m: LDR-FLIP %.4f (bound 0.05), mean luminance %+.2f %% (bound 2 %%), change "
+                   "from the previous frame against the supersampled change %+.2f %% (bound 2 %%), mean |pixel difference| "
+                   "%.4f (bound %.2f)\n",
+                   h, m.ldr_flip.mean, 100 * (yl / yd - 1), 100 * step, ad / yd, ALIAS_BOUND);
+            CHECK_MSG(yd > 0, "black supersampled frame");
+            CHECK_MSG(m.ldr_flip.mean <= 0.05, "camera %.3f m: LDR-FLIP %.4f", h, m.ldr_flip.mean);
+            CHECK_MSG(fabs(yl / yd - 1) <= 0.02, "camera %.3f m: mean luminance off by %.2f %%", h, 100 * fabs(yl / yd - 1));
+            CHECK_MSG(ad / yd <= ALIAS_BOUND, "camera %.3f m: pixels off by %.4f", h, ad / yd);
+            CHECK_MSG(fabs(step) <= 0.02, "camera %.3f m: the mean changed %.2f %% more than the supersampled frames'", h,
+                      100 * step);
+        }
+        prw_image_free(&lo), prw_image_free(&hi), prw_image_free(&down);
+        prw_scene_destroy(s);
+    }
+    uint32_t msgs = prw_gpu_validation_total();
+    CHECK_MSG(msgs == 0, "%u validation messages", msgs);
+}
+
 static void test_point(void) { run_case("point", k_point, BOUND, PIXEL_BOUND); }
 static void test_rect(void) { run_case("rect", k_rect, RECT_BOUND, RECT_PIXEL_BOUND); }
 
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"point", test_point}, {"rect", test_rect}, {"scale_rule", test_scale_rule}};
+    static const prw_test_case cases[] = {{"point", test_point}, {"rect", test_rect}, {"scale_rule", test_scale_rule},
+                                         {"scale_rule_distances", test_scale_rule_distances}};
     int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
     return prw_test_gpu_finish() ? 1 : rc; /* one gpu for all cases: pipelines compiled once */
 }
