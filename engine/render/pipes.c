@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "lightmap_gpu.h"
+#include "prw_env_gpu.h"
 #include "prw_constants.h"
 #include "prw_ltc.h"
 #include "prw_shaders.h"
@@ -65,7 +66,7 @@ static const VkVertexInputAttributeDescription k_attrs_mask_no_uv1[3] = {
     {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
 };
 
-_Static_assert(PRW_SC_TERMS < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
+_Static_assert(PRW_SC_ENV < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
 
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e)
@@ -148,6 +149,11 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
             d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
             d->fs_spec_count = PRW_SC_TERMS + 1;
         }
+        if (env->pipes && env->pipes->envlight && env->pipes->envlight->active && !btf) { /* gi_env.glsl */
+            d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
+            d->fs_spec[PRW_SC_ENV] = 1;
+            d->fs_spec_count = PRW_SC_ENV + 1;
+        }
     }
     return true;
 }
@@ -191,12 +197,15 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     p->gpu = env->gpu;
     p->env = env;
     VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding globals[5] = {
+    VkDescriptorSetLayoutBinding globals[8] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutBinding material[9];
     for (uint32_t i = 0; i < 8; i++)
@@ -219,7 +228,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         !prw_image_upload(p->gpu, &p->ltc, 0, prw_ltc_table_texels(), layer_bytes, e) ||
         !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
         return false;
-    if (!prw_desc_layout_create(p->gpu, globals, 5, &p->globals_layout, e) ||
+    if (!prw_desc_layout_create(p->gpu, globals, 8, &p->globals_layout, e) ||
         !prw_desc_layout_create(p->gpu, material, 9, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
@@ -258,6 +267,12 @@ void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set)
     prw_desc_write_image(p->gpu, set, 3, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->ltc.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_desc_write_image(p->gpu, set, 4, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->lightmap_atlas,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    /* the environment (prw_env_gpu.h): levels wrap around in u (the shader keeps v off the poles' rows) */
+    prw_desc_write_buffer(p->gpu, set, 5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &p->envlight->ubo, 0, sizeof(prw_gpu_env));
+    prw_desc_write_image(p->gpu, set, 6, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->levels.view,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_REPEAT), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    prw_desc_write_image(p->gpu, set, 7, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->dfg.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 

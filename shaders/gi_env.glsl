@@ -1,0 +1,123 @@
+// gi_env.glsl — the base pass's environment term (issue 16; engine/render/prw_env_gpu.h,
+// materials/env/prw_env_file.h): the environment light reaching the surface directly and leaving it
+// towards the eye after one scattering (the reference's environment-direct paths), by the split sum
+// with our material model, exactly the formula prw_env_file.h states:
+//   L = V [ (1 - m) ( b (1 - E_ds(mu)) E_irr(n) / pi + E_ds(mu) P(r, R) ) + m E_m(mu) P(r, R) ]
+// E_irr: the SH9 irradiance; P: the prefiltered levels, linear in roughness; E_ds: the dielectric
+// specular albedo from prw_brdf.h's fits (the same terms the direct light's lobes use, ggx_view);
+// E_m = F0 A + B + F_ms(F0 + (1 - F0) / 21) Ec with A, B the split-sum table.  V: the baked
+// environment visibility of the light maps (prw_gi.h: the unoccluded fraction of the environment's
+// irradiance) where the surface is light-mapped, else 1 (dynamic and unbaked surfaces are not occluded).
+// The specular part takes instead the share of the specular lobe's cone (about R, half-angle
+// 2 atan(3 alpha): about 90 % of the GGX half vectors) inside the baked open cone (about b, half-angle
+// asin(sqrt(f)), prw_gi.h), by Oat & Sander's (2007) smooth cone-cone intersection; where there is no
+// cone (VERTEX mode), V.  Specialisation PRW_SC_ENV = 0 (no environment): nothing.
+// Mirror images (globals params.z = 1, pass_mirror.c) draw the term only in the light-map variants: a
+// static surface drawn there without its visibility would show the unoccluded environment.
+// Needs lights.glsl (ggx_view), gi_lightmap.glsl (prw_terms) and prw_constants.h.
+#ifndef PRW_GI_ENV_GLSL
+#define PRW_GI_ENV_GLSL
+
+layout(constant_id = PRW_SC_ENV) const int prw_env_on = 0;
+
+layout(std140, set = 0, binding = 5) uniform prw_env_block {
+    vec4 sh[9]; // rgb: SH radiance coefficients (prw_env.h's basis order, map space)
+    vec4 rot;   // cos rotation, sin rotation, levels K, level height H
+} prw_env;
+layout(set = 0, binding = 6) uniform sampler2DArray prw_env_levels; // K layers, 2H x H, equirect
+layout(set = 0, binding = 7) uniform sampler2DArray prw_env_dfg;    // x: mu, y: roughness; (A, B)
+
+// World (camera-relative) direction to map space: d' = R_y(-rotation) d (prw_environment).
+vec3 prw_env_to_map(vec3 d)
+{
+    float c = prw_env.rot.x, s = prw_env.rot.y;
+    return vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+}
+
+vec3 prw_env_irradiance(vec3 n)
+{
+    vec3 m = prw_env_to_map(n);
+    float x = m.x, y = m.y, z = m.z;
+    const float pi = 3.14159265358979;
+    vec3 e = pi * 0.282094792 * prw_env.sh[0].rgb;
+    e += (2.0 * pi / 3.0) * 0.488602512 * (prw_env.sh[1].rgb * y + prw_env.sh[2].rgb * z + prw_env.sh[3].rgb * x);
+    e += (pi / 4.0) * (1.092548431 * (prw_env.sh[4].rgb * (x * y) + prw_env.sh[5].rgb * (y * z) + prw_env.sh[7].rgb * (x * z)) +
+                       0.315391565 * prw_env.sh[6].rgb * (3.0 * z * z - 1.0) + 0.546274215 * prw_env.sh[8].rgb * (x * x - y * y));
+    return max(e, vec3(0.0));
+}
+
+vec3 prw_env_level(vec3 d, float layer)
+{
+    vec3 m = prw_env_to_map(d);
+    float u = 0.5 + atan(m.x, -m.z) * (1.0 / 6.28318530717959);
+    float h = prw_env.rot.w;
+    // v kept off the outer half rows: the sampler repeats (for u), the poles must not meet
+    float v = clamp(acos(clamp(m.y, -1.0, 1.0)) * (1.0 / 3.14159265358979), 0.5 / h, 1.0 - 0.5 / h);
+    return textureLod(prw_env_levels, vec3(u, v, layer), 0.0).rgb;
+}
+
+// P(r, R): the levels interpolated linearly in roughness.
+vec3 prw_env_prefiltered(vec3 r_dir, float roughness)
+{
+    float k = clamp(roughness, 0.0, 1.0) * (prw_env.rot.z - 1.0);
+    float k0 = floor(k), k1 = min(k0 + 1.0, prw_env.rot.z - 1.0);
+    return mix(prw_env_level(r_dir, k0), prw_env_level(r_dir, k1), k - k0);
+}
+
+// V at the fragment: the light map's where there is one.
+float prw_env_visibility()
+{
+#ifdef PRW_GI
+    return prw_gi_lookup().a;
+#else
+    return 1.0;
+#endif
+}
+
+vec4 prw_env_cone()
+{
+#ifdef PRW_GI
+    return prw_gi_cone();
+#else
+    return vec4(0.0, 0.0, 0.0, -1.0);
+#endif
+}
+
+// The specular occlusion: the share of the lobe's cone about r inside the open cone (see the top).
+float prw_env_specular_occlusion(vec4 cone, vec3 r, float roughness, float vis)
+{
+    if (cone.w < 0.0) return vis;
+    float lb = length(cone.xyz);
+    if (lb < 1e-5 || cone.w <= 0.0) return 0.0;
+    float tv = asin(sqrt(min(cone.w, 1.0)));
+    float ts = min(2.0 * atan(3.0 * prw_alpha_from_roughness(roughness)), 1.5707963);
+    float d = acos(clamp(dot(cone.xyz / lb, r), -1.0, 1.0));
+    float lo = abs(tv - ts), hi = tv + ts;
+    float inter = 1.0 - smoothstep(0.0, 1.0, clamp((d - lo) / max(hi - lo, 1e-4), 0.0, 1.0));
+    float small = min(tv, ts);
+    return clamp(inter * (1.0 - cos(small)) / max(1.0 - cos(ts), 1e-6), 0.0, 1.0);
+}
+
+vec3 prw_env_radiance(ggx_view w, vec3 n, vec3 v, vec3 base, float metallic, float roughness, float specular, float vis,
+                      vec4 cone)
+{
+    if (prw_env_on == 0 || (prw_terms & PRW_TERM_ENVIRONMENT) == 0) return vec3(0.0);
+#ifndef PRW_GI
+    if (g.params.z > 0.5) return vec3(0.0);
+#endif
+    float nv = dot(n, v);
+    float mu = clamp(nv, 1e-4, 1.0);
+    vec3 r_dir = 2.0 * nv * n - v;
+    float m = clamp(metallic, 0.0, 1.0), s = clamp(specular, 0.0, 1.0);
+    float e_ds = s * w.ed_o + prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg) * w.ec_o;
+    float n_dfg = float(textureSize(prw_env_dfg, 0).x);
+    float rr = clamp(roughness, 0.0, 1.0);
+    vec2 ab = textureLod(prw_env_dfg, vec3(mu, (rr * (n_dfg - 1.0) + 0.5) / n_dfg, 0.0), 0.0).rg;
+    vec3 f0 = base + (1.0 - base) * (1.0 / 21.0);
+    vec3 fms_m = vec3(prw_F_ms(f0.r, w.ec_avg), prw_F_ms(f0.g, w.ec_avg), prw_F_ms(f0.b, w.ec_avg));
+    vec3 e_m = base * ab.x + ab.y + fms_m * w.ec_o;
+    vec3 p = prw_env_prefiltered(r_dir, rr) * prw_env_specular_occlusion(cone, normalize(r_dir), rr, vis);
+    return (1.0 - m) * (vis * base * (1.0 - e_ds) * prw_env_irradiance(n) * (1.0 / 3.14159265358979) + e_ds * p) +
+           m * e_m * p;
+}
+#endif
