@@ -146,6 +146,7 @@ bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lig
             }
             *l = (prw_lightmap_instance){.node = g->node, .mesh = g->mesh, .mode = PRW_LIGHTMAP_VERTEX,
                                          .vertex_count = m->vertex_count, .rgb = g->vertex_rgb, .vis = g->vertex_vis,
+                                         .cone = g->vertex_cone,
                                          .index_count = m->index_count};
         }
     }

@@ -13,7 +13,8 @@ layout(constant_id = PRW_SC_TERMS) const int prw_terms = PRW_TERM_ALL;
 
 #ifdef PRW_GI
 layout(set = 0, binding = 4) uniform sampler2DArray prw_gi_atlas; // RGBA32F, one layer per atlas
-layout(location = 5) in vec4 v_gi; // ATLAS: (u, v, layer, 0) normalised to the layer; VERTEX: (E_ind, 1)
+layout(location = 5) in vec4 v_gi; // ATLAS: (u, v, layer, 0) normalised to the layer; VERTEX: (E_ind, 1 + vis)
+layout(location = 6) in vec4 v_gi_cone; // VERTEX: the open cone (b, f); ATLAS: unused
 
 vec4 prw_gi_bicubic(vec2 uv, float layer)
 {
@@ -46,11 +47,11 @@ vec4 prw_gi_lookup()
 
 vec3 prw_gi_irradiance() { return prw_gi_lookup().rgb; }
 
-// The open cone (b, f) of the environment visibility (prw_gi.h), bilinear from the cone layers (the atlas's
-// second half); (0, 0, 0, -1): none (VERTEX mode, or an atlas without cones).
+// The open cone (b, f) of the environment visibility (prw_gi.h): ATLAS bilinear from the cone layers (the
+// atlas's second half), VERTEX interpolated; (0, 0, 0, -1): none.
 vec4 prw_gi_cone()
 {
-    if (v_gi.w > 0.5) return vec4(0.0, 0.0, 0.0, -1.0);
+    if (v_gi.w > 0.5) return v_gi_cone;
     float n = float(textureSize(prw_gi_atlas, 0).z / 2);
     return texture(prw_gi_atlas, vec3(v_gi.xy, floor(v_gi.z + 0.5) + n));
 }

@@ -331,6 +331,7 @@ void prw_gi_bake_destroy(prw_gi_bake *b)
         free(b->inst[i].vertex_rgb);
         free(b->inst[i].vertex_var);
         free(b->inst[i].vertex_vis);
+        free(b->inst[i].vertex_cone);
     }
     free(b->atlases);
     free(b->inst);
@@ -343,7 +344,7 @@ typedef struct gpoint {
     const prw_material *mat;
     float *rgb, *var; /* where E and its variance go */
     float *vis;       /* where the environment visibility goes */
-    float *cone;      /* where the open cone goes (texels; NULL for vertices) */
+    float *cone;      /* where the open cone goes */
     uint8_t *state;   /* the texel's state (NULL for vertices): set to 0 when the point is hidden */
 } gpoint;
 
@@ -734,6 +735,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
         in->vertex_rgb = prw_calloc((size_t)in->vertex_count * 3, sizeof(float));
         in->vertex_var = prw_calloc((size_t)in->vertex_count * 3, sizeof(float));
         in->vertex_vis = prw_calloc((size_t)in->vertex_count, sizeof(float));
+        in->vertex_cone = prw_calloc((size_t)in->vertex_count * 4, sizeof(float));
         for (uint32_t v = 0; v < in->vertex_count; v++) {
             gpoint *g = push_point(&pts, &np, &pcap);
             memcpy(g->p, wi[i].p + 3 * v, sizeof g->p);
@@ -743,7 +745,7 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             g->rgb = in->vertex_rgb + 3 * v;
             g->var = in->vertex_var + 3 * v;
             g->vis = in->vertex_vis + v;
-            g->cone = NULL;
+            g->cone = in->vertex_cone + 4 * v;
             g->state = NULL;
             b->sampled_vertices++;
         }

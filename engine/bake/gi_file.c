@@ -9,7 +9,8 @@
  *   72  atlases:   u32 width, u32 height, f32 rgb[3 w h], f32 var[3 w h], f32 vis[w h] (in [0, 1]),
  *                  f32 cone[4 w h] (b finite, f in [0, 1]), u8 state[w h]
  *       instances: u32 node, mesh, mode, atlas, triangle count, vertex count;
- *                  ATLAS: f32 uv[6 triangles];  VERTEX: f32 rgb[3 vertices], f32 var[3 vertices], f32 vis[vertices]
+ *                  ATLAS: f32 uv[6 triangles];  VERTEX: f32 rgb[3 vertices], f32 var[3 vertices], f32 vis[vertices],
+ *                  f32 cone[4 vertices]
  *   end u64      prw_hash64 (seed 0) of every byte before it
  * The reader checks each count against its limit and the bytes left before it allocates, refuses
  * non-finite or negative values, unknown modes and states, and trailing bytes. */
@@ -202,6 +203,7 @@ bool prw_gi_encode(const prw_gi_bake *b, const char *key, uint8_t **data, size_t
             wf32s(&w, in->vertex_rgb, (size_t)in->vertex_count * 3);
             wf32s(&w, in->vertex_var, (size_t)in->vertex_count * 3);
             wf32s(&w, in->vertex_vis, in->vertex_count);
+            wf32s(&w, in->vertex_cone, (size_t)in->vertex_count * 4);
         }
     }
     w64(&w, prw_hash64(w.p, w.n, 0));
@@ -363,13 +365,15 @@ bool prw_gi_decode(const void *data, size_t size, const char *name, prw_gi_bake 
             in->uv = prw_calloc((size_t)nt * 6 + 1, sizeof(float));
             ok = rf32s(&r, in->uv, (size_t)nt * 6, false, what);
         } else if (in->mode == PRW_GI_VERTEX) {
-            if (!(ok = need(&r, (uint64_t)nv * 28, what))) break;
+            if (!(ok = need(&r, (uint64_t)nv * 44, what))) break;
             in->vertex_count = nv;
             in->vertex_rgb = prw_calloc((size_t)nv * 3 + 1, sizeof(float));
             in->vertex_var = prw_calloc((size_t)nv * 3 + 1, sizeof(float));
             in->vertex_vis = prw_calloc((size_t)nv + 1, sizeof(float));
+            in->vertex_cone = prw_calloc((size_t)nv * 4 + 1, sizeof(float));
             ok = rf32s(&r, in->vertex_rgb, (size_t)nv * 3, true, what) && rf32s(&r, in->vertex_var, (size_t)nv * 3, true, what) &&
-                 rf32s(&r, in->vertex_vis, nv, true, what) && vis_in_range(&r, in->vertex_vis, nv, what);
+                 rf32s(&r, in->vertex_vis, nv, true, what) && vis_in_range(&r, in->vertex_vis, nv, what) &&
+                 rf32s(&r, in->vertex_cone, (size_t)nv * 4, false, what) && cone_in_range(&r, in->vertex_cone, nv, what);
         }
     }
     if (ok && r.at != r.n) ok = prw_fail(e, "%s: %zu bytes after the last instance", name, r.n - r.at);

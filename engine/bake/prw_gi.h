@@ -72,7 +72,7 @@
  *   on the same rays, so unoccluded texels carry no noise).  V = 1 without an environment, or where
  *   Y(sum L_env) = 0 (a black environment).  With an environment present, metallic meshes are baked
  *   too (their E_ind is weighted by 1 - metallic = 0 in the renderer; they need V).
- *   The open cone (atlas texels only, for the renderer's specular occlusion): over the same rays,
+ *   The open cone (texels and vertices, for the renderer's specular occlusion): over the same rays,
  *   f = the fraction that escapes and b = the sum of their directions (world space, not normalised; 0
  *   when none escapes), stored as (b, f).  For cosine-weighted rays, a cone of half-angle t about n
  *   holds the fraction sin^2 t of them, so the renderer reads the open directions as the cone about
@@ -132,6 +132,7 @@ typedef struct prw_gi_instance {
     float *vertex_rgb;      /* VERTEX: 3 per vertex, E_ind */
     float *vertex_var;      /* VERTEX: 3 per vertex, variance of the mean */
     float *vertex_vis;      /* VERTEX: 1 per vertex, environment visibility V (see the top) */
+    float *vertex_cone;     /* VERTEX: 4 per vertex, the open cone (b, f) (see the top) */
 } prw_gi_instance;
 
 typedef struct prw_gi_atlas {

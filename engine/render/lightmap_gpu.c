@@ -64,6 +64,10 @@ static bool check_instance(const prw_scene *s, const prw_lightmaps *lm, uint32_t
         return prw_fail(e, "light maps: instance %u: vertex values missing, negative or not finite", i);
     else if (in->vis && !unit_range(in->vis, in->vertex_count))
         return prw_fail(e, "light maps: instance %u: a vertex visibility is outside [0, 1]", i);
+    for (size_t k = 0; in->mode == PRW_LIGHTMAP_VERTEX && in->cone && k < in->vertex_count; k++)
+        if (!isfinite(in->cone[4 * k]) || !isfinite(in->cone[4 * k + 1]) || !isfinite(in->cone[4 * k + 2]) ||
+            !(in->cone[4 * k + 3] >= 0.0f && in->cone[4 * k + 3] <= 1.0f))
+            return prw_fail(e, "light maps: instance %u: vertex open cone %zu not finite or outside [0, 1]", i, k);
     return true;
 }
 
@@ -187,7 +191,7 @@ bool prw_lightmap_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_lightma
             const float *u1 = m->uvs1 ? m->uvs1 : m->uvs; /* no TEXCOORD_1: set 0 (prw_shading.h) */
             uv1[2 * o] = u1 ? u1[2 * src] : 0.0f;
             uv1[2 * o + 1] = u1 ? u1[2 * src + 1] : 0.0f;
-            float *p = st + 4 * o;
+            float *p = st + PRW_LIGHTMAP_STREAM_FLOATS * o;
             if (in->mode == PRW_LIGHTMAP_ATLAS) {
                 p[0] = in->uv[2 * k] * sx;
                 p[1] = in->uv[2 * k + 1] * sy;
@@ -197,6 +201,8 @@ bool prw_lightmap_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_lightma
                 memcpy(p, in->rgb + 3 * (size_t)k, 3 * sizeof(float));
                 p[3] = 1.0f + (in->vis ? in->vis[k] : 1.0f); /* VERTEX mode, and its environment visibility */
             }
+            p[4] = p[5] = p[6] = 0.0f, p[7] = -1.0f;
+            if (in->mode == PRW_LIGHTMAP_VERTEX && in->cone) memcpy(p + 4, in->cone + 4 * (size_t)k, 4 * sizeof(float));
         }
         memcpy(id + io, in->indices ? in->indices : m->indices, in->index_count * sizeof(uint32_t));
         g->draws[g->instance_count++] = (prw_gpu_mesh){.first_index = (uint32_t)io, .index_count = in->index_count,

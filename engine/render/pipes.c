@@ -39,20 +39,22 @@ static const VkVertexInputBindingDescription k_bindings_gi[3] = {
     {1, PRW_UV1_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
     {2, PRW_LIGHTMAP_STREAM_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
 };
-static const VkVertexInputAttributeDescription k_attrs_gi_core[5] = {
+static const VkVertexInputAttributeDescription k_attrs_gi_core[6] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
     {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
     {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
     {5, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+    {6, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
 };
-static const VkVertexInputAttributeDescription k_attrs_gi_ext[6] = {
+static const VkVertexInputAttributeDescription k_attrs_gi_ext[7] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
     {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
     {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
     {4, 1, VK_FORMAT_R32G32_SFLOAT, 0},
     {5, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+    {6, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
 };
 /* cut-out shadow casters: position, uv, uv set 1 */
 static const VkVertexInputAttributeDescription k_attrs_mask[3] = {
@@ -124,7 +126,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         .vertex_bindings = gi ? k_bindings_gi : k_bindings,
         .vertex_binding_count = gi ? 3 : uv1 ? 2 : 1,
         .vertex_attrs = gi ? (ext ? k_attrs_gi_ext : k_attrs_gi_core) : ext && !uv1 ? k_attrs_no_uv1 : k_attrs,
-        .vertex_attr_count = gi ? (ext ? 6 : 5) : ext ? 5 : 4,
+        .vertex_attr_count = gi ? (ext ? 7 : 6) : ext ? 5 : 4,
         .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
         .color_count = gbuf ? 3 : 1,
         .depth_format = PRW_DEPTH_FORMAT,

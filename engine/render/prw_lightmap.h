@@ -48,6 +48,7 @@ typedef struct prw_lightmap_instance {
     const float *uv;          /* ATLAS: 2 per drawn vertex */
     const float *rgb;         /* VERTEX: 3 per drawn vertex */
     const float *vis;         /* VERTEX: 1 per drawn vertex, environment visibility in [0, 1]; NULL: 1 */
+    const float *cone;        /* VERTEX: 4 per drawn vertex, the open cone (b, f) (engine/bake/prw_gi.h); NULL: none */
     uint32_t index_count;     /* = the mesh's */
     const uint32_t *indices;  /* into the drawn vertices; NULL: the mesh's */
 } prw_lightmap_instance;
