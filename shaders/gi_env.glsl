@@ -8,10 +8,10 @@
 // E_m = F0 A + B + F_ms(F0 + (1 - F0) / 21) Ec with A, B the split-sum table.  V: the baked
 // environment visibility of the light maps (prw_gi.h: the unoccluded fraction of the environment's
 // irradiance) where the surface is light-mapped, else 1 (dynamic and unbaked surfaces are not occluded).
-// The specular part takes instead the share of the specular lobe's cone (about R, half-angle
-// 2 atan(3 alpha): about 90 % of the GGX half vectors) inside the baked open cone (about b, half-angle
-// asin(sqrt(f)), prw_gi.h), by Oat & Sander's (2007) smooth cone-cone intersection; where there is no
-// cone (VERTEX mode), V.  Specialisation PRW_SC_ENV = 0 (no environment): nothing.
+// The specular part takes instead the part of the specular lobe (about R, 90 % of it within
+// 2 atan(3 alpha)) that the baked open cone (about b, half-angle asin(sqrt(f)), prw_gi.h) lets through,
+// both as Gaussians in angle (prw_env_specular_visible), read in that part's direction at its
+// roughness; where there is no cone, V.  Specialisation PRW_SC_ENV = 0 (no environment): nothing.
 // Mirror images (globals params.z = 1, pass_mirror.c) draw the term only in the light-map variants: a
 // static surface drawn there without its visibility would show the unoccluded environment.
 // Needs lights.glsl (ggx_view), gi_lightmap.glsl (prw_terms) and prw_constants.h.
@@ -83,19 +83,31 @@ vec4 prw_env_cone()
 #endif
 }
 
-// The specular occlusion: the share of the lobe's cone about r inside the open cone (see the top).
-float prw_env_specular_occlusion(vec4 cone, vec3 r, float roughness, float vis)
+// The specular lobe's visible part (see the top): the lobe about r taken as a Gaussian in angle of
+// variance s2 (90 % inside ts = 2 atan(3 alpha): s2 = ts^2 / (2 ln 10)), the open cone as a Gaussian of
+// variance tv^2 / 2 about b.  Their product is where the environment is seen; the occlusion is the
+// lobe's mass in a disc of radius tv, (1 - exp(-tv^2 / (2 s2))) (exact with r on the axis), times
+// exp(-max(d - tv, 0)^2 / (2 s2)) for r at angle d from b (a hard edge for a sharp lobe, the Gaussian's
+// fall-off for a wide one); the product's centre the direction to read the prefiltered levels in, its spread the roughness to
+// read them at (never above the surface's).  Out: dir (xyz), occlusion (w); *r_read the roughness.
+vec4 prw_env_specular_visible(vec4 cone, vec3 r, float roughness, float vis, out float r_read)
 {
-    if (cone.w < 0.0) return vis;
+    r_read = roughness;
+    if (cone.w < 0.0) return vec4(r, vis);
     float lb = length(cone.xyz);
-    if (lb < 1e-5 || cone.w <= 0.0) return 0.0;
+    if (lb < 1e-5 || cone.w <= 0.0) return vec4(r, 0.0);
+    vec3 b = cone.xyz / lb;
     float tv = asin(sqrt(min(cone.w, 1.0)));
     float ts = min(2.0 * atan(3.0 * prw_alpha_from_roughness(roughness)), 1.5707963);
-    float d = acos(clamp(dot(cone.xyz / lb, r), -1.0, 1.0));
-    float lo = abs(tv - ts), hi = tv + ts;
+    float s2 = ts * ts * (1.0 / 4.6051702), c2 = 0.5 * tv * tv;
+    float d = acos(clamp(dot(b, r), -1.0, 1.0));
+    float lo = abs(tv - ts), hi = tv + ts; // Oat & Sander's smooth cone-cone overlap
     float inter = 1.0 - smoothstep(0.0, 1.0, clamp((d - lo) / max(hi - lo, 1e-4), 0.0, 1.0));
-    float small = min(tv, ts);
-    return clamp(inter * (1.0 - cos(small)) / max(1.0 - cos(ts), 1e-6), 0.0, 1.0);
+    float occ = inter * (1.0 - cos(min(tv, ts))) / max(1.0 - cos(ts), 1e-6);
+    vec3 dir = normalize(mix(r, b, s2 / (s2 + c2)) + 1e-6 * r);
+    float te = sqrt(s2 * c2 / (s2 + c2) * 4.6051702); // the product's 90 % angle
+    r_read = min(roughness, sqrt(tan(0.5 * te) * (1.0 / 3.0)));
+    return vec4(dir, clamp(occ, 0.0, 1.0));
 }
 
 vec3 prw_env_radiance(ggx_view w, vec3 n, vec3 v, vec3 base, float metallic, float roughness, float specular, float vis,
@@ -116,7 +128,9 @@ vec3 prw_env_radiance(ggx_view w, vec3 n, vec3 v, vec3 base, float metallic, flo
     vec3 f0 = base + (1.0 - base) * (1.0 / 21.0);
     vec3 fms_m = vec3(prw_F_ms(f0.r, w.ec_avg), prw_F_ms(f0.g, w.ec_avg), prw_F_ms(f0.b, w.ec_avg));
     vec3 e_m = base * ab.x + ab.y + fms_m * w.ec_o;
-    vec3 p = prw_env_prefiltered(r_dir, rr) * prw_env_specular_occlusion(cone, normalize(r_dir), rr, vis);
+    float r_read;
+    vec4 sv = prw_env_specular_visible(cone, normalize(r_dir), rr, vis, r_read);
+    vec3 p = prw_env_prefiltered(sv.xyz, r_read) * sv.w;
     return (1.0 - m) * (vis * base * (1.0 - e_ds) * prw_env_irradiance(n) * (1.0 / 3.14159265358979) + e_ds * p) +
            m * e_m * p;
 }
