@@ -38,7 +38,8 @@ static void render_usage(void)
            "  --term T           draw one term only, to compare with prw reference --filter: direct (emission +\n"
            "                     direct light), indirect-diffuse (the light maps' indirect diffuse; --filter\n"
            "                     indirect-diffuse-last) or environment (the environment light, occluded by the\n"
-           "                     light maps' visibility; --filter environment-direct); default: all\n"
+           "                     light maps' visibility; --filter environment-direct), or a comma-separated\n"
+           "                     list of them; default: all\n"
            "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
@@ -332,12 +333,16 @@ int prw_cmd_render(int argc, char **argv)
         bad = true;
     job.pass_times = prw_args_flag(&a, "pass-times");
     job.no_bake = prw_args_flag(&a, "no-bake");
-    if ((v = prw_args_value(&a, "term", &e, &bad))) {
-        if (!strcmp(v, "direct")) job.terms = PRW_TERM_DIRECT;
-        else if (!strcmp(v, "indirect-diffuse")) job.terms = PRW_TERM_INDIRECT_DIFFUSE;
-        else if (!strcmp(v, "environment")) job.terms = PRW_TERM_ENVIRONMENT;
-        else if (strcmp(v, "all"))
-            bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all", v);
+    if ((v = prw_args_value(&a, "term", &e, &bad))) { /* a comma-separated list */
+        char list[256];
+        snprintf(list, sizeof list, "%s", v);
+        for (char *save = NULL, *t = strtok_r(list, ",", &save); t && !bad; t = strtok_r(NULL, ",", &save)) {
+            if (!strcmp(t, "direct")) job.terms |= PRW_TERM_DIRECT;
+            else if (!strcmp(t, "indirect-diffuse")) job.terms |= PRW_TERM_INDIRECT_DIFFUSE;
+            else if (!strcmp(t, "environment")) job.terms |= PRW_TERM_ENVIRONMENT;
+            else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all", t);
+        }
     }
     if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)
         bad = true, prw_fail(&e, "--term indirect-diffuse needs the light maps: not with --no-bake");
