@@ -20,19 +20,7 @@
 
 layout(constant_id = PRW_SC_ENV) const int prw_env_on = 0;
 
-layout(std140, set = 0, binding = 5) uniform prw_env_block {
-    vec4 sh[9]; // rgb: SH radiance coefficients (prw_env.h's basis order, map space)
-    vec4 rot;   // cos rotation, sin rotation, levels K, level height H
-} prw_env;
-layout(set = 0, binding = 6) uniform sampler2DArray prw_env_levels; // K layers, 2H x H, equirect
-layout(set = 0, binding = 7) uniform sampler2DArray prw_env_dfg;    // x: mu, y: roughness; (A, B)
-
-// World (camera-relative) direction to map space: d' = R_y(-rotation) d (prw_environment).
-vec3 prw_env_to_map(vec3 d)
-{
-    float c = prw_env.rot.x, s = prw_env.rot.y;
-    return vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
-}
+#include "env_lookup.glsl"
 
 vec3 prw_env_irradiance(vec3 n)
 {
@@ -44,16 +32,6 @@ vec3 prw_env_irradiance(vec3 n)
     e += (pi / 4.0) * (1.092548431 * (prw_env.sh[4].rgb * (x * y) + prw_env.sh[5].rgb * (y * z) + prw_env.sh[7].rgb * (x * z)) +
                        0.315391565 * prw_env.sh[6].rgb * (3.0 * z * z - 1.0) + 0.546274215 * prw_env.sh[8].rgb * (x * x - y * y));
     return max(e, vec3(0.0));
-}
-
-vec3 prw_env_level(vec3 d, float layer)
-{
-    vec3 m = prw_env_to_map(d);
-    float u = 0.5 + atan(m.x, -m.z) * (1.0 / 6.28318530717959);
-    float h = prw_env.rot.w;
-    // v kept off the outer half rows: the sampler repeats (for u), the poles must not meet
-    float v = clamp(acos(clamp(m.y, -1.0, 1.0)) * (1.0 / 3.14159265358979), 0.5 / h, 1.0 - 0.5 / h);
-    return textureLod(prw_env_levels, vec3(u, v, layer), 0.0).rgb;
 }
 
 // P(r, R): the levels interpolated linearly in roughness.

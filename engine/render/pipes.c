@@ -192,6 +192,28 @@ static bool describe_shadow(const prw_pipe_recipe *r, const prw_render_env *env,
     return true;
 }
 
+/* The environment's background: no vertex input, depth tested (reversed Z, at depth 0: only where the
+ * depth is still the clear value), not written. */
+static bool describe_sky(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
+                         prw_graphics_desc *d, prw_error *e)
+{
+    (void)e;
+    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER;
+    *d = (prw_graphics_desc){
+        .vs = prw_shader_sky_vert(),
+        .fs = gbuf ? prw_shader_gbuf_sky_frag() : prw_shader_sky_frag(),
+        .layout = r->layout,
+        .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
+        .color_count = gbuf ? 3 : 1,
+        .depth_format = PRW_DEPTH_FORMAT,
+        .samples = env->samples,
+        .cull = VK_CULL_MODE_NONE,
+        .depth_test = true,
+        .depth_write = false,
+    };
+    return true;
+}
+
 bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
 {
     prw_pipes *p = prw_calloc(1, sizeof *p);
@@ -245,6 +267,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         return false;
     p->base = (prw_pipe_recipe){.name = "base", .layout = p->base_layout, .describe = describe_base};
     p->shadow = (prw_pipe_recipe){.name = "shadow", .layout = p->shadow_layout, .describe = describe_shadow};
+    p->sky = (prw_pipe_recipe){.name = "sky", .layout = p->base_layout, .describe = describe_sky};
     return true;
 }
 

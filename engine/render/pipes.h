@@ -70,6 +70,8 @@ typedef struct prw_pipes {
     VkDescriptorSetLayout globals_layout, material_layout, storage2_layout;
     VkPipelineLayout base_layout, shadow_layout, storage2_pl;
     prw_pipe_recipe base, shadow; /* the standard recipes */
+    prw_pipe_recipe sky;          /* the environment's background (sky.vert/.frag; variant GBUFFER: the G-buffer
+                                     outputs too), drawn by pass_base where nothing else is (prw_env_gpu.h) */
     VkPipeline downsample;        /* compute: N x N box filter (storage2 layout) */
     prw_pipeline_table *table;
     prw_gpu_image ltc;            /* the rect lights' LTC table (materials/prw_ltc.h), set 0 binding 3 */
