@@ -18,14 +18,17 @@ vec3 prw_env_to_map(vec3 d)
     return vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
 }
 
-vec3 prw_env_level(vec3 d, float layer)
+// The levels' texture coordinates of direction d (world, camera-relative).
+vec2 prw_env_uv(vec3 d)
 {
     vec3 m = prw_env_to_map(d);
     float u = 0.5 + atan(m.x, -m.z) * (1.0 / 6.28318530717959);
     float h = prw_env.rot.w;
     // v kept off the outer half rows: the sampler repeats (for u), the poles must not meet
     float v = clamp(acos(clamp(m.y, -1.0, 1.0)) * (1.0 / 3.14159265358979), 0.5 / h, 1.0 - 0.5 / h);
-    return textureLod(prw_env_levels, vec3(u, v, layer), 0.0).rgb;
+    return vec2(u, v);
 }
+
+vec3 prw_env_level(vec3 d, float layer) { return textureLod(prw_env_levels, vec3(prw_env_uv(d), layer), 0.0).rgb; }
 
 #endif

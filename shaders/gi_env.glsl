@@ -39,7 +39,9 @@ vec3 prw_env_prefiltered(vec3 r_dir, float roughness)
 {
     float k = clamp(roughness, 0.0, 1.0) * (prw_env.rot.z - 1.0);
     float k0 = floor(k), k1 = min(k0 + 1.0, prw_env.rot.z - 1.0);
-    return mix(prw_env_level(r_dir, k0), prw_env_level(r_dir, k1), k - k0);
+    vec2 uv = prw_env_uv(r_dir); // once for both levels
+    return mix(textureLod(prw_env_levels, vec3(uv, k0), 0.0).rgb, textureLod(prw_env_levels, vec3(uv, k1), 0.0).rgb,
+               k - k0);
 }
 
 // V at the fragment: the light map's where there is one.
