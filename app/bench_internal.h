@@ -171,7 +171,8 @@ void bench_plots(const bench_result *r, const char *dir);
 static inline prw_render_desc bench_desc(const bench_ctx *c, const prw_quality *q)
 {
     return (prw_render_desc){.width = c->o.width, .height = c->o.height, .quality = *q,
-                             .lightmaps = prw_app_lightmaps_get(c->lightmaps)};
+                             .lightmaps = prw_app_lightmaps_get(c->lightmaps),
+                             .environment = prw_app_lightmaps_env(c->lightmaps)};
 }
 
 #endif

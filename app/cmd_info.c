@@ -171,7 +171,8 @@ int prw_cmd_info(int argc, char **argv)
                    env->rotation * 180.0 / PRW_PI);
         else
             printf("  environment uniform (%.4g %.4g %.4g) cd/m^2", env->uniform[0], env->uniform[1], env->uniform[2]);
-        printf(": lights the path tracer; the rasterizer does not draw environment light yet\n");
+        printf(": lights the path tracer and the rasterizer (its environment term: SH irradiance, prefiltered "
+               "maps at envmap_size, occluded by the gi bake's visibility)\n");
     }
     for (uint32_t i = 0; i < s->camera_count; i++)
         printf("  camera %-16s yfov %.1f deg, EV100 %.2f\n", s->cameras[i].name, s->cameras[i].yfov * 180.0 / PRW_PI,

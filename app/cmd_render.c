@@ -32,11 +32,14 @@ static void render_usage(void)
            "  --frames N         render N timed frames after one warm-up and report the median (default 1)\n"
            "  --no-bake          render without indirect light (no GI light maps); otherwise a scene with static\n"
            "                     meshes and a light source is drawn with its indirect-diffuse light maps, baked\n"
-           "                     first (progress on stderr) when the cache has none (prw bake SCENE --gi);\n"
+           "                     first (progress on stderr) when the cache has none (prw bake SCENE --gi), and\n"
+           "                     with its environment's precomputation (SH, prefiltered maps; cached too);\n"
            "                     the environment variable PRW_NO_BAKE=1 does the same for render, walk and bench\n"
            "  --term T           draw one term only, to compare with prw reference --filter: direct (emission +\n"
-           "                     direct light) or indirect-diffuse (the light maps' indirect diffuse; --filter\n"
-           "                     indirect-diffuse-last); default: all\n"
+           "                     direct light), indirect-diffuse (the light maps' indirect diffuse; --filter\n"
+           "                     indirect-diffuse-last) or environment (the environment light, occluded by the\n"
+           "                     light maps' visibility; --filter environment-direct), or a comma-separated\n"
+           "                     list of them; default: all\n"
            "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
@@ -196,7 +199,8 @@ static int prw_render_job_run(const render_job *job)
     prw_render_desc rd = {.width = job->width, .height = job->height, .quality = job->q,
                           .timestamps = job->pass_times, .glare = job->glare ? &gs : NULL,
                           .display_signal = hdr10 || job->display_exr,
-                          .lightmaps = prw_app_lightmaps_get(lms), .terms = job->terms};
+                          .lightmaps = prw_app_lightmaps_get(lms), .environment = prw_app_lightmaps_env(lms),
+                          .terms = job->terms};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap, .overlay = job->tm_overlay,
                                 .sel_threshold = job->tm_threshold, .sel_tile = (uint32_t)job->tm_tile};
@@ -329,10 +333,16 @@ int prw_cmd_render(int argc, char **argv)
         bad = true;
     job.pass_times = prw_args_flag(&a, "pass-times");
     job.no_bake = prw_args_flag(&a, "no-bake");
-    if ((v = prw_args_value(&a, "term", &e, &bad))) {
-        if (!strcmp(v, "direct")) job.terms = PRW_TERM_DIRECT;
-        else if (!strcmp(v, "indirect-diffuse")) job.terms = PRW_TERM_INDIRECT_DIFFUSE;
-        else if (strcmp(v, "all")) bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse or all", v);
+    if ((v = prw_args_value(&a, "term", &e, &bad))) { /* a comma-separated list */
+        char list[256];
+        snprintf(list, sizeof list, "%s", v);
+        for (char *save = NULL, *t = strtok_r(list, ",", &save); t && !bad; t = strtok_r(NULL, ",", &save)) {
+            if (!strcmp(t, "direct")) job.terms |= PRW_TERM_DIRECT;
+            else if (!strcmp(t, "indirect-diffuse")) job.terms |= PRW_TERM_INDIRECT_DIFFUSE;
+            else if (!strcmp(t, "environment")) job.terms |= PRW_TERM_ENVIRONMENT;
+            else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all", t);
+        }
     }
     if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)
         bad = true, prw_fail(&e, "--term indirect-diffuse needs the light maps: not with --no-bake");

@@ -110,7 +110,8 @@ static bool get_renderer(walk_ctx *c, int lv, prw_renderer **out, bool *created,
                               .height = prw_dynres_size(c->o->h, level_scale[lv]),
                               .quality = c->o->q,
                               .timestamps = c->o->pass_times,
-                              .lightmaps = prw_app_lightmaps_get(c->lightmaps)};
+                              .lightmaps = prw_app_lightmaps_get(c->lightmaps),
+                              .environment = prw_app_lightmaps_env(c->lightmaps)};
         if (!prw_renderer_create(c->gpu, c->scene, &rd, &c->level[lv], e)) return false;
         if (!prw_renderer_set_tonemap(c->level[lv], &c->disp, &c->tms, e)) return false;
     }
@@ -438,7 +439,8 @@ static int walk_run(const walk_opts *o)
             c.in.measure = false;
             prw_view full = v;
             if (o->replay) full = prw_camera_sample_view(&sample, o->w, o->h, znear, ev100, 0);
-            prw_render_desc md = {.quality = o->q, .lightmaps = prw_app_lightmaps_get(c.lightmaps)};
+            prw_render_desc md = {.quality = o->q, .lightmaps = prw_app_lightmaps_get(c.lightmaps),
+                                  .environment = prw_app_lightmaps_env(c.lightmaps)};
             fprintf(stderr, "walk: measuring the error against the reference (%u px wide, %u spp)...\n", o->measure_width,
                     o->measure_spp);
             if (!walk_measure_run(c.gpu, c.scene, &full, &md, o->measure_width, o->measure_spp, 0, &c.measure, &e))

@@ -56,14 +56,11 @@ static void scene_defaults(prw_scene *s, const char *path)
                     s->cameras[c].yfov * 180.0 / PRW_PI, FRAMING_EV100);
         }
     }
-    if (s->environment.present)
-        prw_log(PRW_LOG_INFO, "%s: its environment lights the path tracer only: the rasterizer does not draw "
-                "environment light yet", path);
     if (s->light_count || s->environment.present || s->camera_count == 0 || !s->has_bounds) return;
     /* A scene lit by its emissive surfaces (a lamp, a Cornell-box ceiling) keeps its lighting as its author
      * made it: the rasterizer lights from emissive meshes as area lights (engine/scene/prw_emissive.h,
-     * listed by `prw info`), the path tracer from the emitting triangles.  An environment lights the path
-     * tracer only, until the GI issue's environment pass exists. */
+     * listed by `prw info`), the path tracer from the emitting triangles.  An environment lights both (the
+     * rasterizer's environment term, engine/render/prw_env_gpu.h). */
     prw_emitters em = prw_scene_emitters(s);
     double r = fmax(0.5 * prw_v3_len(prw_v3_sub(s->bounds_max, s->bounds_min)), 1e-6);
     double lux = em.mesh_flux_lm / (4.0 * PRW_PI * r * r);

@@ -10,6 +10,7 @@
 
 #include "lightmaps.h"
 #include "prw_cache.h"
+#include "prw_env_bake.h"
 
 struct prw_app_lightmaps {
     prw_gi_bake *bake;
@@ -17,9 +18,12 @@ struct prw_app_lightmaps {
     prw_lightmap_atlas *atlases;
     prw_lightmap_instance *inst;
     prw_lightmaps lm;
+    bool has_env;     /* the scene's environment light (prw_env_bake.h) */
+    prw_env_data env;
 };
 
-/* The baker's rule (engine/bake/gi_build.c): a mesh is baked when its material has a diffuse lobe. */
+/* The baker's rule (engine/bake/gi_build.c): a mesh is baked when its material has a diffuse lobe (and,
+ * with an environment, every mesh for its visibility; a scene still needs one diffuse lobe to bake). */
 static bool diffuse(const prw_scene *s, int material)
 {
     prw_material m = material >= 0 && (uint32_t)material < s->material_count ? s->materials[material]
@@ -96,10 +100,13 @@ void prw_app_lightmaps_destroy(prw_app_lightmaps *a)
     free(a->atlases);
     free(a->inst);
     prw_gi_bake_destroy(a->bake);
+    if (a->has_env) prw_env_data_free(&a->env);
     free(a);
 }
 
-const prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a) { return a ? &a->lm : NULL; }
+const prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a) { return a && a->bake ? &a->lm : NULL; }
+
+const prw_env_data *prw_app_lightmaps_env(const prw_app_lightmaps *a) { return a && a->has_env ? &a->env : NULL; }
 
 bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lightmaps **out, prw_error *e)
 {
@@ -108,7 +115,8 @@ bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lig
     *out = NULL;
     a->atlases = prw_calloc(b->atlas_count + 1, sizeof *a->atlases);
     for (uint32_t i = 0; i < b->atlas_count; i++)
-        a->atlases[i] = (prw_lightmap_atlas){b->atlases[i].width, b->atlases[i].height, b->atlases[i].rgb};
+        a->atlases[i] = (prw_lightmap_atlas){b->atlases[i].width, b->atlases[i].height, b->atlases[i].rgb,
+                                             b->atlases[i].vis, b->atlases[i].cone};
     a->inst = prw_calloc(b->instance_count + 1, sizeof *a->inst);
     a->splits = prw_calloc(b->instance_count + 1, sizeof *a->splits);
     for (uint32_t i = 0; i < b->instance_count; i++) {
@@ -137,12 +145,36 @@ bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lig
                                 g->vertex_count, m->name, m->vertex_count);
             }
             *l = (prw_lightmap_instance){.node = g->node, .mesh = g->mesh, .mode = PRW_LIGHTMAP_VERTEX,
-                                         .vertex_count = m->vertex_count, .rgb = g->vertex_rgb,
+                                         .vertex_count = m->vertex_count, .rgb = g->vertex_rgb, .vis = g->vertex_vis,
+                                         .cone = g->vertex_cone,
                                          .index_count = m->index_count};
         }
     }
     a->lm = (prw_lightmaps){b->atlas_count, a->atlases, b->instance_count, a->inst};
     *out = a;
+    return true;
+}
+
+static bool prepare_gi(const char *cmd, const prw_scene *s, const prw_quality *q, prw_app_lightmaps **out,
+                       prw_error *e);
+
+/* The environment's precomputation (the "env" cache, built on a miss) into *a (made when NULL). */
+static bool add_env(const char *cmd, const prw_scene *s, const prw_quality *q, prw_app_lightmaps **a, prw_error *e)
+{
+    if (!s->environment.present) return true;
+    prw_env_data d;
+    bool hit = false;
+    char warning[1024] = "";
+    double t0 = prw_now();
+    if (!prw_env_bake(&s->environment, q->envmap_size, &d, &hit, warning, sizeof warning, e))
+        return prw_fail_wrap(e, "environment bake (--no-bake renders without it)");
+    if (warning[0]) fprintf(stderr, "prw %s: warning: %s\n", cmd, warning);
+    if (!hit)
+        fprintf(stderr, "prw %s: environment bake: built in %.1f s (%u levels of %ux%u)\n", cmd, prw_now() - t0,
+                d.levels, 2 * d.height, d.height);
+    if (!*a) *a = prw_calloc(1, sizeof **a);
+    (*a)->env = d;
+    (*a)->has_env = true;
     return true;
 }
 
@@ -152,16 +184,29 @@ bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const prw_qu
     *out = NULL;
     const char *why;
     if (no_bake) {
-        fprintf(stderr, "prw %s: --no-bake: rendering without indirect light (direct light and emission only)\n", cmd);
+        fprintf(stderr, "prw %s: --no-bake: rendering without indirect light%s (direct light and emission only)\n", cmd,
+                s->environment.present ? " and environment light" : "");
         return true;
     }
-    if (!prw_app_lightmaps_wanted(s, &why)) return true;
     const char *env = getenv("PRW_NO_BAKE"); /* the test suite's default: only the GI tests bake */
     if (env && env[0] && strcmp(env, "0") != 0) {
-        fprintf(stderr, "prw %s: PRW_NO_BAKE is set: rendering without indirect light (direct light and emission only)\n",
-                cmd);
+        if (prw_app_lightmaps_wanted(s, &why) || s->environment.present)
+            fprintf(stderr, "prw %s: PRW_NO_BAKE is set: rendering without indirect light%s (direct light and emission "
+                            "only)\n", cmd, s->environment.present ? " and environment light" : "");
         return true;
     }
+    if (!prw_app_lightmaps_wanted(s, &why)) return add_env(cmd, s, q, out, e);
+    if (!prepare_gi(cmd, s, q, out, e)) return false;
+    if (!add_env(cmd, s, q, out, e)) {
+        prw_app_lightmaps_destroy(*out);
+        *out = NULL;
+        return false;
+    }
+    return true;
+}
+
+static bool prepare_gi(const char *cmd, const prw_scene *s, const prw_quality *q, prw_app_lightmaps **out, prw_error *e)
+{
     prw_gi_options o = options_of(q);
     bar pb = {cmd, 0, isatty(fileno(stderr)) != 0};
     prw_gi_bake *b = NULL;

@@ -11,6 +11,7 @@
 
 #include <stddef.h>
 
+#include "prw_env_file.h"
 #include "prw_gi.h"
 #include "prw_lightmap.h"
 #include "prw_quality.h"
@@ -27,8 +28,12 @@ bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const prw_qu
                                prw_app_lightmaps **out, prw_error *e);
 /* Takes ownership of b (freed on failure too). */
 bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lightmaps **out, prw_error *e);
-/* What prw_render_desc.lightmaps takes (NULL for NULL); valid while a lives. */
+/* What prw_render_desc.lightmaps takes (NULL for NULL or no GI bake); valid while a lives. */
 const prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a);
+/* What prw_render_desc.environment takes: the scene's environment precomputation (materials/env, through
+ * the "env" cache at the quality's envmap_size; prepare makes it with the GI bake, and skips it with
+ * no_bake / PRW_NO_BAKE), NULL when none; valid while a lives. */
+const prw_env_data *prw_app_lightmaps_env(const prw_app_lightmaps *a);
 void prw_app_lightmaps_destroy(prw_app_lightmaps *a);
 
 #endif

@@ -17,7 +17,9 @@ layout(location = 4) out vec2 v_uv1;
 
 #ifdef PRW_GI
 layout(location = 5) in vec4 in_gi; // the light map's stream (gi_lightmap.glsl)
+layout(location = 6) in vec4 in_gi_cone; // VERTEX mode: the open cone (gi_lightmap.glsl)
 layout(location = 5) out vec4 v_gi;
+layout(location = 6) out vec4 v_gi_cone;
 #endif
 
 layout(push_constant) uniform prw_draw {
@@ -52,6 +54,7 @@ void main()
 #endif
 #ifdef PRW_GI
     v_gi = in_gi;
+    v_gi_cone = in_gi_cone;
 #endif
 #ifdef PRW_MULTIVIEW
     gl_Position = prw_mv.view_proj[gl_ViewIndex] * p;

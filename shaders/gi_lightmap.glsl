@@ -13,9 +13,10 @@ layout(constant_id = PRW_SC_TERMS) const int prw_terms = PRW_TERM_ALL;
 
 #ifdef PRW_GI
 layout(set = 0, binding = 4) uniform sampler2DArray prw_gi_atlas; // RGBA32F, one layer per atlas
-layout(location = 5) in vec4 v_gi; // ATLAS: (u, v, layer, 0) normalised to the layer; VERTEX: (E_ind, 1)
+layout(location = 5) in vec4 v_gi; // ATLAS: (u, v, layer, 0) normalised to the layer; VERTEX: (E_ind, 1 + vis)
+layout(location = 6) in vec4 v_gi_cone; // VERTEX: the open cone (b, f); ATLAS: unused
 
-vec3 prw_gi_bicubic(vec2 uv, float layer)
+vec4 prw_gi_bicubic(vec2 uv, float layer)
 {
     vec2 size = vec2(textureSize(prw_gi_atlas, 0).xy);
     vec2 t = uv * size - 0.5;
@@ -29,17 +30,30 @@ vec3 prw_gi_bicubic(vec2 uv, float layer)
     vec2 g0 = w0 + w1, g1 = w2 + w3;
     vec2 h0 = (i - 0.5 + w1 / g0) / size; // texel centre i - 1 + w1 / g0, as a coordinate
     vec2 h1 = (i + 1.5 + w3 / g1) / size;
-    vec3 a = texture(prw_gi_atlas, vec3(h0.x, h0.y, layer)).rgb;
-    vec3 b = texture(prw_gi_atlas, vec3(h1.x, h0.y, layer)).rgb;
-    vec3 c = texture(prw_gi_atlas, vec3(h0.x, h1.y, layer)).rgb;
-    vec3 d = texture(prw_gi_atlas, vec3(h1.x, h1.y, layer)).rgb;
+    vec4 a = texture(prw_gi_atlas, vec3(h0.x, h0.y, layer));
+    vec4 b = texture(prw_gi_atlas, vec3(h1.x, h0.y, layer));
+    vec4 c = texture(prw_gi_atlas, vec3(h0.x, h1.y, layer));
+    vec4 d = texture(prw_gi_atlas, vec3(h1.x, h1.y, layer));
     return g0.y * (g0.x * a + g1.x * b) + g1.y * (g0.x * c + g1.x * d);
 }
 
-vec3 prw_gi_irradiance()
+// E_ind and (w) the environment visibility (prw_lightmap.h: the atlas's alpha; VERTEX: v_gi.w = 1 + vis)
+vec4 prw_gi_lookup()
 {
-    if (v_gi.w > 0.5) return max(v_gi.rgb, vec3(0.0));
-    return max(prw_gi_bicubic(v_gi.xy, floor(v_gi.z + 0.5)), vec3(0.0));
+    if (v_gi.w > 0.5) return vec4(max(v_gi.rgb, vec3(0.0)), clamp(v_gi.w - 1.0, 0.0, 1.0));
+    vec4 t = prw_gi_bicubic(v_gi.xy, floor(v_gi.z + 0.5));
+    return vec4(max(t.rgb, vec3(0.0)), clamp(t.a, 0.0, 1.0));
+}
+
+vec3 prw_gi_irradiance() { return prw_gi_lookup().rgb; }
+
+// The open cone (b, f) of the environment visibility (prw_gi.h): ATLAS bilinear from the cone layers (the
+// atlas's second half), VERTEX interpolated; (0, 0, 0, -1): none.
+vec4 prw_gi_cone()
+{
+    if (v_gi.w > 0.5) return v_gi_cone;
+    float n = float(textureSize(prw_gi_atlas, 0).z / 2);
+    return texture(prw_gi_atlas, vec3(v_gi.xy, floor(v_gi.z + 0.5) + n));
 }
 #endif
 

@@ -9,6 +9,7 @@
 #include "prw_brdf.h"
 #include "prw_bsdf.h"
 #include "prw_gi.h"
+#include "prw_image.h"
 #include "prw_reference.h"
 
 #define CHART_COS 0.999    /* triangles join a chart within ~2.6 degrees of its first triangle */
@@ -321,12 +322,16 @@ void prw_gi_bake_destroy(prw_gi_bake *b)
     for (uint32_t i = 0; i < b->atlas_count; i++) {
         free(b->atlases[i].rgb);
         free(b->atlases[i].var);
+        free(b->atlases[i].vis);
+        free(b->atlases[i].cone);
         free(b->atlases[i].state);
     }
     for (uint32_t i = 0; i < b->instance_count; i++) {
         free(b->inst[i].uv);
         free(b->inst[i].vertex_rgb);
         free(b->inst[i].vertex_var);
+        free(b->inst[i].vertex_vis);
+        free(b->inst[i].vertex_cone);
     }
     free(b->atlases);
     free(b->inst);
@@ -338,6 +343,8 @@ typedef struct gpoint {
     double p[3], n[3];
     const prw_material *mat;
     float *rgb, *var; /* where E and its variance go */
+    float *vis;       /* where the environment visibility goes */
+    float *cone;      /* where the open cone goes */
     uint8_t *state;   /* the texel's state (NULL for vertices): set to 0 when the point is hidden */
 } gpoint;
 
@@ -369,6 +376,59 @@ static uint64_t mix64(uint64_t x)
     return x ^ (x >> 31);
 }
 
+/* The scene's environment radiance as the path tracer sees it (engine/reference/ref_scene.c: the file's
+ * values x scale, negatives and non-finite as 0, nearest texel; uniform: its radiance), for the
+ * visibility V of prw_gi.h. */
+typedef struct env_map {
+    int kind; /* 0 none or black, 1 uniform, 2 map */
+    float uniform[3];
+    float *rgb;
+    int w, h;
+    double cr, sr;
+} env_map;
+
+static double lum3(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+static bool env_load(const prw_environment *se, env_map *m, prw_error *e)
+{
+    memset(m, 0, sizeof *m);
+    if (!se->present) return true;
+    m->cr = cos(se->rotation), m->sr = sin(se->rotation);
+    if (!se->file[0]) {
+        for (int k = 0; k < 3; k++) m->uniform[k] = isfinite(se->uniform[k]) && se->uniform[k] > 0 ? se->uniform[k] : 0;
+        m->kind = m->uniform[0] + m->uniform[1] + m->uniform[2] > 0 ? 1 : 0;
+        return true;
+    }
+    prw_exr_read_opts opts = {.reject_nonfinite = false, .extra_bytes_per_pixel = 12};
+    prw_image img = {0};
+    if (!prw_exr_read(se->file, &opts, &img, e)) return false;
+    m->w = img.width, m->h = img.height;
+    m->rgb = prw_malloc((size_t)m->w * m->h * 3 * sizeof(float));
+    double scale = isfinite(se->scale) && se->scale > 0 ? se->scale : 0;
+    for (size_t i = 0; i < (size_t)m->w * m->h; i++)
+        for (int k = 0; k < 3; k++) {
+            double x = (double)img.rgba[4 * i + k] * scale;
+            m->rgb[3 * i + k] = (float)(isfinite(x) && x > 0 ? x : 0);
+        }
+    prw_image_free(&img);
+    m->kind = 2;
+    return true;
+}
+
+static void env_eval(const env_map *m, const double d[3], double L[3])
+{
+    L[0] = L[1] = L[2] = 0;
+    if (m->kind == 1)
+        for (int k = 0; k < 3; k++) L[k] = m->uniform[k];
+    if (m->kind != 2) return;
+    double x = m->cr * d[0] - m->sr * d[2], y = d[1], z = m->sr * d[0] + m->cr * d[2];
+    double u = 0.5 + atan2(x, -z) / (2 * PRW_PI), v = acos(fmax(-1.0, fmin(1.0, y))) / PRW_PI;
+    int i = (int)floor(u * m->w), j = (int)floor(v * m->h);
+    i = ((i % m->w) + m->w) % m->w;
+    j = j < 0 ? 0 : j >= m->h ? m->h - 1 : j;
+    for (int k = 0; k < 3; k++) L[k] = m->rgb[3 * ((size_t)j * m->w + i) + k];
+}
+
 static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoint *pts, size_t np,
                    prw_gi_progress_fn progress, void *user, double *seconds, uint64_t *hidden, prw_error *e)
 {
@@ -376,11 +436,17 @@ static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoi
     double lo[3] = {s->bounds_min.x, s->bounds_min.y, s->bounds_min.z};
     double hi[3] = {s->bounds_max.x, s->bounds_max.y, s->bounds_max.z};
     prw_dvec3 centre = s->has_bounds ? prw_v3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2) : prw_v3(0, 0, 0);
+    env_map env;
+    if (!env_load(&s->environment, &env, e)) return false;
     prw_ref_renderer *r = NULL;
-    if (!prw_ref_create(s, centre, o->threads, &r, e)) return false;
+    if (!prw_ref_create(s, centre, o->threads, &r, e)) {
+        free(env.rgb);
+        return false;
+    }
     size_t chunk = CHUNK_POINTS;
     prw_ref_ray *rays = prw_calloc(chunk * N, sizeof *rays);
     prw_ref_ray_result *res = prw_calloc(chunk * N, sizeof *res);
+    prw_ref_ray_result *emi = env.kind ? prw_calloc(chunk * N, sizeof *emi) : NULL;
     double *w = prw_calloc(chunk * N, sizeof *w);
     double t0 = prw_now();
     bool ok = true;
@@ -409,6 +475,11 @@ static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoi
         prw_ref_ray_desc d = {.first_index = (uint64_t)c0 * N, .s0 = 0, .s1 = 1, .seed = o->seed,
                               .filter = {PRW_REF_MIN_DEPTH, 1}, .camera = false, .threads = o->threads};
         ok = prw_ref_trace_rays(r, rays, (c1 - c0) * N, &d, res, NULL, NULL, e);
+        if (ok && env.kind) { /* the same rays, what they see directly: the environment when they escape */
+            prw_ref_ray_desc de = d;
+            de.filter = (prw_ref_filter){PRW_REF_EMISSION, 0};
+            ok = prw_ref_trace_rays(r, rays, (c1 - c0) * N, &de, emi, NULL, NULL, e);
+        }
         for (size_t i = c0; i < c1 && ok; i++) {
             /* a texel whose rays mostly start under or inside closed geometry (the floor under a box,
                a face covered by another) is not a visible surface: left to the dilation */
@@ -431,6 +502,27 @@ static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoi
                 pts[i].rgb[c] = (float)mean;
                 pts[i].var[c] = (float)var;
             }
+            double seen = 0, all = 0, open = 0, bsum[3] = {0, 0, 0};
+            for (uint32_t j = 0; j < N && env.kind; j++) {
+                const prw_ref_ray *q = &rays[(i - c0) * N + j];
+                double dir[3] = {q->dir.x, q->dir.y, q->dir.z}, L[3];
+                env_eval(&env, dir, L);
+                const double *got = emi[(i - c0) * N + j].mean;
+                bool escaped = true;
+                for (int c = 0; c < 3; c++) escaped = escaped && fabs(got[c] - L[c]) <= 1e-5 * L[c] + 1e-9; /* fixed point: 2^-32 */
+                double y = lum3(L);
+                all += y;
+                if (escaped) {
+                    seen += y;
+                    open += 1;
+                    for (int c = 0; c < 3; c++) bsum[c] += dir[c];
+                }
+            }
+            *pts[i].vis = all > 0 ? (float)fmin(1.0, seen / all) : 1.0f;
+            if (pts[i].cone) {
+                for (int c = 0; c < 3; c++) pts[i].cone[c] = env.kind ? (float)(bsum[c] / N) : (float)pts[i].n[c];
+                pts[i].cone[3] = env.kind ? (float)(open / N) : 1.0f;
+            }
         }
         if (progress && ok) {
             char line[160];
@@ -442,6 +534,8 @@ static bool gather(const prw_scene *s, const prw_gi_options *o, uint32_t N, gpoi
     *seconds = prw_now() - t0;
     free(rays);
     free(res);
+    free(emi);
+    free(env.rgb);
     free(w);
     prw_ref_destroy(r);
     return ok;
@@ -479,7 +573,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             winst_make(s, nd, m, &wi[k]);
             const prw_material *mt = wi[k].mat;
             bool diffuse = mt->metallic < 1 && fmaxf(mt->base_color[0], fmaxf(mt->base_color[1], mt->base_color[2])) > 0;
-            in->mode = diffuse && m->index_count >= 3 ? PRW_GI_ATLAS : PRW_GI_NONE;
+            /* with an environment every surface needs its visibility (prw_gi.h) */
+            in->mode = (diffuse || s->environment.present) && m->index_count >= 3 ? PRW_GI_ATLAS : PRW_GI_NONE;
             if (in->mode)
                 for (uint32_t t = 0; t < m->index_count / 3; t++) area_all += wi[k].area[t];
         }
@@ -552,6 +647,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             A->width = PRW_GI_ATLAS_W, A->height = heights[a];
             A->rgb = prw_calloc((size_t)A->width * A->height * 3, sizeof(float));
             A->var = prw_calloc((size_t)A->width * A->height * 3, sizeof(float));
+            A->vis = prw_calloc((size_t)A->width * A->height, sizeof(float));
+            A->cone = prw_calloc((size_t)A->width * A->height * 4, sizeof(float));
             A->state = prw_calloc((size_t)A->width * A->height, 1);
         }
     }
@@ -602,6 +699,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
                     g->mat = w->mat;
                     g->rgb = A->rgb + 3 * ti;
                     g->var = A->var + 3 * ti;
+                    g->vis = A->vis + ti;
+                    g->cone = A->cone + 4 * ti;
                     g->state = A->state + ti;
                 }
         }
@@ -621,6 +720,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
                 g->mat = w->mat;
                 g->rgb = A->rgb + 3 * ti;
                 g->var = A->var + 3 * ti;
+                g->vis = A->vis + ti;
+                g->cone = A->cone + 4 * ti;
                 g->state = A->state + ti;
             }
         }
@@ -633,6 +734,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
         in->vertex_count = wi[i].m->vertex_count;
         in->vertex_rgb = prw_calloc((size_t)in->vertex_count * 3, sizeof(float));
         in->vertex_var = prw_calloc((size_t)in->vertex_count * 3, sizeof(float));
+        in->vertex_vis = prw_calloc((size_t)in->vertex_count, sizeof(float));
+        in->vertex_cone = prw_calloc((size_t)in->vertex_count * 4, sizeof(float));
         for (uint32_t v = 0; v < in->vertex_count; v++) {
             gpoint *g = push_point(&pts, &np, &pcap);
             memcpy(g->p, wi[i].p + 3 * v, sizeof g->p);
@@ -641,6 +744,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
             g->mat = wi[i].mat;
             g->rgb = in->vertex_rgb + 3 * v;
             g->var = in->vertex_var + 3 * v;
+            g->vis = in->vertex_vis + v;
+            g->cone = in->vertex_cone + 4 * v;
             g->state = NULL;
             b->sampled_vertices++;
         }
@@ -652,33 +757,39 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
         chart *c = &charts[ci];
         prw_gi_atlas *A = &b->atlases[c->atlas];
         size_t cn = (size_t)c->w * c->h;
-        float *src = prw_calloc(cn * 6 + 1, sizeof(float));
+        float *src = prw_calloc(cn * 11 + 1, sizeof(float));
         for (uint32_t ty = 0; ty < c->h; ty++)
             for (uint32_t tx = 0; tx < c->w; tx++) {
                 size_t ti = (size_t)(c->y0 + ty) * A->width + c->x0 + tx, li = (size_t)ty * c->w + tx;
-                memcpy(src + 6 * li, A->rgb + 3 * ti, 3 * sizeof(float));
-                memcpy(src + 6 * li + 3, A->var + 3 * ti, 3 * sizeof(float));
+                memcpy(src + 11 * li, A->rgb + 3 * ti, 3 * sizeof(float));
+                memcpy(src + 11 * li + 3, A->var + 3 * ti, 3 * sizeof(float));
+                src[11 * li + 6] = A->vis[ti];
+                memcpy(src + 11 * li + 7, A->cone + 4 * ti, 4 * sizeof(float));
             }
         int R = (int)o.filter_radius;
         for (int ty = 0; ty < (int)c->h; ty++)
             for (int tx = 0; tx < (int)c->w; tx++) {
                 size_t ti = (size_t)(c->y0 + ty) * A->width + c->x0 + tx;
                 if (A->state[ti] != 1) continue;
-                double sum[3] = {0, 0, 0}, var[3] = {0, 0, 0};
+                double sum[3] = {0, 0, 0}, var[3] = {0, 0, 0}, vis = 0, cone[4] = {0, 0, 0, 0};
                 int n = 0;
                 for (int dy = -R; dy <= R; dy++)
                     for (int dx = -R; dx <= R; dx++) {
                         int x = tx + dx, y = ty + dy;
                         if (x < 0 || y < 0 || x >= (int)c->w || y >= (int)c->h) continue;
                         if (A->state[(size_t)(c->y0 + y) * A->width + c->x0 + x] != 1) continue;
-                        const float *q = src + 6 * ((size_t)y * c->w + x);
+                        const float *q = src + 11 * ((size_t)y * c->w + x);
                         for (int k2 = 0; k2 < 3; k2++) sum[k2] += q[k2], var[k2] += q[3 + k2];
+                        vis += q[6];
+                        for (int k2 = 0; k2 < 4; k2++) cone[k2] += q[7 + k2];
                         n++;
                     }
                 for (int k2 = 0; k2 < 3; k2++) {
                     A->rgb[3 * ti + k2] = (float)(sum[k2] / n);
                     A->var[3 * ti + k2] = (float)(var[k2] / ((double)n * n));
                 }
+                A->vis[ti] = (float)(vis / n);
+                for (int k2 = 0; k2 < 4; k2++) A->cone[4 * ti + k2] = (float)(cone[k2] / n);
             }
         free(src);
     }
@@ -710,6 +821,8 @@ bool prw_gi_build(const prw_scene *s, const prw_gi_options *opt, prw_gi_progress
                     A->state[dst] = 2;
                     memcpy(A->rgb + 3 * dst, A->rgb + 3 * src, 3 * sizeof(float));
                     memcpy(A->var + 3 * dst, A->var + 3 * src, 3 * sizeof(float));
+                    A->vis[dst] = A->vis[src];
+                    memcpy(A->cone + 4 * dst, A->cone + 4 * src, 4 * sizeof(float));
                     queue[qt++] = (uint32_t)(ny * c->w + nx);
                 }
         }

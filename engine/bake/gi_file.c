@@ -1,14 +1,16 @@
 /* gi_file.c — the light-map file and its cache entry (prw_gi.h).
  *
- * File (little-endian), version 1:
+ * File (little-endian), version 2 (1 had no visibility):
  *   0   char[8]  "PRWGI001"
- *   8   u32      version (1);  12 u32 header size (72)
+ *   8   u32      version (2);  12 u32 header size (72)
  *   16  char[32] cache key (hex; zeros when none)
  *   48  f64      texel size (metres);  56 u32 samples;  60 u32 atlas count;  64 u32 instance count;
  *   68  u32      reserved (0)
- *   72  atlases:   u32 width, u32 height, f32 rgb[3 w h], f32 var[3 w h], u8 state[w h]
+ *   72  atlases:   u32 width, u32 height, f32 rgb[3 w h], f32 var[3 w h], f32 vis[w h] (in [0, 1]),
+ *                  f32 cone[4 w h] (b finite, f in [0, 1]), u8 state[w h]
  *       instances: u32 node, mesh, mode, atlas, triangle count, vertex count;
- *                  ATLAS: f32 uv[6 triangles];  VERTEX: f32 rgb[3 vertices], f32 var[3 vertices]
+ *                  ATLAS: f32 uv[6 triangles];  VERTEX: f32 rgb[3 vertices], f32 var[3 vertices], f32 vis[vertices],
+ *                  f32 cone[4 vertices]
  *   end u64      prw_hash64 (seed 0) of every byte before it
  * The reader checks each count against its limit and the bytes left before it allocates, refuses
  * non-finite or negative values, unknown modes and states, and trailing bytes. */
@@ -23,7 +25,7 @@
 #include "prw_gi.h"
 #include "prw_reference.h"
 
-#define GI_VERSION 1u
+#define GI_VERSION 2u
 #define GI_HDR 72u
 #define MAX_SIDE 4096u
 #define MAX_INSTANCES (1u << 20)
@@ -187,6 +189,8 @@ bool prw_gi_encode(const prw_gi_bake *b, const char *key, uint8_t **data, size_t
         w32(&w, A->width), w32(&w, A->height);
         wf32s(&w, A->rgb, 3 * t);
         wf32s(&w, A->var, 3 * t);
+        wf32s(&w, A->vis, t);
+        wf32s(&w, A->cone, 4 * t);
         wput(&w, A->state, t);
     }
     for (uint32_t i = 0; i < b->instance_count; i++) {
@@ -198,6 +202,8 @@ bool prw_gi_encode(const prw_gi_bake *b, const char *key, uint8_t **data, size_t
         if (in->mode == PRW_GI_VERTEX) {
             wf32s(&w, in->vertex_rgb, (size_t)in->vertex_count * 3);
             wf32s(&w, in->vertex_var, (size_t)in->vertex_count * 3);
+            wf32s(&w, in->vertex_vis, in->vertex_count);
+            wf32s(&w, in->vertex_cone, (size_t)in->vertex_count * 4);
         }
     }
     w64(&w, prw_hash64(w.p, w.n, 0));
@@ -243,6 +249,26 @@ static bool rf32s(rbuf *r, float *out, size_t n, bool nonneg, const char *what)
         memcpy(&out[i], &u, 4);
         if (!isfinite(out[i]) || (nonneg && out[i] < 0))
             return prw_fail(r->e, "%s: %s: value %zu is %s", r->name, what, i, isfinite(out[i]) ? "negative" : "not finite");
+    }
+    return true;
+}
+
+/* visibilities are fractions */
+static bool vis_in_range(rbuf *r, const float *v, size_t n, const char *what)
+{
+    for (size_t i = 0; i < n; i++)
+        if (v[i] > 1.0f) return prw_fail(r->e, "%s: %s: visibility %zu is %g (0..1)", r->name, what, i, v[i]);
+    return true;
+}
+
+/* open cones: |b| <= 1 (a mean of unit vectors) up to rounding, f a fraction */
+static bool cone_in_range(rbuf *r, const float *c, size_t n, const char *what)
+{
+    for (size_t i = 0; i < n; i++) {
+        const float *q = c + 4 * i;
+        if (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] > 1.0001f || q[3] < 0.0f || q[3] > 1.0f)
+            return prw_fail(r->e, "%s: %s: open cone %zu (%g %g %g, %g) out of range", r->name, what, i, q[0], q[1],
+                            q[2], q[3]);
     }
     return true;
 }
@@ -299,13 +325,17 @@ bool prw_gi_decode(const void *data, size_t size, const char *name, prw_gi_bake 
             break;
         }
         size_t t = (size_t)w * h;
-        if (!(ok = need(&r, (uint64_t)t * 25, what))) break;
+        if (!(ok = need(&r, (uint64_t)t * 45, what))) break;
         prw_gi_atlas *A = &b->atlases[b->atlas_count++];
         A->width = w, A->height = h;
         A->rgb = prw_calloc(3 * t, sizeof(float));
         A->var = prw_calloc(3 * t, sizeof(float));
+        A->vis = prw_calloc(t, sizeof(float));
+        A->cone = prw_calloc(4 * t, sizeof(float));
         A->state = prw_calloc(t, 1);
-        ok = rf32s(&r, A->rgb, 3 * t, true, what) && rf32s(&r, A->var, 3 * t, true, what);
+        ok = rf32s(&r, A->rgb, 3 * t, true, what) && rf32s(&r, A->var, 3 * t, true, what) &&
+             rf32s(&r, A->vis, t, true, what) && vis_in_range(&r, A->vis, t, what) &&
+             rf32s(&r, A->cone, 4 * t, false, what) && cone_in_range(&r, A->cone, t, what);
         if (!ok) break;
         memcpy(A->state, r.p + r.at, t);
         r.at += t;
@@ -335,11 +365,15 @@ bool prw_gi_decode(const void *data, size_t size, const char *name, prw_gi_bake 
             in->uv = prw_calloc((size_t)nt * 6 + 1, sizeof(float));
             ok = rf32s(&r, in->uv, (size_t)nt * 6, false, what);
         } else if (in->mode == PRW_GI_VERTEX) {
-            if (!(ok = need(&r, (uint64_t)nv * 24, what))) break;
+            if (!(ok = need(&r, (uint64_t)nv * 44, what))) break;
             in->vertex_count = nv;
             in->vertex_rgb = prw_calloc((size_t)nv * 3 + 1, sizeof(float));
             in->vertex_var = prw_calloc((size_t)nv * 3 + 1, sizeof(float));
-            ok = rf32s(&r, in->vertex_rgb, (size_t)nv * 3, true, what) && rf32s(&r, in->vertex_var, (size_t)nv * 3, true, what);
+            in->vertex_vis = prw_calloc((size_t)nv + 1, sizeof(float));
+            in->vertex_cone = prw_calloc((size_t)nv * 4 + 1, sizeof(float));
+            ok = rf32s(&r, in->vertex_rgb, (size_t)nv * 3, true, what) && rf32s(&r, in->vertex_var, (size_t)nv * 3, true, what) &&
+                 rf32s(&r, in->vertex_vis, nv, true, what) && vis_in_range(&r, in->vertex_vis, nv, what) &&
+                 rf32s(&r, in->vertex_cone, (size_t)nv * 4, false, what) && cone_in_range(&r, in->vertex_cone, nv, what);
         }
     }
     if (ok && r.at != r.n) ok = prw_fail(e, "%s: %zu bytes after the last instance", name, r.n - r.at);

@@ -24,7 +24,8 @@
  *
  * Storage:
  *  - Instances: one per (node, mesh) drawn, in scene order (nodes, then the meshes of their group).
- *    mode NONE: not baked (no diffuse lobe: metallic >= 1 or a black base colour; emissive-only);
+ *    mode NONE: not baked (no diffuse lobe: metallic >= 1 or a black base colour; emissive-only),
+ *    except that with an environment every mesh with triangles is baked (its visibility V);
  *    mode ATLAS: flat charts in an atlas, uv = 6 floats per triangle (the corners' light-map uv,
  *    normalised to the atlas: texel (i, j) is centred at ((i + 0.5) / width, (j + 0.5) / height));
  *    mode VERTEX: meshes without TEXCOORD_1 dense enough (sqrt(world area / vertices) <= the texel size
@@ -61,6 +62,22 @@
  *    within r texels (after the hidden-texel rule, before dilation; vertices unfiltered): less noise,
  *    a bias where E bends (corners, contact); `prw bake --gi --sweep` measures the trade.
  *
+ * Environment visibility (issue 16, the renderer's environment term, engine/render/prw_env_gpu.h):
+ *   V(x) = Y(sum_j L_env(wj) [wj escapes]) / Y(sum_j L_env(wj))   over the SAME cosine-weighted gather
+ *   rays wj of the point, Y the luminance, L_env the scene's environment radiance in direction wj
+ *   (prw_environment's mapping, nearest texel as the path tracer), "escapes": the ray's emission seen
+ *   directly (prw_ref_trace_rays, filter emission, the path tracer's own ray casting) equals L_env(wj)
+ *   — it met no surface.  It is the fraction of the unoccluded environment irradiance (cosine-weighted,
+ *   luminance) that reaches the point: in [0, 1], exactly 1 where nothing occludes (a ratio estimator
+ *   on the same rays, so unoccluded texels carry no noise).  V = 1 without an environment, or where
+ *   Y(sum L_env) = 0 (a black environment).  With an environment present, metallic meshes are baked
+ *   too (their E_ind is weighted by 1 - metallic = 0 in the renderer; they need V).
+ *   The open cone (texels and vertices, for the renderer's specular occlusion): over the same rays,
+ *   f = the fraction that escapes and b = the sum of their directions (world space, not normalised; 0
+ *   when none escapes), stored as (b, f).  For cosine-weighted rays, a cone of half-angle t about n
+ *   holds the fraction sin^2 t of them, so the renderer reads the open directions as the cone about
+ *   b / |b| of half-angle asin(sqrt(f)).  Directions where the environment is black count as open
+ *   (the test above cannot tell them apart); without an environment b = n, f = 1.
  * File (PRWGI001, little-endian; gi_file.c has the layout): read back with every count checked
  * against limits and the remaining bytes before any allocation, non-finite or negative values
  * refused, a prw_hash64 (FNV-1a) checksum.  Cache: <cache>/gi/<key>.gi, key = prw_cache_key over the
@@ -84,7 +101,7 @@
 extern "C" {
 #endif
 
-#define PRW_GI_ALGO_VERSION "gi-2026-12-06b" /* b: hidden texels dilated */
+#define PRW_GI_ALGO_VERSION "gi-2026-12-06c" /* b: hidden texels dilated; c: environment visibility */
 #define PRW_GI_CACHE_KIND "gi"
 #define PRW_GI_MAX_ATLASES 128
 #define PRW_GI_ATLAS_W 1024
@@ -114,12 +131,16 @@ typedef struct prw_gi_instance {
     uint32_t vertex_count;  /* VERTEX: of the mesh */
     float *vertex_rgb;      /* VERTEX: 3 per vertex, E_ind */
     float *vertex_var;      /* VERTEX: 3 per vertex, variance of the mean */
+    float *vertex_vis;      /* VERTEX: 1 per vertex, environment visibility V (see the top) */
+    float *vertex_cone;     /* VERTEX: 4 per vertex, the open cone (b, f) (see the top) */
 } prw_gi_instance;
 
 typedef struct prw_gi_atlas {
     uint32_t width, height;
     float *rgb;     /* 3 per texel, row-major, E_ind */
     float *var;     /* 3 per texel, variance of the mean (sampled texels; dilated ones copy it) */
+    float *vis;     /* 1 per texel, environment visibility V (see the top; filtered and dilated as rgb) */
+    float *cone;    /* 4 per texel, the open cone (b, f) (see the top; filtered and dilated as rgb) */
     uint8_t *state; /* per texel: 0 unused, 1 sampled, 2 dilated */
 } prw_gi_atlas;
 

@@ -25,6 +25,13 @@ static bool finite_nonneg(const float *v, size_t n)
 }
 
 /* prw_lightmap.h's promises for instance i. */
+static bool unit_range(const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!(v[i] >= 0.0f && v[i] <= 1.0f)) return false;
+    return true;
+}
+
 static bool check_instance(const prw_scene *s, const prw_lightmaps *lm, uint32_t i, prw_error *e)
 {
     const prw_lightmap_instance *in = &lm->inst[i];
@@ -55,6 +62,12 @@ static bool check_instance(const prw_scene *s, const prw_lightmaps *lm, uint32_t
                 return prw_fail(e, "light maps: instance %u: uv outside [0, 1]", i);
     } else if (!in->rgb || !finite_nonneg(in->rgb, 3 * (size_t)in->vertex_count))
         return prw_fail(e, "light maps: instance %u: vertex values missing, negative or not finite", i);
+    else if (in->vis && !unit_range(in->vis, in->vertex_count))
+        return prw_fail(e, "light maps: instance %u: a vertex visibility is outside [0, 1]", i);
+    for (size_t k = 0; in->mode == PRW_LIGHTMAP_VERTEX && in->cone && k < in->vertex_count; k++)
+        if (!isfinite(in->cone[4 * k]) || !isfinite(in->cone[4 * k + 1]) || !isfinite(in->cone[4 * k + 2]) ||
+            !(in->cone[4 * k + 3] >= 0.0f && in->cone[4 * k + 3] <= 1.0f))
+            return prw_fail(e, "light maps: instance %u: vertex open cone %zu not finite or outside [0, 1]", i, k);
     return true;
 }
 
@@ -68,26 +81,42 @@ static bool make_atlas(prw_gpu *gpu, const prw_lightmaps *lm, bool active, uint3
             return prw_fail(e, "light maps: atlas %u: size %ux%u (1..4096 a side) or no texels", i, a->width, a->height);
         if (!finite_nonneg(a->rgb, 3 * (size_t)a->width * a->height))
             return prw_fail(e, "light maps: atlas %u: a texel is negative or not finite", i);
+        if (a->vis && !unit_range(a->vis, (size_t)a->width * a->height))
+            return prw_fail(e, "light maps: atlas %u: a visibility is outside [0, 1]", i);
+        for (size_t t = 0; a->cone && t < (size_t)a->width * a->height; t++)
+            if (!isfinite(a->cone[4 * t]) || !isfinite(a->cone[4 * t + 1]) || !isfinite(a->cone[4 * t + 2]) ||
+                !(a->cone[4 * t + 3] >= 0.0f && a->cone[4 * t + 3] <= 1.0f))
+                return prw_fail(e, "light maps: atlas %u: open cone %zu not finite or its fraction outside [0, 1]", i, t);
         w = a->width > w ? a->width : w;
         h = a->height > h ? a->height : h;
     }
     *W = w, *H = h;
-    prw_image_desc d = {.width = w, .height = h, .layers = n ? n : 1, .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+    prw_image_desc d = {.width = w, .height = h, .layers = n ? 2 * n : 1, .format = VK_FORMAT_R32G32B32A32_SFLOAT,
                         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                         .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
     if (!prw_image_create(gpu, &d, out, e)) return false;
     size_t texels = (size_t)w * h;
     float *px = prw_calloc(texels, 4 * sizeof(float));
     bool ok = true;
-    for (uint32_t l = 0; ok && l < (n ? n : 1); l++) {
+    for (uint32_t l = 0; ok && l < (n ? 2 * n : 1); l++) {
         memset(px, 0, texels * 4 * sizeof(float));
-        if (n) {
+        if (l >= n && n) { /* the open cones */
+            const prw_lightmap_atlas *a = &lm->atlases[l - n];
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++) {
+                    float *p = px + 4 * ((size_t)y * w + x);
+                    if (a->cone && x < a->width && y < a->height)
+                        memcpy(p, a->cone + 4 * ((size_t)y * a->width + x), 4 * sizeof(float));
+                    else
+                        p[3] = -1.0f;
+                }
+        } else if (n) {
             const prw_lightmap_atlas *a = &lm->atlases[l];
             for (uint32_t y = 0; y < a->height; y++)
                 for (uint32_t x = 0; x < a->width; x++) {
                     float *p = px + 4 * ((size_t)y * w + x);
                     memcpy(p, a->rgb + 3 * ((size_t)y * a->width + x), 3 * sizeof(float));
-                    p[3] = 1.0f;
+                    p[3] = a->vis ? a->vis[(size_t)y * a->width + x] : 1.0f; /* environment visibility */
                 }
         }
         ok = prw_image_upload(gpu, out, l, px, texels * 4 * sizeof(float), e);
@@ -162,7 +191,7 @@ bool prw_lightmap_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_lightma
             const float *u1 = m->uvs1 ? m->uvs1 : m->uvs; /* no TEXCOORD_1: set 0 (prw_shading.h) */
             uv1[2 * o] = u1 ? u1[2 * src] : 0.0f;
             uv1[2 * o + 1] = u1 ? u1[2 * src + 1] : 0.0f;
-            float *p = st + 4 * o;
+            float *p = st + PRW_LIGHTMAP_STREAM_FLOATS * o;
             if (in->mode == PRW_LIGHTMAP_ATLAS) {
                 p[0] = in->uv[2 * k] * sx;
                 p[1] = in->uv[2 * k + 1] * sy;
@@ -170,8 +199,10 @@ bool prw_lightmap_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_lightma
                 p[3] = 0.0f;
             } else {
                 memcpy(p, in->rgb + 3 * (size_t)k, 3 * sizeof(float));
-                p[3] = 1.0f;
+                p[3] = 1.0f + (in->vis ? in->vis[k] : 1.0f); /* VERTEX mode, and its environment visibility */
             }
+            p[4] = p[5] = p[6] = 0.0f, p[7] = -1.0f;
+            if (in->mode == PRW_LIGHTMAP_VERTEX && in->cone) memcpy(p + 4, in->cone + 4 * (size_t)k, 4 * sizeof(float));
         }
         memcpy(id + io, in->indices ? in->indices : m->indices, in->index_count * sizeof(uint32_t));
         g->draws[g->instance_count++] = (prw_gpu_mesh){.first_index = (uint32_t)io, .index_count = in->index_count,

@@ -3,7 +3,9 @@
  * drawn vertices (copies of their mesh's, split where the light-map uv differs per corner) in buffers
  * of their own: the vertex layout of scene_gpu (binding 0), uv set 1 (binding 1, always present) and
  * the light-map stream (binding 2, PRW_LIGHTMAP_STREAM_FLOATS per vertex: ATLAS (u, v, layer, 0),
- * VERTEX (E_ind, 1)).
+ * VERTEX (E_ind, 1 + environment visibility); then the VERTEX open cone (b, f), (0, 0, 0, -1) for ATLAS
+ * or none); the atlas texels are (E_ind, environment visibility);
+ * layers atlas_count + i hold atlas i's open cones (b, f), (0, 0, 0, -1) where it has none.
  *
  * Promises:
  *  - Without light maps (NULL or no instance with a mode) `active` is false, no buffer exists and the
@@ -19,7 +21,7 @@
 #include "prw_scene.h"
 #include "scene_gpu.h"
 
-#define PRW_LIGHTMAP_STREAM_FLOATS 4
+#define PRW_LIGHTMAP_STREAM_FLOATS 8
 
 typedef struct prw_lightmap_gpu {
     bool active;

@@ -11,9 +11,12 @@
  * was drawn), resolved from multisampled attachments (normal averaged, id sample 0).
  * The opaque draws run twice in the pass's scope: a depth pre-pass (no fragment shader), then shading
  * with depth EQUAL (on lavapipe a fragment costs all of its shader, so hidden ones are worth skipping).
+ * With an environment (prw_env_gpu.h) and the direct term drawn, the environment seen directly fills what
+ * no opaque surface covers (pipes.h's sky recipe), before the blended draws.
  * Not needed for a view that another pass renders: both views of a multiview frame
  * (pass_base_multiview), the right eye of a reprojected frame (pass_reproject). */
 #include "pipes.h"
+#include "prw_env_gpu.h"
 #include "prw_pass.h"
 
 static const char *out_name(const prw_render_env *env) { return env->desc->quality.supersample > 1 ? "hdr_ss" : "hdr"; }
@@ -107,6 +110,20 @@ static bool record(prw_pass_ctx *c, prw_error *e)
         dc.triangles = 0, dc.draws = 0;
     }
     prw_drawables_record(env->drawables, env, &dc);
+    if (env->pipes->envlight && env->pipes->envlight->active && (env->desc->terms & PRW_TERM_DIRECT) && !dc.failed) {
+        /* the environment seen directly (emission) where no surface is: one triangle at the far plane */
+        prw_pipe_key k = {.recipe = &env->pipes->sky, .variant = gbuf ? PRW_BASE_VARIANT_GBUFFER : PRW_BASE_VARIANT_PLAIN};
+        VkPipeline pl;
+        if (prw_pipes_get(env->pipes, &k, &pl, &dc.err)) {
+            vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pl);
+            vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, env->pipes->base_layout, 0, 1,
+                                    &c->frame->draw[c->view].globals, 0, NULL);
+            vkCmdDraw(c->cmd, 3, 1, 0, 0);
+            dc.bound = pl; /* the blended draws rebind theirs */
+        } else {
+            dc.failed = true;
+        }
+    }
     if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces over the opaque image */
         dc.kind = PRW_DRAW_BLEND;
         dc.variant = gbuf ? PRW_BASE_VARIANT_GBUFFER : PRW_BASE_VARIANT_PLAIN; /* tested against the opaque depth */

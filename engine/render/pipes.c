@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "lightmap_gpu.h"
+#include "prw_env_gpu.h"
 #include "prw_constants.h"
 #include "prw_ltc.h"
 #include "prw_shaders.h"
@@ -38,20 +39,22 @@ static const VkVertexInputBindingDescription k_bindings_gi[3] = {
     {1, PRW_UV1_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
     {2, PRW_LIGHTMAP_STREAM_FLOATS * 4, VK_VERTEX_INPUT_RATE_VERTEX},
 };
-static const VkVertexInputAttributeDescription k_attrs_gi_core[5] = {
+static const VkVertexInputAttributeDescription k_attrs_gi_core[6] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
     {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
     {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
     {5, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+    {6, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
 };
-static const VkVertexInputAttributeDescription k_attrs_gi_ext[6] = {
+static const VkVertexInputAttributeDescription k_attrs_gi_ext[7] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
     {2, 0, VK_FORMAT_R32G32_SFLOAT, 24},
     {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 32},
     {4, 1, VK_FORMAT_R32G32_SFLOAT, 0},
     {5, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+    {6, 2, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
 };
 /* cut-out shadow casters: position, uv, uv set 1 */
 static const VkVertexInputAttributeDescription k_attrs_mask[3] = {
@@ -65,7 +68,7 @@ static const VkVertexInputAttributeDescription k_attrs_mask_no_uv1[3] = {
     {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
 };
 
-_Static_assert(PRW_SC_TERMS < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
+_Static_assert(PRW_SC_ENV < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
 
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e)
@@ -124,7 +127,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         .vertex_bindings = gi ? k_bindings_gi : k_bindings,
         .vertex_binding_count = gi ? 3 : uv1 ? 2 : 1,
         .vertex_attrs = gi ? (ext ? k_attrs_gi_ext : k_attrs_gi_core) : ext && !uv1 ? k_attrs_no_uv1 : k_attrs,
-        .vertex_attr_count = gi ? (ext ? 6 : 5) : ext ? 5 : 4,
+        .vertex_attr_count = gi ? (ext ? 7 : 6) : ext ? 5 : 4,
         .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
         .color_count = gbuf ? 3 : 1,
         .depth_format = PRW_DEPTH_FORMAT,
@@ -148,6 +151,11 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         if (env->desc->terms != PRW_TERM_ALL) { /* the default of gi_lightmap.glsl otherwise: the same pipeline */
             d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
             d->fs_spec_count = PRW_SC_TERMS + 1;
+        }
+        if (env->pipes && env->pipes->envlight && env->pipes->envlight->active && !btf) { /* gi_env.glsl */
+            d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
+            d->fs_spec[PRW_SC_ENV] = 1;
+            d->fs_spec_count = PRW_SC_ENV + 1;
         }
     }
     return true;
@@ -185,6 +193,28 @@ static bool describe_shadow(const prw_pipe_recipe *r, const prw_render_env *env,
     return true;
 }
 
+/* The environment's background: no vertex input, depth tested (reversed Z, at depth 0: only where the
+ * depth is still the clear value), not written. */
+static bool describe_sky(const prw_pipe_recipe *r, const prw_render_env *env, const prw_pipe_key *k,
+                         prw_graphics_desc *d, prw_error *e)
+{
+    (void)e;
+    bool gbuf = k->variant == PRW_BASE_VARIANT_GBUFFER;
+    *d = (prw_graphics_desc){
+        .vs = prw_shader_sky_vert(),
+        .fs = gbuf ? prw_shader_gbuf_sky_frag() : prw_shader_sky_frag(),
+        .layout = r->layout,
+        .color_formats = {prw_pipes_radiance_format(env), PRW_NORMAL_FORMAT, PRW_MATID_FORMAT},
+        .color_count = gbuf ? 3 : 1,
+        .depth_format = PRW_DEPTH_FORMAT,
+        .samples = env->samples,
+        .cull = VK_CULL_MODE_NONE,
+        .depth_test = true,
+        .depth_write = false,
+    };
+    return true;
+}
+
 bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
 {
     prw_pipes *p = prw_calloc(1, sizeof *p);
@@ -192,12 +222,15 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     p->gpu = env->gpu;
     p->env = env;
     VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding globals[5] = {
+    VkDescriptorSetLayoutBinding globals[8] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutBinding material[10];
     for (uint32_t i = 0; i < 8; i++)
@@ -221,7 +254,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         !prw_image_upload(p->gpu, &p->ltc, 0, prw_ltc_table_texels(), layer_bytes, e) ||
         !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
         return false;
-    if (!prw_desc_layout_create(p->gpu, globals, 5, &p->globals_layout, e) ||
+    if (!prw_desc_layout_create(p->gpu, globals, 8, &p->globals_layout, e) ||
         !prw_desc_layout_create(p->gpu, material, 10, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
@@ -236,6 +269,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         return false;
     p->base = (prw_pipe_recipe){.name = "base", .layout = p->base_layout, .describe = describe_base, .lightmapped = true};
     p->shadow = (prw_pipe_recipe){.name = "shadow", .layout = p->shadow_layout, .describe = describe_shadow};
+    p->sky = (prw_pipe_recipe){.name = "sky", .layout = p->base_layout, .describe = describe_sky};
     return true;
 }
 
@@ -260,6 +294,12 @@ void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set)
     prw_desc_write_image(p->gpu, set, 3, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->ltc.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_desc_write_image(p->gpu, set, 4, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->lightmap_atlas,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    /* the environment (prw_env_gpu.h): levels wrap around in u (the shader keeps v off the poles' rows) */
+    prw_desc_write_buffer(p->gpu, set, 5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &p->envlight->ubo, 0, sizeof(prw_gpu_env));
+    prw_desc_write_image(p->gpu, set, 6, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->levels.view,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_REPEAT), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    prw_desc_write_image(p->gpu, set, 7, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->dfg.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 

@@ -14,7 +14,7 @@
  *    (prw_pipes_describe_base).
  *  - Layouts: set 0 = per-view globals (uniform block + the shadow atlas with its compare sampler
  *    (binding 1) and for gathers (binding 2, PRW_SAMPLER_SHADOW_DEPTH), the LTC table (binding 3), the
- *    light-map atlas (binding 4, lightmap_gpu.h)), set 1 = material (uniform block
+ *    light-map atlas (binding 4, lightmap_gpu.h), the environment light (bindings 5-7, prw_env_gpu.h)), set 1 = material (uniform block
  *    + seven textures: base colour, metal-rough, normal, emissive, clear coat, its roughness, its
  *    normal; binding 8: the scene's BTF words, a storage buffer, prw_btf_gpu.h); the base layout has
  *    128 bytes of push constants (112 per draw: prw_draw_push_model; then the clip plane of
@@ -73,11 +73,15 @@ typedef struct prw_pipes {
     VkDescriptorSetLayout globals_layout, material_layout, storage2_layout;
     VkPipelineLayout base_layout, shadow_layout, storage2_pl;
     prw_pipe_recipe base, shadow; /* the standard recipes */
+    prw_pipe_recipe sky;          /* the environment's background (sky.vert/.frag; variant GBUFFER: the G-buffer
+                                     outputs too), drawn by pass_base where nothing else is (prw_env_gpu.h) */
     VkPipeline downsample;        /* compute: N x N box filter (storage2 layout) */
     prw_pipeline_table *table;
     prw_gpu_image ltc;            /* the rect lights' LTC table (materials/prw_ltc.h), set 0 binding 3 */
     VkImageView lightmap_atlas;   /* set 0 binding 4 (lightmap_gpu.h; a black layer without light maps): set
                                      by the renderer before any globals set is written */
+    const struct prw_env_gpu *envlight; /* set 0 bindings 5-7 (prw_env_gpu.h), set like lightmap_atlas; its
+                                           `active` specialises the base shaders (PRW_SC_ENV) */
 } prw_pipes;
 
 bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e);

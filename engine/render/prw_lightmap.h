@@ -20,6 +20,9 @@
  *    vertices (NULL: the mesh's own indices);
  *  - atlases: RGB float per texel, finite, >= 0; at most PRW_LIGHTMAP_MAX_ATLASES, each at most
  *    4096 texels a side.  The renderer copies what it needs at create (nothing is kept).
+ *  - vis (atlas texels, VERTEX vertices; NULL = 1): the environment visibility the environment term
+ *    (prw_env_gpu.h) multiplies by, in [0, 1]; it rides in the atlas's alpha channel and in the
+ *    VERTEX stream's w (1 + vis); the atlases' open cones in layers atlas_count.. of the same array.
  */
 #ifndef PRW_LIGHTMAP_H
 #define PRW_LIGHTMAP_H
@@ -44,6 +47,8 @@ typedef struct prw_lightmap_instance {
     const uint32_t *source;   /* mesh vertex of each drawn vertex; NULL: identity */
     const float *uv;          /* ATLAS: 2 per drawn vertex */
     const float *rgb;         /* VERTEX: 3 per drawn vertex */
+    const float *vis;         /* VERTEX: 1 per drawn vertex, environment visibility in [0, 1]; NULL: 1 */
+    const float *cone;        /* VERTEX: 4 per drawn vertex, the open cone (b, f) (engine/bake/prw_gi.h); NULL: none */
     uint32_t index_count;     /* = the mesh's */
     const uint32_t *indices;  /* into the drawn vertices; NULL: the mesh's */
 } prw_lightmap_instance;
@@ -51,6 +56,9 @@ typedef struct prw_lightmap_instance {
 typedef struct prw_lightmap_atlas {
     uint32_t width, height;
     const float *rgb; /* 3 per texel, row-major */
+    const float *vis; /* 1 per texel, environment visibility in [0, 1] (engine/bake/prw_gi.h); NULL: 1 */
+    const float *cone; /* 4 per texel, the open cone (b, f) of prw_gi.h, finite, f in [0, 1]; NULL: none (the
+                          specular part then takes vis) */
 } prw_lightmap_atlas;
 
 typedef struct prw_lightmaps {

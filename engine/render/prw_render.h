@@ -90,6 +90,9 @@ typedef struct prw_render_desc {
     const struct prw_lightmaps *lightmaps; /* baked indirect diffuse (prw_lightmap.h): the light-mapped instances
                                               are drawn with the light-map shaders; NULL: none (the shaders of
                                               before).  Read at create only (copied to the GPU) */
+    const struct prw_env_data *environment; /* the scene's environment light (materials/env/prw_env_file.h,
+                                               prw_env_gpu.h): the base shaders add the environment term;
+                                               NULL: none (the shaders of before).  Read at create only */
     uint32_t terms;      /* PRW_TERM_* bits (prw_constants.h) the base shaders draw; 0 = all (emission, direct light,
                             the light maps' indirect diffuse) */
     bool display_signal; /* keep the float display signal of every view for prw_renderer_read_signal (HDR10

@@ -110,6 +110,8 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
         ok = prw_fail_wrap(e, "render");
     r->env.lm = r->lm;
     if (ok) r->pipes->lightmap_atlas = r->lm->atlas.view; /* globals binding 4 */
+    if (ok && !prw_env_gpu_create(gpu, r->desc.environment, &r->envlight, e)) ok = prw_fail_wrap(e, "render");
+    if (ok) r->pipes->envlight = r->envlight; /* globals bindings 5-7 */
     ok = ok && prw_tm_gpu_create(gpu, r->pool, r->desc.width, r->desc.height, r->desc.max_views,
                                  (prw_tm_op)r->desc.quality.tonemap,
                                  &r->tm, e);
@@ -143,6 +145,7 @@ void prw_renderer_destroy(prw_renderer *r)
     prw_tm_gpu_destroy(r->tm);
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(r->gpu, &r->globals[v]);
     prw_lightmap_gpu_destroy(r->gpu, r->lm);
+    prw_env_gpu_destroy(r->gpu, r->envlight);
     prw_pipes_destroy(r->pipes);
     if (r->pool) prw_desc_pool_destroy(r->gpu, r->pool);
     if (r->timer) prw_timer_destroy(r->gpu, r->timer);
