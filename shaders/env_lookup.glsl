@@ -4,7 +4,7 @@
 #ifndef PRW_ENV_LOOKUP_GLSL
 #define PRW_ENV_LOOKUP_GLSL
 
-layout(std140, set = 0, binding = 5) uniform prw_env_block {
+layout(std430, set = 0, binding = 5) readonly buffer prw_env_block { // std430 = std140 here (vec4s)
     vec4 sh[9]; // rgb: SH radiance coefficients (prw_env.h's basis order, map space)
     vec4 rot;   // cos rotation, sin rotation, levels K, level height H
 } prw_env;

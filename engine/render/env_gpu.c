@@ -42,7 +42,7 @@ bool prw_env_gpu_create(prw_gpu *gpu, const prw_env_data *d, prw_env_gpu **out, 
         u.rot[2] = (float)d->levels, u.rot[3] = (float)d->height;
     }
     uint32_t H = d ? d->height : 1, W = d ? 2 * d->height : 1, K = d ? d->levels : 1, N = d ? d->dfg_size : 1;
-    if (!prw_buffer_create(gpu, sizeof u, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+    if (!prw_buffer_create(gpu, sizeof u, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                            PRW_MEM_GPU, &g->ubo, e) ||
         !prw_buffer_upload(gpu, &g->ubo, 0, &u, sizeof u, e) ||
         !make_image(gpu, W, H, K, VK_FORMAT_R32G32B32A32_SFLOAT, &g->levels, e) ||

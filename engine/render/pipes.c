@@ -228,7 +228,9 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        /* a storage buffer, not a uniform block: a second uniform block in set 0 made lavapipe 22.3 crash
+         * in pass_reproject's draws (its set 2 has a uniform block too) */
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
@@ -296,7 +298,7 @@ void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set)
     prw_desc_write_image(p->gpu, set, 4, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->lightmap_atlas,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     /* the environment (prw_env_gpu.h): levels wrap around in u (the shader keeps v off the poles' rows) */
-    prw_desc_write_buffer(p->gpu, set, 5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &p->envlight->ubo, 0, sizeof(prw_gpu_env));
+    prw_desc_write_buffer(p->gpu, set, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &p->envlight->ubo, 0, sizeof(prw_gpu_env));
     prw_desc_write_image(p->gpu, set, 6, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->levels.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_REPEAT), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_desc_write_image(p->gpu, set, 7, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->dfg.view,

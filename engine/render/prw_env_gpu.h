@@ -5,7 +5,7 @@
  * through prw_render_desc.environment.
  *
  * Promises:
- *  - Globals set 0: binding 5 a uniform block (prw_gpu_env: the 27 SH coefficients, the rotation's
+ *  - Globals set 0: binding 5 a storage buffer (prw_gpu_env: the 27 SH coefficients, the rotation's
  *    cos / sin, the level count and height), binding 6 the levels as one RGBA32F 2-D array (width 2H,
  *    height H, one layer per roughness level k / (K - 1); float32: no range check needed), binding 7
  *    the split-sum table as an N x N RG32F image (x: mu = (i + 0.5) / N, y: roughness j / (N - 1)).

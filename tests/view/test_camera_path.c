@@ -744,7 +744,9 @@ static void test_asset_paths(void)
             continue;
         }
         files++;
-        check_in_room(&p, 0.25, 1.3, 1.7, de->d_name);
+        /* the demo's walkthroughs stay inside its room at eye height; other paths (e.g. floor_tilt.json, an
+         * overview of gi-room-white-floor) only round-trip */
+        if (strncmp(de->d_name, "demo_", 5) == 0) check_in_room(&p, 0.25, 1.3, 1.7, de->d_name);
         char *text;
         size_t len;
         CHECK_OK(prw_camera_path_to_json(&p, &text, &len, &e), &e);
