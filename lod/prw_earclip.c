@@ -1,9 +1,12 @@
 /* Ear clipping of polygons with holes (after D. Eberly, "Triangulation by Ear Clipping"), on a
- * circular doubly-linked node list with exact orientation tests. */
+ * circular doubly-linked node list with exact orientation tests.  The ear tests look only at the
+ * ring vertices and edges a uniform grid (prw_cellgrid) finds in the cells the ear's triangle and
+ * diagonal touch: the same answers as scanning the whole ring, without its quadratic cost. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "prw_cellgrid.h"
 #include "prw_earclip.h"
 #include "prw_predicates.h"
 
@@ -12,13 +15,36 @@ typedef struct node {
     int prev, next; /* node indices */
 } node;
 
+typedef struct elist {
+    int *v; /* (from, to) node pairs: edges registered in a cell, some of them gone */
+    int n, cap;
+} elist;
+
+/* The ring being clipped, indexed: each live vertex in the list of its cell; each edge, when made,
+ * added to every cell its segment touches (removed edges are dropped lazily, when met). */
+typedef struct grid {
+    prw_cellgrid g;
+    int *head;   /* per cell: first node, -1 */
+    elist *edges; /* per cell */
+    int *cell;   /* per node: its cell, -1 when not in the ring */
+    int *cnext, *cprev;
+    signed char *turn; /* per node: prw_orient2d(prev, node, next), 2 when not known */
+    int *cov;
+    int covcap;
+} grid;
+
 typedef struct ctx {
     const double *xy;
     node *nodes;
     int count, cap;
     int *tris;
     int ntris, tcap;
+    grid gr;
 } ctx;
+
+/* fmin / fmax (a NaN operand loses) without the library call */
+static inline double dmin(double a, double b) { return a < b ? a : b == b ? b : a; }
+static inline double dmax(double a, double b) { return a > b ? a : b == b ? b : a; }
 
 static const double *P(const ctx *c, int nd) { return c->xy + 2 * c->nodes[nd].pt; }
 
@@ -84,8 +110,8 @@ static int point_in_loop(const double *xy, const int *idx, int n, const double *
     int c = 0;
     for (int i = 0, j = n - 1; i < n; j = i++) {
         const double *a = xy + 2 * idx[j], *b = xy + 2 * idx[i];
-        if (p[0] >= fmin(a[0], b[0]) && p[0] <= fmax(a[0], b[0]) && p[1] >= fmin(a[1], b[1]) &&
-            p[1] <= fmax(a[1], b[1]) && prw_orient2d(a, b, p) == 0)
+        if (p[0] >= dmin(a[0], b[0]) && p[0] <= dmax(a[0], b[0]) && p[1] >= dmin(a[1], b[1]) &&
+            p[1] <= dmax(a[1], b[1]) && prw_orient2d(a, b, p) == 0)
             return -1;
         bool aa = a[1] > p[1], ba = b[1] > p[1];
         if (aa == ba) continue;
@@ -116,6 +142,28 @@ static bool in_triangle(const double *a, const double *b, const double *d, const
     int o1 = prw_orient2d(a, b, p), o2 = prw_orient2d(b, d, p), o3 = prw_orient2d(d, a, p);
     if (strict) return o1 > 0 && o2 > 0 && o3 > 0;
     return o1 >= 0 && o2 >= 0 && o3 >= 0;
+}
+
+/* Does the ring's interior corner at node v (interior on the left) hold the direction to m? */
+static bool corner_holds(const ctx *c, int v, const double *m)
+{
+    const double *p = P(c, c->nodes[v].prev), *q = P(c, v), *n = P(c, c->nodes[v].next);
+    int in = prw_orient2d(p, q, m), out = prw_orient2d(q, n, m);
+    if (prw_orient2d(p, q, n) > 0) return in > 0 && out > 0;
+    return in > 0 || out > 0;
+}
+
+/* The ring can pass a point several times (bridges made before, loops touching there): of the
+ * nodes at pn's point, the one whose corner faces m, so the new bridge does not cross a sheet. */
+static int facing_node(const ctx *c, int outer, int pn, const double *m)
+{
+    if (corner_holds(c, pn, m)) return pn;
+    int it = outer;
+    do {
+        if (it != pn && same(P(c, it), P(c, pn)) && corner_holds(c, it, m)) return it;
+        it = c->nodes[it].next;
+    } while (it != outer);
+    return pn;
 }
 
 /* Joins the hole ring (starting at any node) into the outer ring. */
@@ -172,7 +220,8 @@ static void bridge(ctx *c, int outer, int hole)
             do {
                 int pv = c->nodes[it].prev, nx = c->nodes[it].next;
                 const double *r = P(c, it);
-                if (it != pn && prw_orient2d(P(c, pv), r, P(c, nx)) < 0 && in_triangle(tri[0], tri[1], tri[2], r, false) &&
+                if (it != pn && !same(r, Pp) && prw_orient2d(P(c, pv), r, P(c, nx)) < 0 &&
+                    in_triangle(tri[0], tri[1], tri[2], r, false) &&
                     r[0] > M[0]) {
                     double ang = fabs(r[1] - M[1]) / (r[0] - M[0]);
                     double d = (r[0] - M[0]) * (r[0] - M[0]) + (r[1] - M[1]) * (r[1] - M[1]);
@@ -186,6 +235,7 @@ static void bridge(ctx *c, int outer, int hole)
             } while (it != outer);
         }
     }
+    pn = facing_node(c, outer, pn, M);
     /* splice: ... P -> M -> ... -> M.prev -> M' -> P' -> P.next ... */
     int m2 = new_node(c, c->nodes[m].pt);
     int p2 = new_node(c, c->nodes[pn].pt);
@@ -200,41 +250,141 @@ static void bridge(ctx *c, int outer, int hole)
     c->nodes[pnext].prev = p2;
 }
 
+static void add_edge(ctx *c, int from, int to)
+{
+    grid *g = &c->gr;
+    double seg[4] = {P(c, from)[0], P(c, from)[1], P(c, to)[0], P(c, to)[1]};
+    int nc = prw_cellgrid_cover(&g->g, seg, 2, &g->cov, &g->covcap);
+    for (int i = 0; i < nc; i++) {
+        elist *l = &g->edges[g->cov[i]];
+        if (l->n + 2 > l->cap) {
+            l->cap = l->cap ? 2 * l->cap : 8;
+            l->v = prw_realloc(l->v, sizeof(int) * (size_t)l->cap);
+        }
+        l->v[l->n++] = from;
+        l->v[l->n++] = to;
+    }
+}
+
+/* Indexes the ring of n nodes from `start` (every node of the ctx gets a cell entry). */
+static void grid_build(ctx *c, int start, int n)
+{
+    grid *g = &c->gr;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    int it = start;
+    for (int k = 0; k < n; k++, it = c->nodes[it].next)
+        for (int j = 0; j < 2; j++) lo[j] = dmin(lo[j], P(c, it)[j]), hi[j] = dmax(hi[j], P(c, it)[j]);
+    prw_cellgrid_init(&g->g, lo, hi, n);
+    size_t ncells = (size_t)g->g.nx * (size_t)g->g.ny;
+    g->head = prw_malloc(sizeof(int) * ncells);
+    for (size_t i = 0; i < ncells; i++) g->head[i] = -1;
+    g->edges = prw_calloc(ncells, sizeof(elist));
+    g->cell = prw_malloc(sizeof(int) * (size_t)c->count);
+    g->cnext = prw_malloc(sizeof(int) * (size_t)c->count);
+    g->cprev = prw_malloc(sizeof(int) * (size_t)c->count);
+    g->turn = prw_malloc((size_t)c->count);
+    for (int i = 0; i < c->count; i++) g->cell[i] = -1, g->turn[i] = 2;
+    it = start;
+    for (int k = 0; k < n; k++, it = c->nodes[it].next) {
+        int cl = prw_cellgrid_cell(&g->g, P(c, it));
+        g->cell[it] = cl;
+        g->cprev[it] = -1;
+        g->cnext[it] = g->head[cl];
+        if (g->head[cl] >= 0) g->cprev[g->head[cl]] = it;
+        g->head[cl] = it;
+        add_edge(c, it, c->nodes[it].next);
+    }
+}
+
+static void grid_free(ctx *c)
+{
+    grid *g = &c->gr;
+    size_t ncells = (size_t)g->g.nx * (size_t)g->g.ny;
+    for (size_t i = 0; i < ncells; i++) free(g->edges[i].v);
+    free(g->edges);
+    free(g->head);
+    free(g->cell);
+    free(g->cnext);
+    free(g->cprev);
+    free(g->turn);
+    free(g->cov);
+    memset(g, 0, sizeof *g);
+}
+
+/* Takes the node out of the ring and the grid; its neighbours' new edge is indexed. */
 static void unlink_node(ctx *c, int nd)
 {
     int pv = c->nodes[nd].prev, nx = c->nodes[nd].next;
     c->nodes[pv].next = nx;
     c->nodes[nx].prev = pv;
+    grid *g = &c->gr;
+    int cl = g->cell[nd];
+    if (g->cprev[nd] >= 0) g->cnext[g->cprev[nd]] = g->cnext[nd];
+    else g->head[cl] = g->cnext[nd];
+    if (g->cnext[nd] >= 0) g->cprev[g->cnext[nd]] = g->cprev[nd];
+    g->cell[nd] = -1;
+    g->turn[pv] = g->turn[nx] = 2;
+    add_edge(c, pv, nx);
 }
 
-static bool is_ear(const ctx *c, int pv, int cur, int nx, int n, bool strict)
+/* The turn at a ring node, remembered until a neighbour changes: the walk passes long collinear
+ * runs many times, and their exact orientation tests take the slow path. */
+static int turn(ctx *c, int nd)
 {
+    signed char *t = &c->gr.turn[nd];
+    if (*t == 2) *t = (signed char)prw_orient2d(P(c, c->nodes[nd].prev), P(c, nd), P(c, c->nodes[nd].next));
+    return *t;
+}
+
+/* Same answer as testing every other vertex and edge of the ring: the vertices that can reject
+ * the ear lie in its closed triangle, and an edge crossing the diagonal a-d passes through a cell
+ * both segments touch. */
+static bool is_ear(ctx *c, int pv, int cur, int nx, bool strict)
+{
+    grid *g = &c->gr;
     const double *a = P(c, pv), *b = P(c, cur), *d = P(c, nx);
-    double lo0 = fmin(a[0], fmin(b[0], d[0])), hi0 = fmax(a[0], fmax(b[0], d[0]));
-    double lo1 = fmin(a[1], fmin(b[1], d[1])), hi1 = fmax(a[1], fmax(b[1], d[1]));
-    int it = c->nodes[nx].next;
-    for (int k = 0; k < n - 3; k++, it = c->nodes[it].next) {
-        const double *q = P(c, it);
-        if (q[0] < lo0 || q[0] > hi0 || q[1] < lo1 || q[1] > hi1) continue;
-        if (same(q, a) || same(q, b) || same(q, d)) {
-            /* a pinch (the ring passes through a corner again): the other sheet's neighbours must
-             * not enter the ear */
-            const double *qp = P(c, c->nodes[it].prev), *qn = P(c, c->nodes[it].next);
-            if ((!same(qp, a) && !same(qp, b) && !same(qp, d) && in_triangle(a, b, d, qp, true)) ||
-                (!same(qn, a) && !same(qn, b) && !same(qn, d) && in_triangle(a, b, d, qn, true)))
-                return false;
-            continue;
+    double lo0 = dmin(a[0], dmin(b[0], d[0])), hi0 = dmax(a[0], dmax(b[0], d[0]));
+    double lo1 = dmin(a[1], dmin(b[1], d[1])), hi1 = dmax(a[1], dmax(b[1], d[1]));
+    double tri[6] = {a[0], a[1], b[0], b[1], d[0], d[1]};
+    int nc = prw_cellgrid_cover(&g->g, tri, 3, &g->cov, &g->covcap);
+    for (int ci = 0; ci < nc; ci++) {
+        for (int it = g->head[g->cov[ci]]; it >= 0; it = g->cnext[it]) {
+            if (it == pv || it == cur || it == nx) continue;
+            const double *q = P(c, it);
+            if (q[0] < lo0 || q[0] > hi0 || q[1] < lo1 || q[1] > hi1) continue;
+            if (same(q, a) || same(q, b) || same(q, d)) {
+                /* a pinch (the ring passes through a corner again): the other sheet's neighbours must
+                 * not enter the ear */
+                const double *qp = P(c, c->nodes[it].prev), *qn = P(c, c->nodes[it].next);
+                if ((!same(qp, a) && !same(qp, b) && !same(qp, d) && in_triangle(a, b, d, qp, true)) ||
+                    (!same(qn, a) && !same(qn, b) && !same(qn, d) && in_triangle(a, b, d, qn, true)))
+                    return false;
+                continue;
+            }
+            if (in_triangle(a, b, d, q, strict)) return false;
         }
-        if (in_triangle(a, b, d, q, strict)) return false;
     }
     /* the diagonal a-d must not cross a ring edge */
-    it = c->nodes[nx].next;
-    for (int k = 0; k < n - 3; k++, it = c->nodes[it].next) {
-        int jt = c->nodes[it].next;
-        const double *q = P(c, it), *r = P(c, jt);
-        if (fmax(q[0], r[0]) < lo0 || fmin(q[0], r[0]) > hi0 || fmax(q[1], r[1]) < lo1 || fmin(q[1], r[1]) > hi1) continue;
-        int o1 = prw_orient2d(a, d, q), o2 = prw_orient2d(a, d, r), o3 = prw_orient2d(q, r, a), o4 = prw_orient2d(q, r, d);
-        if (o1 * o2 < 0 && o3 * o4 < 0) return false;
+    double diag[4] = {a[0], a[1], d[0], d[1]};
+    double dlo0 = dmin(a[0], d[0]), dhi0 = dmax(a[0], d[0]), dlo1 = dmin(a[1], d[1]), dhi1 = dmax(a[1], d[1]);
+    nc = prw_cellgrid_cover(&g->g, diag, 2, &g->cov, &g->covcap);
+    for (int ci = 0; ci < nc; ci++) {
+        elist *l = &g->edges[g->cov[ci]];
+        for (int k = 0; k < l->n;) {
+            int it = l->v[k], jt = l->v[k + 1];
+            if (g->cell[it] < 0 || c->nodes[it].next != jt) { /* gone: drop the entry */
+                l->n -= 2;
+                l->v[k] = l->v[l->n];
+                l->v[k + 1] = l->v[l->n + 1];
+                continue;
+            }
+            k += 2;
+            if (it == pv || it == cur || it == nx) continue;
+            const double *q = P(c, it), *r = P(c, jt);
+            if (dmax(q[0], r[0]) < dlo0 || dmin(q[0], r[0]) > dhi0 || dmax(q[1], r[1]) < dlo1 || dmin(q[1], r[1]) > dhi1) continue;
+            int o1 = prw_orient2d(a, d, q), o2 = prw_orient2d(a, d, r), o3 = prw_orient2d(q, r, a), o4 = prw_orient2d(q, r, d);
+            if (o1 * o2 < 0 && o3 * o4 < 0) return false;
+        }
     }
     return true;
 }
@@ -243,6 +393,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
 {
     int n = 1;
     for (int it = c->nodes[start].next; it != start; it = c->nodes[it].next) n++;
+    grid_build(c, start, n);
     int cur = start, stall = 0, pass = 0;
     while (n > 3) {
         int pv = c->nodes[cur].prev, nx = c->nodes[cur].next;
@@ -254,7 +405,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
             stall = 0;
             continue;
         }
-        int o = prw_orient2d(a, b, d);
+        int o = turn(c, cur);
         if (o == 0 && (b[0] - a[0]) * (d[0] - b[0]) + (b[1] - a[1]) * (d[1] - b[1]) < 0) {
             unlink_node(c, cur); /* spike: the boundary doubles back on itself */
             n--;
@@ -262,7 +413,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
             stall = 0;
             continue;
         }
-        if (o > 0 && is_ear(c, pv, cur, nx, n, pass == 1)) {
+        if (o > 0 && is_ear(c, pv, cur, nx, pass == 1)) {
             emit(c, pv, cur, nx);
             unlink_node(c, cur);
             n--;
@@ -284,7 +435,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
         int it = cur;
         for (int k = 0; k < n; k++, it = c->nodes[it].next) {
             const double *x = P(c, c->nodes[it].prev), *y = P(c, it), *z = P(c, c->nodes[it].next);
-            if (prw_orient2d(x, y, z) <= 0) continue;
+            if (turn(c, it) <= 0) continue;
             double ar = (y[0] - x[0]) * (z[1] - x[1]) - (y[1] - x[1]) * (z[0] - x[0]);
             if (ar > besta) {
                 besta = ar;
@@ -293,6 +444,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
         }
         if (bestn < 0) {
             st->leftover += n;
+            grid_free(c);
             return;
         }
         emit(c, c->nodes[bestn].prev, bestn, c->nodes[bestn].next);
@@ -305,6 +457,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
     int pv = c->nodes[cur].prev, nx = c->nodes[cur].next;
     if (n == 3 && prw_orient2d(P(c, pv), P(c, cur), P(c, nx)) > 0) emit(c, pv, cur, nx);
     else if (n == 3) st->leftover += 3;
+    grid_free(c);
 }
 
 typedef struct hole_ref {
@@ -321,7 +474,7 @@ static int cmp_hole(const void *a, const void *b)
 bool prw_earclip(const double *xy, const int *idx, const int *start, int nloops, int **tris, int *ntris,
                  prw_earclip_stats *st, prw_error *e)
 {
-    ctx c = {xy, NULL, 0, 0, NULL, 0, 0};
+    ctx c = {.xy = xy};
     memset(st, 0, sizeof *st);
     int *depth = prw_calloc((size_t)nloops + 1, sizeof(int));
     int *parent = prw_malloc(sizeof(int) * ((size_t)nloops + 1));
@@ -357,7 +510,7 @@ bool prw_earclip(const double *xy, const int *idx, const int *start, int nloops,
             int n = start[k + 1] - start[k];
             holes[nh].ring = make_ring(&c, idx + start[k], n, false, area[k]);
             holes[nh].maxx = -INFINITY;
-            for (int i = 0; i < n; i++) holes[nh].maxx = fmax(holes[nh].maxx, xy[2 * idx[start[k] + i]]);
+            for (int i = 0; i < n; i++) holes[nh].maxx = dmax(holes[nh].maxx, xy[2 * idx[start[k] + i]]);
             nh++;
         }
         qsort(holes, (size_t)nh, sizeof *holes, cmp_hole);
