@@ -10,6 +10,15 @@
 #include "prw_earclip.h"
 #include "prw_predicates.h"
 
+/* Tests build this file a second time with PRW_EARCLIP_SCAN_ALL: one cell and no clean-ring
+ * shortcut, so every ear is tested against every vertex and edge of the ring (the quadratic
+ * clipper), to check that the index changes no answer. */
+#ifdef PRW_EARCLIP_SCAN_ALL
+enum { SCAN_ALL = 1 };
+#else
+enum { SCAN_ALL = 0 };
+#endif
+
 typedef struct node {
     int pt;         /* point index */
     int prev, next; /* node indices */
@@ -20,10 +29,14 @@ typedef struct elist {
     int n, cap;
 } elist;
 
-/* The ring being clipped, indexed: each live vertex in the list of its cell; each edge, when made,
- * added to every cell its segment touches (removed edges are dropped lazily, when met). */
+/* The ring being clipped, indexed: each live vertex in the list of its cell.  While the ring is
+ * `clean` (two edges meet only at a common end point, or are the same segment) an edge crossing an
+ * ear's diagonal has an end in the ear's closed triangle, so the edges of the vertices found there
+ * are the only ones to test.  Otherwise (`full`) each edge, when made, is added to every cell its
+ * segment touches (removed edges are dropped lazily, when met). */
 typedef struct grid {
     prw_cellgrid g;
+    bool full;
     int *head;   /* per cell: first node, -1 */
     elist *edges; /* per cell */
     int *cell;   /* per node: its cell, -1 when not in the ring */
@@ -266,7 +279,52 @@ static void add_edge(ctx *c, int from, int to)
     }
 }
 
-/* Indexes the ring of n nodes from `start` (every node of the ctx gets a cell entry). */
+static void index_edges(ctx *c, int start, int n)
+{
+    c->gr.full = true;
+    int it = start;
+    for (int k = 0; k < n; k++, it = c->nodes[it].next) add_edge(c, it, c->nodes[it].next);
+}
+
+/* Do the segments meet anywhere but at a common end point (exactly)?  The same segment twice (a
+ * bridge and its way back) counts as not meeting. */
+static bool bad_contact(const double *p1, const double *p2, const double *q1, const double *q2)
+{
+    if (dmax(p1[0], p2[0]) < dmin(q1[0], q2[0]) || dmax(q1[0], q2[0]) < dmin(p1[0], p2[0]) ||
+        dmax(p1[1], p2[1]) < dmin(q1[1], q2[1]) || dmax(q1[1], q2[1]) < dmin(p1[1], p2[1]))
+        return false;
+    int o1 = prw_orient2d(p1, p2, q1), o2 = prw_orient2d(p1, p2, q2);
+    if (o1 * o2 > 0) return false;
+    int o3 = prw_orient2d(q1, q2, p1), o4 = prw_orient2d(q1, q2, p2);
+    if (o3 * o4 > 0) return false;
+    bool shared = same(p1, q1) || same(p1, q2) || same(p2, q1) || same(p2, q2);
+    if (o1 || o2 || o3 || o4) return !shared; /* not collinear: one point, fine when shared */
+    if ((same(p1, q1) && same(p2, q2)) || (same(p1, q2) && same(p2, q1))) return false; /* twins */
+    /* collinear: overlap along the axis of the larger extent; one common point is a shared end */
+    double ex = dmax(dmax(p1[0], p2[0]), dmax(q1[0], q2[0])) - dmin(dmin(p1[0], p2[0]), dmin(q1[0], q2[0]));
+    double ey = dmax(dmax(p1[1], p2[1]), dmax(q1[1], q2[1])) - dmin(dmin(p1[1], p2[1]), dmin(q1[1], q2[1]));
+    int k = ex >= ey ? 0 : 1;
+    double plo = dmin(p1[k], p2[k]), phi = dmax(p1[k], p2[k]), qlo = dmin(q1[k], q2[k]), qhi = dmax(q1[k], q2[k]);
+    if (phi < qlo || qhi < plo) return false;
+    return !(phi == qlo || qhi == plo);
+}
+
+/* With every edge indexed: is the ring clean (no two edges of one cell in bad contact)? */
+static bool ring_clean(const ctx *c)
+{
+    const grid *g = &c->gr;
+    size_t ncells = (size_t)g->g.nx * (size_t)g->g.ny;
+    for (size_t i = 0; i < ncells; i++) {
+        const elist *l = &g->edges[i];
+        for (int x = 0; x < l->n; x += 2)
+            for (int y = x + 2; y < l->n; y += 2)
+                if (bad_contact(P(c, l->v[x]), P(c, l->v[x + 1]), P(c, l->v[y]), P(c, l->v[y + 1]))) return false;
+    }
+    return true;
+}
+
+/* Indexes the ring of n nodes from `start` (every node of the ctx gets a cell entry); the edges
+ * too unless the ring is clean. */
 static void grid_build(ctx *c, int start, int n)
 {
     grid *g = &c->gr;
@@ -274,7 +332,7 @@ static void grid_build(ctx *c, int start, int n)
     int it = start;
     for (int k = 0; k < n; k++, it = c->nodes[it].next)
         for (int j = 0; j < 2; j++) lo[j] = dmin(lo[j], P(c, it)[j]), hi[j] = dmax(hi[j], P(c, it)[j]);
-    prw_cellgrid_init(&g->g, lo, hi, n);
+    prw_cellgrid_init(&g->g, lo, hi, SCAN_ALL ? 1 : n);
     size_t ncells = (size_t)g->g.nx * (size_t)g->g.ny;
     g->head = prw_malloc(sizeof(int) * ncells);
     for (size_t i = 0; i < ncells; i++) g->head[i] = -1;
@@ -292,7 +350,12 @@ static void grid_build(ctx *c, int start, int n)
         g->cnext[it] = g->head[cl];
         if (g->head[cl] >= 0) g->cprev[g->head[cl]] = it;
         g->head[cl] = it;
-        add_edge(c, it, c->nodes[it].next);
+    }
+    index_edges(c, start, n);
+    if (!SCAN_ALL && ring_clean(c)) {
+        g->full = false;
+        size_t ncells = (size_t)g->g.nx * (size_t)g->g.ny;
+        for (size_t i = 0; i < ncells; i++) g->edges[i].n = 0;
     }
 }
 
@@ -324,7 +387,7 @@ static void unlink_node(ctx *c, int nd)
     if (g->cnext[nd] >= 0) g->cprev[g->cnext[nd]] = g->cprev[nd];
     g->cell[nd] = -1;
     g->turn[pv] = g->turn[nx] = 2;
-    add_edge(c, pv, nx);
+    if (g->full) add_edge(c, pv, nx);
 }
 
 /* The turn at a ring node, remembered until a neighbour changes: the walk passes long collinear
@@ -336,15 +399,25 @@ static int turn(ctx *c, int nd)
     return *t;
 }
 
+/* Does the edge q-r cross the diagonal a-d (interiors, exactly)?  lo/hi: the diagonal's box. */
+static bool crosses(const double *a, const double *d, const double *q, const double *r, const double *lo, const double *hi)
+{
+    if (dmax(q[0], r[0]) < lo[0] || dmin(q[0], r[0]) > hi[0] || dmax(q[1], r[1]) < lo[1] || dmin(q[1], r[1]) > hi[1])
+        return false;
+    int o1 = prw_orient2d(a, d, q), o2 = prw_orient2d(a, d, r), o3 = prw_orient2d(q, r, a), o4 = prw_orient2d(q, r, d);
+    return o1 * o2 < 0 && o3 * o4 < 0;
+}
+
 /* Same answer as testing every other vertex and edge of the ring: the vertices that can reject
- * the ear lie in its closed triangle, and an edge crossing the diagonal a-d passes through a cell
- * both segments touch. */
+ * the ear lie in its closed triangle, and an edge crossing the diagonal a-d has an end there (clean
+ * ring) or passes through a cell both segments touch. */
 static bool is_ear(ctx *c, int pv, int cur, int nx, bool strict)
 {
     grid *g = &c->gr;
     const double *a = P(c, pv), *b = P(c, cur), *d = P(c, nx);
     double lo0 = dmin(a[0], dmin(b[0], d[0])), hi0 = dmax(a[0], dmax(b[0], d[0]));
     double lo1 = dmin(a[1], dmin(b[1], d[1])), hi1 = dmax(a[1], dmax(b[1], d[1]));
+    double dlo[2] = {dmin(a[0], d[0]), dmin(a[1], d[1])}, dhi[2] = {dmax(a[0], d[0]), dmax(a[1], d[1])};
     double tri[6] = {a[0], a[1], b[0], b[1], d[0], d[1]};
     int nc = prw_cellgrid_cover(&g->g, tri, 3, &g->cov, &g->covcap);
     for (int ci = 0; ci < nc; ci++) {
@@ -352,6 +425,11 @@ static bool is_ear(ctx *c, int pv, int cur, int nx, bool strict)
             if (it == pv || it == cur || it == nx) continue;
             const double *q = P(c, it);
             if (q[0] < lo0 || q[0] > hi0 || q[1] < lo1 || q[1] > hi1) continue;
+            if (!g->full) { /* the edges from and to q (not those from the ear's own nodes) */
+                int qp = c->nodes[it].prev;
+                if (crosses(a, d, q, P(c, c->nodes[it].next), dlo, dhi)) return false;
+                if (qp != pv && qp != cur && qp != nx && crosses(a, d, P(c, qp), q, dlo, dhi)) return false;
+            }
             if (same(q, a) || same(q, b) || same(q, d)) {
                 /* a pinch (the ring passes through a corner again): the other sheet's neighbours must
                  * not enter the ear */
@@ -364,9 +442,9 @@ static bool is_ear(ctx *c, int pv, int cur, int nx, bool strict)
             if (in_triangle(a, b, d, q, strict)) return false;
         }
     }
+    if (!g->full) return true;
     /* the diagonal a-d must not cross a ring edge */
     double diag[4] = {a[0], a[1], d[0], d[1]};
-    double dlo0 = dmin(a[0], d[0]), dhi0 = dmax(a[0], d[0]), dlo1 = dmin(a[1], d[1]), dhi1 = dmax(a[1], d[1]);
     nc = prw_cellgrid_cover(&g->g, diag, 2, &g->cov, &g->covcap);
     for (int ci = 0; ci < nc; ci++) {
         elist *l = &g->edges[g->cov[ci]];
@@ -380,10 +458,7 @@ static bool is_ear(ctx *c, int pv, int cur, int nx, bool strict)
             }
             k += 2;
             if (it == pv || it == cur || it == nx) continue;
-            const double *q = P(c, it), *r = P(c, jt);
-            if (dmax(q[0], r[0]) < dlo0 || dmin(q[0], r[0]) > dhi0 || dmax(q[1], r[1]) < dlo1 || dmin(q[1], r[1]) > dhi1) continue;
-            int o1 = prw_orient2d(a, d, q), o2 = prw_orient2d(a, d, r), o3 = prw_orient2d(q, r, a), o4 = prw_orient2d(q, r, d);
-            if (o1 * o2 < 0 && o3 * o4 < 0) return false;
+            if (crosses(a, d, P(c, it), P(c, jt), dlo, dhi)) return false;
         }
     }
     return true;
@@ -411,6 +486,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
             n--;
             cur = nx;
             stall = 0;
+            if (!c->gr.full) index_edges(c, cur, n); /* the new edge may overlap a twin */
             continue;
         }
         if (o > 0 && is_ear(c, pv, cur, nx, pass == 1)) {
@@ -419,6 +495,8 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
             n--;
             cur = nx;
             stall = 0;
+            /* an ear with a vertex on its diagonal (second pass) leaves that vertex on an edge */
+            if (pass == 1 && !c->gr.full) index_edges(c, cur, n);
             pass = 0;
             continue;
         }
@@ -452,6 +530,7 @@ static void clip_ring(ctx *c, int start, prw_earclip_stats *st)
         unlink_node(c, bestn);
         n--;
         st->forced++;
+        if (!c->gr.full) index_edges(c, cur, n);
         pass = 0;
     }
     int pv = c->nodes[cur].prev, nx = c->nodes[cur].next;

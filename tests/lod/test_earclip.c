@@ -407,6 +407,101 @@ static void test_random_polyominoes(void)
     printf("random polyominoes: %d trials, %d bad\n", tried, bad);
 }
 
+/* ---- the index changes no answer ---- */
+/* lod/prw_earclip.c built with PRW_EARCLIP_SCAN_ALL (tests/lod/CMakeLists.txt) */
+bool prw_earclip_scan_all(const double *xy, const int *idx, const int *start, int nloops, int **tris, int *ntris,
+                          prw_earclip_stats *st, prw_error *e);
+
+typedef struct angled {
+    double ang, r;
+    int x, y;
+} angled;
+
+static int cmp_angled(const void *a, const void *b)
+{
+    const angled *p = a, *q = b;
+    if (p->ang != q->ang) return p->ang < q->ang ? -1 : 1;
+    return (p->r > q->r) - (p->r < q->r);
+}
+
+/* A simple polygon through random lattice points (many collinear, vertices on would-be ear
+ * diagonals): the points in angular order around a centre no lattice line passes through, kept
+ * when no angular gap reaches pi (then the polygon is star-shaped from the centre).  false when
+ * the draw failed. */
+static bool lattice_star(poly *p, int side, int n)
+{
+    angled *v = malloc(sizeof(angled) * (size_t)n);
+    double cx = 0.5 * side + 0.1234567, cy = 0.5 * side + 0.0567891;
+    for (int i = 0; i < n; i++) {
+        v[i].x = (int)(rnd() * (side + 1));
+        v[i].y = (int)(rnd() * (side + 1));
+        v[i].ang = atan2(v[i].y - cy, v[i].x - cx);
+        v[i].r = hypot(v[i].x - cx, v[i].y - cy);
+    }
+    qsort(v, (size_t)n, sizeof *v, cmp_angled);
+    bool ok = n >= 3;
+    for (int i = 0; i < n && ok; i++) {
+        double gap = (i + 1 < n ? v[i + 1].ang : v[0].ang + 2 * PRW_PI) - v[i].ang;
+        if (gap >= 0.9 * PRW_PI || (i + 1 < n && v[i + 1].x == v[i].x && v[i + 1].y == v[i].y)) ok = false;
+    }
+    if (ok) {
+        for (int i = 0; i < n; i++) poly_pt(p, v[i].x, v[i].y);
+        poly_close(p, 0);
+    }
+    free(v);
+    return ok;
+}
+
+/* Random loops of points on a small integer lattice (duplicates, collinear runs, spikes, vertices
+ * on edges, crossings), simple lattice polygons, random polyominoes and stars with holes: the indexed clipper gives the
+ * same triangles, in the same order, and the same counts as the one testing every ear against the
+ * whole ring. */
+static void test_same_as_full_scan(void)
+{
+    int trials = prw_test_scale(3000, 10), differ = 0, dirty_inputs = 0;
+    rng_seed(5);
+    for (int t = 0; t < trials; t++) {
+        poly p = {0};
+        int kind = t % 4;
+        if (kind == 0 || kind == 1) { /* lattice loops */
+            int nl = 1 + (int)(rnd() * 3), side = kind == 0 ? 4 : 12;
+            for (int l = 0; l < nl; l++) {
+                int n = 3 + (int)(rnd() * (kind == 0 ? 8 : 40));
+                for (int i = 0; i < n; i++) poly_pt(&p, (int)(rnd() * side), (int)(rnd() * side));
+                poly_close(&p, l ? 1 : 0);
+            }
+            dirty_inputs++;
+        } else if (kind == 2) {
+            polyomino(&p, 2 + (int)(rnd() * 10), 2 + (int)(rnd() * 10), 0.3 + 0.6 * rnd());
+            if (p.nl == 0) {
+                poly_free(&p);
+                continue;
+            }
+        } else if (t % 8 == 3) {
+            star_loop(&p, 0, 0, 0.8, 1.0, 24 + (int)(rnd() * 100), 0);
+            for (int h = 0; h < 3; h++) star_loop(&p, 0.5 * cos(2.1 * h), 0.5 * sin(2.1 * h), 0.1, 0.2, 3 + (int)(rnd() * 20), 1);
+        } else if (!lattice_star(&p, 6 + (int)(rnd() * 10), 8 + (int)(rnd() * 40))) {
+            poly_free(&p);
+            continue;
+        }
+        int *ta = NULL, *tb = NULL, na = 0, nb = 0;
+        prw_earclip_stats sa, sb;
+        prw_error e = {0};
+        bool oka = prw_earclip(p.xy, p.idx, p.start, p.nl, &ta, &na, &sa, &e);
+        bool okb = prw_earclip_scan_all(p.xy, p.idx, p.start, p.nl, &tb, &nb, &sb, &e);
+        bool same_out = oka == okb && na == nb && sa.forced == sb.forced && sa.leftover == sb.leftover &&
+                        (na == 0 || memcmp(ta, tb, sizeof(int) * 3 * (size_t)na) == 0);
+        if (!same_out && differ++ < 5)
+            fprintf(stderr, "trial %d (kind %d, %d points, %d loops): %d vs %d triangles, forced %d vs %d, leftover %d vs %d\n",
+                    t, kind, p.np, p.nl, na, nb, sa.forced, sb.forced, sa.leftover, sb.leftover);
+        free(ta);
+        free(tb);
+        poly_free(&p);
+    }
+    printf("same as the full scan: %d trials (%d on lattice points), %d differ\n", trials, dirty_inputs, differ);
+    CHECK(differ == 0);
+}
+
 /* ---- the cell grid's cover ---- */
 static bool listed(const int *cells, int n, int c)
 {
@@ -497,9 +592,19 @@ static void test_big_loops(void)
     run(&p, false, "band", &nt, &cpu);
     printf("benchmark: band of %d points (%d loops) -> %d triangles in %.3f CPU s\n", p.np, p.nl, nt, cpu);
     poly_free(&p);
+    /* a smooth curve (a trim loop): r = 0.75 + 0.2 sin 7t + 0.03 sin 40t */
+    for (int i = 0; i < n; i++) {
+        double t = 2 * PRW_PI * i / n, r = 0.75 + 0.2 * sin(7 * t) + 0.03 * sin(40 * t);
+        poly_pt(&p, r * cos(t), r * sin(t));
+    }
+    poly_close(&p, 0);
+    run(&p, false, "flower", &nt, &cpu);
+    printf("benchmark: smooth loop of %d points -> %d triangles in %.3f CPU s\n", p.np, nt, cpu);
+    poly_free(&p);
+    /* a stress case: every edge a spike (radii random in [0.5, 1]) */
     star_loop(&p, 0, 0, 0.5, 1.0, n, 0);
     run(&p, false, "star", &nt, &cpu);
-    printf("benchmark: star of %d points -> %d triangles in %.3f CPU s\n", p.np, nt, cpu);
+    printf("benchmark: spiky star of %d points -> %d triangles in %.3f CPU s\n", p.np, nt, cpu);
     poly_free(&p);
 }
 
@@ -511,6 +616,7 @@ int main(int argc, char **argv)
         {"cellgrid_cover", test_cellgrid_cover},
         {"random_stars", test_random_stars},
         {"random_polyominoes", test_random_polyominoes},
+        {"same_as_full_scan", test_same_as_full_scan},
         {"big_loops", test_big_loops},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
