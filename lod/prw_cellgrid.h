@@ -1,15 +1,16 @@
 /* prw_cellgrid — a uniform grid of cells over a 2-D box, and the cells a convex polygon touches.
  *
  * Promises:
- *  - prw_cellgrid_init makes about `target` cells (at least 1, at most max(target, 1) + the
- *    rounding of one row and one column) shaped after the box's aspect ratio; a box of zero width
- *    or height gets one column or one row.
+ *  - prw_cellgrid_init makes nx x ny cells, about `target` of them (1 <= nx, ny and
+ *    nx * ny <= max(target, 1) + nx / 2), shaped after the box's aspect ratio; a box of zero (or
+ *    non-finite) width or height gets one column or one row.
  *  - prw_cellgrid_cell maps every point (outside the box too, NaN included) to a cell index in
  *    [0, cells): points outside are clamped to the border cells.
  *  - prw_cellgrid_cover lists cells touched by the convex polygon of k points (k = 1: a point,
- *    2: a segment, 3: a triangle, ...; the points in either order): every point p that lies in the
- *    closed polygon (exactly, in real arithmetic) has prw_cellgrid_cell(p) among the listed cells,
- *    whatever the rounding.  The list is conservative (padded by a margin that covers rounding, at
+ *    2: a segment, 3: a triangle, ... up to 8; the points in either order): every point in the
+ *    closed polygon (exactly) has its cell listed, whatever the rounding: prw_cellgrid_cell(p) for
+ *    a point p of doubles, the cell holding the exact coordinates for any real point (where two
+ *    segments cross, say).  The list is conservative (padded by a margin that covers rounding, at
  *    least 1e-3 of a cell), with no repeated cell; its length is about the number of cells the
  *    polygon crosses plus its column count, not its bounding box.
  */

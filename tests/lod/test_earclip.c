@@ -512,7 +512,7 @@ static bool listed(const int *cells, int n, int c)
 
 static void test_cellgrid_cover(void)
 {
-    int trials = prw_test_scale(2000, 10), missed = 0, repeated = 0, checked = 0;
+    int trials = prw_test_scale(2000, 10), missed = 0, repeated = 0, checked = 0, bad_size = 0;
     rng_seed(3);
     int *cells = NULL, cap = 0;
     for (int t = 0; t < trials; t++) {
@@ -520,7 +520,9 @@ static void test_cellgrid_cover(void)
         double off = t % 3 == 1 ? 1e6 : 0, sc = t % 3 == 1 ? 1e-3 : 1;
         double lo[2] = {off, off}, hi[2] = {off + sc, off + (t % 3 == 2 ? 0 : sc * (0.1 + 3 * rnd()))};
         prw_cellgrid g;
-        prw_cellgrid_init(&g, lo, hi, 1 + (int)(rnd() * 400));
+        int target = 1 + (int)(rnd() * 400);
+        prw_cellgrid_init(&g, lo, hi, target);
+        bad_size += !(g.nx >= 1 && g.ny >= 1 && g.nx * g.ny <= target + g.nx / 2);
         int k = 1 + t % 3;
         double v[6];
         for (int i = 0; i < k; i++) {
@@ -560,6 +562,7 @@ static void test_cellgrid_cover(void)
     printf("cell cover: %d shapes, %d points checked, %d missed, %d repeated cells\n", trials, checked, missed, repeated);
     CHECK(missed == 0);
     CHECK(repeated == 0);
+    CHECK(bad_size == 0);
     CHECK(checked > trials);
 }
 
