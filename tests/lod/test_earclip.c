@@ -502,6 +502,34 @@ static void test_same_as_full_scan(void)
     CHECK(differ == 0);
 }
 
+/* ---- prw_orient2d on axis-parallel lines (its zero-factor shortcut) ---- */
+static int sgn(double x) { return (x > 0) - (x < 0); }
+
+static void test_orient_axis_lines(void)
+{
+    int bad = 0;
+    rng_seed(6);
+    for (int t = 0; t < 20000; t++) {
+        int axis = t % 2; /* the line x = X (axis 0) or y = Y */
+        double X = (rnd() - 0.5) * pow(10, (int)(rnd() * 12) - 6), d = (rnd() < 0.5 ? 1 : -1);
+        double a[2], b[2], c[2];
+        a[axis] = b[axis] = c[axis] = X;
+        a[1 - axis] = rnd() - 0.5, b[1 - axis] = rnd() - 0.5, c[1 - axis] = rnd() - 0.5;
+        bad += prw_orient2d(a, b, c) != 0; /* on the line */
+        /* c one ulp off it: det = delta (a1 - b1) exactly (axis 0), -delta (a0 - b0) (axis 1) */
+        c[axis] = nextafter(X, d * INFINITY);
+        double delta = c[axis] - X;
+        int want = axis == 0 ? sgn(delta) * sgn(a[1] - b[1]) : -sgn(delta) * sgn(a[0] - b[0]);
+        bad += prw_orient2d(a, b, c) != want;
+        /* a and c share the line's coordinate, b does not: det = -(a1 - c1)(b0 - c0) (axis 0) */
+        c[axis] = X;
+        b[axis] = X + (rnd() < 0.5 ? 1 : -1) * (1 + rnd());
+        want = axis == 0 ? -sgn(a[1] - c[1]) * sgn(b[0] - c[0]) : sgn(a[0] - c[0]) * sgn(b[1] - c[1]);
+        bad += prw_orient2d(a, b, c) != want;
+    }
+    CHECK_MSG(bad == 0, "%d wrong orientations", bad);
+}
+
 /* ---- the cell grid's cover ---- */
 static bool listed(const int *cells, int n, int c)
 {
@@ -616,6 +644,7 @@ int main(int argc, char **argv)
     const prw_test_case cases[] = {
         {"square_hole", test_square_hole},
         {"regular_polygon", test_regular_polygon},
+        {"orient_axis_lines", test_orient_axis_lines},
         {"cellgrid_cover", test_cellgrid_cover},
         {"random_stars", test_random_stars},
         {"random_polyominoes", test_random_polyominoes},
