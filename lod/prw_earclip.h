@@ -13,6 +13,10 @@
  *    pass) or strictly inside it (second pass).  If neither finds an ear (degenerate input) the
  *    largest convex vertex is clipped anyway and counted in `forced`.
  *  - No new points are created: triangle indices refer to the caller's points.
+ *  - The ear tests look only at the vertices and edges near the ear (a uniform grid over the ring,
+ *    lod/prw_cellgrid.h) and give the answers a scan of the whole ring gives, so the triangles are
+ *    those of the quadratic clipper; the cost grows with the ring's size times the vertices and
+ *    edges an ear's triangle meets, near-linear for the boundary of a region of dense, short edges.
  */
 #ifndef PRW_EARCLIP_H
 #define PRW_EARCLIP_H

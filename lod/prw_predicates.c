@@ -48,12 +48,16 @@ static int orient_exact(const double *a, const double *b, const double *c)
 
 int prw_orient2d(const double *a, const double *b, const double *c)
 {
-    double l = (a[0] - c[0]) * (b[1] - c[1]);
-    double r = (a[1] - c[1]) * (b[0] - c[0]);
+    double acx = a[0] - c[0], bcy = b[1] - c[1], acy = a[1] - c[1], bcx = b[0] - c[0];
+    double l = acx * bcy;
+    double r = acy * bcx;
     double det = l - r;
     double bound = 3.3306690738754716e-16 * (fabs(l) + fabs(r));
     if (det > bound) return 1;
     if (-det > bound) return -1;
     if (!isfinite(det)) return 0;
+    /* a difference of doubles is 0 only when they are equal, so a zero factor in each product
+     * makes the exact determinant 0 (points on one axis-parallel line: grid and domain edges) */
+    if ((acx == 0 || bcy == 0) && (acy == 0 || bcx == 0)) return 0;
     return orient_exact(a, b, c);
 }

@@ -1037,9 +1037,11 @@ bool import(prw_scene *s, const char *path, int parent, prw_error *e)
         std::string why = glb_layout(data);
         if (!why.empty()) return prw_fail(e, "%s: %s", path, why.c_str());
     }
+    std::vector<std::string> type_warnings;
     {
         size_t jo = glb ? 20 : 0, jn = glb ? le32((const unsigned char *)data.data() + 12) : data.size();
         std::string why = image_views(data.data() + jo, jn);
+        if (why.empty()) why = prw_gltf::wrong_types(data.data() + jo, jn, &type_warnings);
         if (!why.empty()) return prw_fail(e, "%s: %s", path, why.c_str());
     }
     if (data.find("KHR_draco_mesh_compression") != std::string::npos) {
@@ -1062,6 +1064,7 @@ bool import(prw_scene *s, const char *path, int parent, prw_error *e)
     }
 
     Importer im(s, path, model);
+    for (const std::string &w : type_warnings) im.warn(PRW_WARN_OTHER, w);
     im.check_asset();
     im.check_extensions();
     im.import_materials();

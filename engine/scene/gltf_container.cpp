@@ -4,6 +4,7 @@
 
 #include <cJSON.h>
 
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
@@ -102,6 +103,67 @@ std::string image_views(const char *json, size_t size)
         else if (off + len > blen)
             why = format("image %d: bufferView %g (bytes %.0f..%.0f) exceeds buffer %g length %.0f", i, b, off, off + len,
                          buf, blen);
+    }
+    cJSON_Delete(root);
+    return why;
+}
+
+// A texture reference (textureInfo) of material mi: `key` inside `parent`.  "" or the refusal.
+static std::string texture_info(const cJSON *parent, const char *key, int mi, const char *path,
+                                std::vector<std::string> *warn)
+{
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(parent, key);
+    if (!t) return "";
+    if (!cJSON_IsObject(t)) return format("material %d: %s%s is not an object", mi, path, key);
+    const cJSON *index = cJSON_GetObjectItemCaseSensitive(t, "index");
+    if (!index) {
+        warn->push_back(format("material %d: %s%s has no index; ignored", mi, path, key));
+    } else if (!cJSON_IsNumber(index) || !(index->valuedouble >= 0 && index->valuedouble <= 2147483647.0) ||
+               index->valuedouble != floor(index->valuedouble)) {
+        char *text = cJSON_PrintUnformatted(index);
+        std::string v = one_line(text ? text : "?", 40);
+        free(text);
+        return format("material %d: %s%s.index %s is not a texture index (an integer >= 0)", mi, path, key, v.c_str());
+    }
+    for (const char *num : {"scale", "strength"}) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(t, num);
+        if (v && !cJSON_IsNumber(v)) warn->push_back(format("material %d: %s%s.%s is not a number; 1 used", mi, path, key, num));
+    }
+    const cJSON *ext = cJSON_GetObjectItemCaseSensitive(t, "extensions");
+    const cJSON *xf = cJSON_IsObject(ext) ? cJSON_GetObjectItemCaseSensitive(ext, "KHR_texture_transform") : nullptr;
+    if (xf && !cJSON_IsObject(xf))
+        warn->push_back(format("material %d: %s%s: KHR_texture_transform is not an object; ignored", mi, path, key));
+    return "";
+}
+
+std::string wrong_types(const char *json, size_t size, std::vector<std::string> *warn)
+{
+    cJSON *root = cJSON_ParseWithLength(json, size);
+    if (!root) return ""; // tinygltf reports the syntax error
+    std::string why;
+    const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(root, "meshes");
+    int n = cJSON_IsArray(meshes) ? cJSON_GetArraySize(meshes) : 0;
+    for (int i = 0; i < n && why.empty(); i++) {
+        const cJSON *prims = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(meshes, i), "primitives");
+        if (!cJSON_IsArray(prims)) why = format("mesh %d: primitives is %s", i, prims ? "not an array" : "missing");
+    }
+    const cJSON *mats = cJSON_GetObjectItemCaseSensitive(root, "materials");
+    n = cJSON_IsArray(mats) ? cJSON_GetArraySize(mats) : 0;
+    for (int i = 0; i < n && why.empty(); i++) {
+        const cJSON *mat = cJSON_GetArrayItem(mats, i);
+        if (!cJSON_IsObject(mat)) {
+            why = format("material %d is not an object", i);
+            break;
+        }
+        const cJSON *pbr = cJSON_GetObjectItemCaseSensitive(mat, "pbrMetallicRoughness");
+        if (pbr && !cJSON_IsObject(pbr)) {
+            why = format("material %d: pbrMetallicRoughness is not an object", i);
+            break;
+        }
+        for (const char *k : {"baseColorTexture", "metallicRoughnessTexture"})
+            if (why.empty() && pbr) why = texture_info(pbr, k, i, "pbrMetallicRoughness.", warn);
+        for (const char *k : {"normalTexture", "occlusionTexture", "emissiveTexture"})
+            if (why.empty()) why = texture_info(mat, k, i, "", warn);
     }
     cJSON_Delete(root);
     return why;

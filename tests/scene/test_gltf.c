@@ -950,6 +950,46 @@ static void test_limits(void)
     expect_fail(path, "image 0: bufferView 0 (bytes 100..164) exceeds buffer 0 length 140", NULL);
 }
 
+/* Values of the wrong JSON type that tinygltf drops without a word (assimp-testmodels' wrongTypes
+ * files rendered an untextured box with exit 0): refused when they lose the model's data, named
+ * in a warning when what is left out is optional. */
+static void test_wrong_types(void)
+{
+    CHECK(write_png(tmp_path("tex.png")));
+    /* a mesh's primitives as an object */
+    const char *pj = "{\"asset\":{\"version\":\"2.0\"},\"meshes\":[{\"primitives\":{\"attributes\":{\"POSITION\":0}}}]}";
+    const char *pp = tmp_path("prims_object.gltf");
+    write_file(pp, pj, strlen(pj));
+    expect_fail(pp, "mesh 0: primitives is not an array", NULL);
+
+    gen_prim q = {.mode = 4, .pos = k_tri, .nv = 3, .extra = ",\"material\":0"};
+    const char *tex = ",\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"tex.png\"}]";
+    char more[1024];
+    /* pbrMetallicRoughness as an array: the base colour texture would be lost */
+    snprintf(more, sizeof more, "%s,\"materials\":[{\"pbrMetallicRoughness\":[\"not an object\"]}]", tex);
+    gen_file g = {.name = "pbr_array.gltf", .prims = &q, .prim_count = 1, .more = more};
+    expect_fail(gen_write(&g), "material 0: pbrMetallicRoughness is not an object", NULL);
+    /* a texture index of -1 */
+    snprintf(more, sizeof more, "%s,\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":-1}}}]", tex);
+    g = (gen_file){.name = "tex_minus1.gltf", .prims = &q, .prim_count = 1, .more = more};
+    expect_fail(gen_write(&g), "material 0: pbrMetallicRoughness.baseColorTexture.index -1 is not a texture index", NULL);
+    /* a normal texture without index, its scale a string; a transform that is not an object: the
+     * rest of the material as given, what is ignored named */
+    snprintf(more, sizeof more,
+             "%s,\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0,\"extensions\":"
+             "{\"KHR_texture_transform\":\"not an object\"}}},\"normalTexture\":{\"scale\":\"not a number\"}}]",
+             tex);
+    g = (gen_file){.name = "optional_types.gltf", .top = "\"extensionsUsed\":[\"KHR_texture_transform\"],", .prims = &q,
+                   .prim_count = 1, .more = more};
+    prw_scene *s = load_ok(gen_write(&g));
+    CHECK(s->material_count == 1);
+    if (s->material_count == 1) CHECK(s->materials[0].base_color_tex >= 0 && s->materials[0].normal_tex < 0);
+    CHECK(has_warning(s, PRW_WARN_OTHER, "material 0: normalTexture has no index; ignored"));
+    CHECK(has_warning(s, PRW_WARN_OTHER, "material 0: normalTexture.scale is not a number; 1 used"));
+    CHECK(has_warning(s, PRW_WARN_OTHER, "material 0: pbrMetallicRoughness.baseColorTexture: KHR_texture_transform is not an object; ignored"));
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     static const prw_test_case cases[] = {
@@ -966,6 +1006,7 @@ int main(int argc, char **argv)
         {"texture_transform_apply", test_texture_transform_apply},
         {"no_light_no_camera", test_no_light_no_camera},
         {"limits", test_limits},
+        {"wrong_types", test_wrong_types},
     };
     return prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
 }
