@@ -287,6 +287,39 @@ static void test_suballocator_random(void)
     TEST_GPU_CLOSE(gpu);
 }
 
+/* fill.comp through pipe with set bound (layout pl): out[i] = i * i + add for i < n, copied into rb. */
+static bool fill_dispatch(prw_gpu *gpu, VkPipeline pipe, VkPipelineLayout pl, VkDescriptorSet set, const prw_buffer *out,
+                          const prw_buffer *rb, uint32_t n, uint32_t add, prw_error *e)
+{
+    VkCommandBuffer cmd;
+    if (!prw_cmd_begin(gpu, &cmd, e)) return false;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
+    uint32_t push[2] = {n, add};
+    vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, push);
+    vkCmdDispatch(cmd, (n + 63) / 64, 1, 1);
+    VkMemoryBarrier2 mb[2] = {
+        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+         .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+         .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+         .dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+         .dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT},
+        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+         .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+         .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+         .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
+         .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT},
+    };
+    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
+                            .pMemoryBarriers = &mb[0]};
+    vkCmdPipelineBarrier2(cmd, &dep);
+    VkBufferCopy region = {0, 0, (VkDeviceSize)n * 4};
+    vkCmdCopyBuffer(cmd, out->buffer, rb->buffer, 1, &region);
+    dep.pMemoryBarriers = &mb[1];
+    vkCmdPipelineBarrier2(cmd, &dep);
+    return prw_cmd_submit_wait(gpu, cmd, e);
+}
+
 /* Dispatches fill.comp over a GPU buffer, copies it to a readback buffer, checks every value. */
 static void test_compute_buffer(void)
 {
@@ -310,34 +343,17 @@ static void test_compute_buffer(void)
     CHECK_OK(prw_desc_pool_create(gpu, &pool, &e), &e);
     CHECK_OK(prw_desc_alloc(gpu, pool, dsl, &set, &e), &e);
     prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &out, 0, 0);
-
-    VkCommandBuffer cmd;
-    CHECK_OK(prw_cmd_begin(gpu, &cmd, &e), &e);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
-    uint32_t push[2] = {n, 7};
-    vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, push);
-    vkCmdDispatch(cmd, (n + 63) / 64, 1, 1);
-    VkMemoryBarrier2 mb[2] = {
-        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-         .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-         .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-         .dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
-         .dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT},
-        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-         .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
-         .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
-         .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
-         .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT},
-    };
+    CHECK_OK(fill_dispatch(gpu, pipe, pl, set, &out, &rb, n, 7, &e), &e);
+    /* the upload check below: a copy out -> rb, then the host reads */
+    VkMemoryBarrier2 to_host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                                .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+                                .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
+                                .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT};
     VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
-                            .pMemoryBarriers = &mb[0]};
-    vkCmdPipelineBarrier2(cmd, &dep);
+                            .pMemoryBarriers = &to_host};
     VkBufferCopy region = {0, 0, n * 4};
-    vkCmdCopyBuffer(cmd, out.buffer, rb.buffer, 1, &region);
-    dep.pMemoryBarriers = &mb[1];
-    vkCmdPipelineBarrier2(cmd, &dep);
-    CHECK_OK(prw_cmd_submit_wait(gpu, cmd, &e), &e);
+    VkCommandBuffer cmd;
     const uint32_t *v = rb.mapped;
     int bad = 0;
     for (uint32_t i = 0; i < n; i++) bad += v[i] != i * i + 7;
@@ -483,39 +499,14 @@ static int fill_wrong(prw_gpu *gpu, VkPipeline pipe, VkPipelineLayout pl, VkDesc
     prw_buffer out = {0}, rb = {0};
     prw_desc_pool *pool = NULL;
     VkDescriptorSet set;
-    VkCommandBuffer cmd;
     int bad = -1;
     if (!prw_buffer_create(gpu, n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                            PRW_MEM_GPU, &out, e) ||
         !prw_buffer_create(gpu, n * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, PRW_MEM_READBACK, &rb, e) ||
-        !prw_desc_pool_create(gpu, &pool, e) || !prw_desc_alloc(gpu, pool, dsl, &set, e) || !prw_cmd_begin(gpu, &cmd, e))
+        !prw_desc_pool_create(gpu, &pool, e) || !prw_desc_alloc(gpu, pool, dsl, &set, e))
         goto done;
     prw_desc_write_buffer(gpu, set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &out, 0, 0);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, NULL);
-    uint32_t push[2] = {n, add};
-    vkCmdPushConstants(cmd, pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, push);
-    vkCmdDispatch(cmd, (n + 63) / 64, 1, 1);
-    VkMemoryBarrier2 mb[2] = {
-        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-         .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-         .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-         .dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
-         .dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT},
-        {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-         .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
-         .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
-         .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
-         .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT},
-    };
-    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
-                            .pMemoryBarriers = &mb[0]};
-    vkCmdPipelineBarrier2(cmd, &dep);
-    VkBufferCopy region = {0, 0, n * 4};
-    vkCmdCopyBuffer(cmd, out.buffer, rb.buffer, 1, &region);
-    dep.pMemoryBarriers = &mb[1];
-    vkCmdPipelineBarrier2(cmd, &dep);
-    if (!prw_cmd_submit_wait(gpu, cmd, e)) goto done;
+    if (!fill_dispatch(gpu, pipe, pl, set, &out, &rb, n, add, e)) goto done;
     const uint32_t *v = rb.mapped;
     bad = 0;
     for (uint32_t i = 0; i < n; i++) bad += v[i] != i * i + add;

@@ -57,17 +57,10 @@ static unsigned long env_u(const char *name, unsigned long def)
 
 static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, prw_image *hdr, prw_error *e)
 {
-    prw_gpu *gpu = NULL;
-    prw_renderer *r = NULL;
     prw_render_desc rd = {.width = g_size, .height = g_size, .quality = prw_quality_default(), .lightmaps = lm};
     rd.quality.msaa = 4;
     rd.quality.shadow_size = 2048;
-    bool ok = (gpu = prw_test_gpu(e)) != NULL && prw_renderer_create(gpu, s, &rd, &r, e) &&
-              prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
-    prw_renderer_destroy(r);
-    uint32_t msgs = prw_gpu_validation_total(); /* the process's so far; leak reports come at the end */
-    if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
-    return ok;
+    return prw_test_render(s, &rd, v, 1, hdr, NULL, e);
 }
 
 static const char *kind_name(prw_ref_filter_kind k)

@@ -55,17 +55,10 @@ static unsigned long env_u(const char *name, unsigned long def)
 static bool render_raster(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, const prw_env_data *env,
                           uint32_t terms, prw_image *hdr, prw_error *e)
 {
-    prw_gpu *gpu = NULL;
-    prw_renderer *r = NULL;
     prw_render_desc rd = {.width = W, .height = H, .quality = prw_quality_default(), .lightmaps = lm,
                           .environment = env, .terms = terms};
     rd.quality.msaa = 4;
-    bool ok = (gpu = prw_test_gpu(e)) != NULL && prw_renderer_create(gpu, s, &rd, &r, e) &&
-              prw_renderer_render(r, v, 1, NULL, e) && prw_renderer_read_hdr(r, 0, hdr, e);
-    prw_renderer_destroy(r);
-    uint32_t msgs = prw_gpu_validation_total(); /* the process's so far; leak reports come at the end */
-    if (ok && msgs) ok = prw_fail(e, "%u validation messages", msgs);
-    return ok;
+    return prw_test_render(s, &rd, v, 1, hdr, NULL, e);
 }
 
 static bool render_ref(prw_ref_renderer *ref, const prw_view *v, uint64_t spp, uint64_t seed, prw_ref_filter_kind k,
