@@ -71,6 +71,28 @@ static bool procedural_hierarchy(const prw_scene_nurbs *n, const prw_nurbs_model
     return true;
 }
 
+/* prw_bake_run's stage lines, prefixed with the entry's name, so a long build of a directly opened
+ * model shows its stages as they finish (the reader's warnings and the cache lines are said once, by
+ * the scene loader and by say()). */
+typedef struct stage_relay {
+    prw_bake_progress_fn progress;
+    void *user;
+    const char *name;
+} stage_relay;
+
+static void relay_stage(void *user, const char *line)
+{
+    const stage_relay *r = user;
+    static const char *const stages[] = {"seam graph:", "hierarchy:", "culling data:", "proxy:"};
+    for (size_t i = 0; i < sizeof stages / sizeof stages[0]; i++)
+        if (strncmp(line, stages[i], strlen(stages[i])) == 0) {
+            char out[1400];
+            snprintf(out, sizeof out, "lod: %s: %.1300s", r->name, line);
+            r->progress(r->user, out);
+            return;
+        }
+}
+
 bool prw_bake_scene_entry(const prw_scene_nurbs *n, const prw_nurbs_model *m, prw_bake_progress_fn progress,
                           void *user, prw_baked_lod **out, prw_error *e)
 {
@@ -87,7 +109,8 @@ bool prw_bake_scene_entry(const prw_scene_nurbs *n, const prw_nurbs_model *m, pr
     }
     if (!n->file[0]) return procedural_hierarchy(n, m, &o, progress, user, out, e);
     prw_bake_result br;
-    if (!prw_bake_run(n->file, &o, false, out, &br, NULL, NULL, e)) return false;
+    stage_relay relay = {progress, user, n->name};
+    if (!prw_bake_run(n->file, &o, false, out, &br, progress ? relay_stage : NULL, &relay, e)) return false;
     warn(progress, user, n->name, br.warning);
     say(progress, user, n->name, br.cache_hit ? -1 : br.seconds_total);
     say_failed(progress, user, n->name, &(*out)->lod);
