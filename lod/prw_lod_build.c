@@ -26,6 +26,7 @@ typedef struct work {
     lod_ivec nb, nb2, tmp;
     int level;
     unsigned *vmark, *kmark, gen; /* de-duplication marks (per vertex / per weld key) */
+    unsigned *pmark, pgen;        /* vertices whose candidates a collapse renews */
 } work;
 
 static int key(const work *w, int v) { return w->p->gid[v] >= 0 ? w->p->gid[v] : w->g->ngids + v; }
@@ -202,15 +203,20 @@ static void collapse(work *w, int v, int to)
     for (int i = 0; i < w->nb2.n; i++) lod_ipush(&ring, w->nb2.v[i]);
     lod_ipush(&ring, to);
     for (int i = 0; i < ring.n; i++) w->stamp[ring.v[i]]++;
+    /* new candidates for the ring and its neighbours, each vertex once: the rings overlap, and a
+     * vertex pushed twice leaves two valid heap entries whose full check() (surface evaluations)
+     * would run twice */
+    lod_ivec todo = {0};
+    unsigned pgen = ++w->pgen;
     for (int i = 0; i < ring.n; i++) {
         int u = ring.v[i];
-        push_candidates(w, u);
+        if (w->pmark[u] != pgen) w->pmark[u] = pgen, lod_ipush(&todo, u);
         neighbours(w, u, &w->tmp);
-        lod_ivec nn = {0};
-        for (int j = 0; j < w->tmp.n; j++) lod_ipush(&nn, w->tmp.v[j]);
-        for (int j = 0; j < nn.n; j++) push_candidates(w, nn.v[j]);
-        free(nn.v);
+        for (int j = 0; j < w->tmp.n; j++)
+            if (w->pmark[w->tmp.v[j]] != pgen) w->pmark[w->tmp.v[j]] = pgen, lod_ipush(&todo, w->tmp.v[j]);
     }
+    for (int i = 0; i < todo.n; i++) push_candidates(w, todo.v[i]);
+    free(todo.v);
     free(ring.v);
 }
 
@@ -822,6 +828,7 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
         lod_triangle_eval(g, s, p, w.tri[3 * t], w.tri[3 * t + 1], w.tri[3 * t + 2], w.active, &w.terr[t]);
     w.vmark = prw_calloc((size_t)p->nverts + 1, sizeof(unsigned));
     w.kmark = prw_calloc((size_t)(g->ngids + p->nverts) + 1, sizeof(unsigned));
+    w.pmark = prw_calloc((size_t)p->nverts + 1, sizeof(unsigned));
     p->tri_start = prw_malloc(sizeof(int) * (size_t)(lm->levels + 1));
     p->err = prw_malloc(sizeof(double) * (size_t)lm->levels);
     lod_ivec tris = {0};
@@ -863,6 +870,7 @@ static bool build_patch(prw_lod_model *lm, const prw_nurbs_model *m, int pi, int
     free(w.stamp);
     free(w.vmark);
     free(w.kmark);
+    free(w.pmark);
     free(w.h.a);
     free(w.nb.v);
     free(w.nb2.v);
