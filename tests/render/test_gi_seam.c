@@ -60,6 +60,7 @@
 #include "prw_render.h"
 #include "prw_test.h"
 #include "prw_test_gpu.h"
+#include "prw_test_ref.h"
 #include "prw_view.h"
 
 #define W 160u
@@ -118,45 +119,15 @@ static bool render_raster(const prw_scene *s, const prw_view *v, const prw_light
     return prw_test_render(s, &rd, v, 1, hdr, NULL, e);
 }
 
-/* The reference at the pixels `need` marks (NULL: every pixel), one tile per run of marked pixels in a
- * row; the other pixels are NaN (the criteria read only marked pixels, so a read elsewhere would show
- * as a NaN figure).  The marked pixels are bit-identical to a whole-image render: samples are scrambled
- * per pixel and tiles merge bit-exactly (prw_reference.h), and the mean is formed as
- * prw_ref_acc_images forms it. */
+/* Reference A or B at the pixels `need` marks (NULL: every pixel; prw_test_ref.h: bit-identical there to
+ * a whole-image render, NaN elsewhere). */
 static bool render_ref(prw_ref_renderer *ref, const prw_view *v, uint64_t spp, uint64_t seed, const uint8_t *need,
                        prw_image *out, prw_error *e)
 {
-    if (!prw_image_alloc(out, W, H, e)) return false;
-    for (size_t i = 0; i < (size_t)W * H; i++) {
-        for (int c = 0; c < 3; c++) out->rgba[4 * i + c] = NAN;
-        out->rgba[4 * i + 3] = 1.0f;
-    }
+    prw_ref_desc d = {.s0 = 0, .s1 = spp, .seed = seed, .filter = {.kind = PRW_REF_INDIRECT_DIFFUSE_LAST}};
     double t0 = prw_now();
     size_t pixels = 0;
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W;) {
-            if (need && !need[(size_t)y * W + x]) {
-                x++;
-                continue;
-            }
-            uint32_t x1 = x + 1;
-            while (x1 < W && (!need || need[(size_t)y * W + x1])) x1++;
-            prw_ref_desc d = {.x0 = x, .y0 = y, .x1 = x1, .y1 = y + 1, .s0 = 0, .s1 = spp, .seed = seed,
-                              .filter = {.kind = PRW_REF_INDIRECT_DIFFUSE_LAST}};
-            prw_ref_acc acc = {0};
-            prw_ref_stats st;
-            if (!prw_ref_render(ref, v, &d, &acc, &st, e)) {
-                prw_ref_acc_free(&acc);
-                return false;
-            }
-            double n = (double)(acc.s1 - acc.s0);
-            for (uint32_t k = x; k < x1; k++)
-                for (int c = 0; c < 3; c++)
-                    out->rgba[4 * ((size_t)y * W + k) + c] = (float)((double)acc.sum[3 * (k - x) + c] / PRW_REF_SUM_SCALE / n);
-            prw_ref_acc_free(&acc);
-            pixels += x1 - x;
-            x = x1;
-        }
+    if (!prw_test_ref_pixels(ref, v, &d, need, out, &pixels, e)) return false;
     printf("reference indirect-diffuse-last seed %llu: %llu spp at %zu of %u pixels in %.1f s\n", (unsigned long long)seed,
            (unsigned long long)spp, pixels, W * H, prw_now() - t0);
     return true;
