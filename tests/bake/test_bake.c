@@ -186,6 +186,21 @@ static int compare_emit(const prw_lod_model *a, const prw_lod_model *b, int mixe
     return diff;
 }
 
+/* Light mode (sanitizer builds: memory errors, not power): the round trips and the cache cases bake
+ * with coarse seam and LOD options (the same code paths: build, serialise, parse, cache hit, miss and
+ * rebuild over a corrupt entry) instead of the defaults.  NULL (the defaults) otherwise. */
+static const prw_bake_options *light_options(void)
+{
+    static prw_bake_options o;
+    if (!prw_test_light()) return NULL;
+    memset(&o, 0, sizeof o);
+    o.seam.max_edge = 0.5;
+    o.seam.chord = 0.02;
+    o.lod.levels = 3;
+    o.lod.max_cells = 2;
+    return &o;
+}
+
 static void roundtrip(const char *name, bool (*make)(prw_nurbs_model *, prw_error *))
 {
     prw_nurbs_model m;
@@ -194,7 +209,7 @@ static void roundtrip(const char *name, bool (*make)(prw_nurbs_model *, prw_erro
     CHECK_OK(make(&m, &e), &e);
     prw_baked_lod *fresh, *back;
     double t0 = prw_now();
-    CHECK_OK(prw_baked_lod_build(&m, NULL, &fresh, NULL, NULL, &e), &e);
+    CHECK_OK(prw_baked_lod_build(&m, light_options(), &fresh, NULL, NULL, &e), &e);
     double t1 = prw_now();
     strcpy(fresh->key, "0123456789abcdef0123456789abcdef");
     uint8_t *bytes, *bytes2;
@@ -276,11 +291,11 @@ static void test_cache_hit(void)
     prw_bake_result r1, r2;
     prw_baked_lod *b1, *b2;
     int builds = prw_bake_build_count();
-    CHECK_OK(prw_bake_run(model, NULL, false, &b1, &r1, NULL, NULL, &e), &e);
+    CHECK_OK(prw_bake_run(model, light_options(), false, &b1, &r1, NULL, NULL, &e), &e);
     CHECK(r1.built && !r1.cache_hit && r1.cache_written && r1.warning[0] == '\0');
     CHECK(prw_bake_build_count() == builds + 1);
     CHECK(strstr(r1.cache_path, "/cache-hit/lod/") != NULL && strstr(r1.cache_path, r1.key) != NULL);
-    CHECK_OK(prw_bake_run(model, NULL, false, &b2, &r2, NULL, NULL, &e), &e);
+    CHECK_OK(prw_bake_run(model, light_options(), false, &b2, &r2, NULL, NULL, &e), &e);
     printf("  first: built %.3f s; second: cache hit %d, %.3f s; key %s\n", r1.seconds_total, r2.cache_hit,
            r2.seconds_total, r2.key);
     CHECK(r2.cache_hit && !r2.built);
@@ -292,12 +307,13 @@ static void test_cache_hit(void)
     /* --no-cache builds again and does not touch the cache */
     prw_baked_lod *b3;
     prw_bake_result r3;
-    CHECK_OK(prw_bake_run(model, NULL, true, &b3, &r3, NULL, NULL, &e), &e);
+    CHECK_OK(prw_bake_run(model, light_options(), true, &b3, &r3, NULL, NULL, &e), &e);
     CHECK(r3.built && !r3.cache_hit && r3.cache_path[0] == '\0' && prw_bake_build_count() == builds + 2);
     prw_lod_file_destroy(b3);
     /* a changed knob is another key (and a miss) */
     prw_bake_options o;
     memset(&o, 0, sizeof o);
+    if (light_options()) o = *light_options();
     o.lod.levels = 5;
     CHECK_OK(prw_bake_run(model, &o, false, &b3, &r3, NULL, NULL, &e), &e);
     CHECK(strcmp(r3.key, r1.key) != 0 && r3.built && !r3.cache_hit && b3->lod.levels == 5);
@@ -353,7 +369,7 @@ static void corrupt_and_rebuild(const char *what, bool truncate)
     prw_error e;
     prw_bake_result r;
     prw_baked_lod *b, *ref;
-    CHECK_OK(prw_bake_run(model, NULL, false, &ref, &r, NULL, NULL, &e), &e);
+    CHECK_OK(prw_bake_run(model, light_options(), false, &ref, &r, NULL, NULL, &e), &e);
     char path[4096];
     snprintf(path, sizeof path, "%s", r.cache_path);
     char *d;
@@ -364,7 +380,7 @@ static void corrupt_and_rebuild(const char *what, bool truncate)
     prw_test_write_file(path, d, n);
     free(d);
     int builds = prw_bake_build_count();
-    CHECK_OK(prw_bake_run(model, NULL, false, &b, &r, NULL, NULL, &e), &e);
+    CHECK_OK(prw_bake_run(model, light_options(), false, &b, &r, NULL, NULL, &e), &e);
     printf("  %s: warning \"%s\"\n", what, r.warning);
     CHECK(!r.cache_hit && r.built && r.cache_written);
     CHECK(strstr(r.warning, "corrupt cache entry rebuilt") != NULL && strstr(r.warning, path) != NULL);
@@ -373,7 +389,7 @@ static void corrupt_and_rebuild(const char *what, bool truncate)
     CHECK(compare_baked(ref, b) == 0);
     prw_lod_file_destroy(b);
     /* the rewritten entry is whole again: the next run is a hit */
-    CHECK_OK(prw_bake_run(model, NULL, false, &b, &r, NULL, NULL, &e), &e);
+    CHECK_OK(prw_bake_run(model, light_options(), false, &b, &r, NULL, NULL, &e), &e);
     CHECK(r.cache_hit && r.warning[0] == '\0');
     prw_lod_file_destroy(b);
     prw_lod_file_destroy(ref);
@@ -601,8 +617,10 @@ static void test_bad_proxy(void)
     prw_nurbs_model_init(&m);
     prw_error e;
     prw_baked_lod *b, *x;
-    CHECK_OK(prw_procedural_plate(&m, &e), &e);
-    CHECK_OK(prw_baked_lod_build(&m, NULL, &b, NULL, NULL, &e), &e);
+    /* light mode: the two-patch model with the coarse options (2 proxy levels; the plate has 1 there) */
+    if (light_options()) CHECK_OK(make_two(&m, &e), &e);
+    else CHECK_OK(prw_procedural_plate(&m, &e), &e);
+    CHECK_OK(prw_baked_lod_build(&m, light_options(), &b, NULL, NULL, &e), &e);
     prw_nurbs_model_free(&m);
     CHECK(b->have_proxy && b->proxy.nlevels >= 2);
     if (!b->have_proxy || b->proxy.nlevels < 2) {
