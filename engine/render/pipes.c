@@ -152,7 +152,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
             d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
             d->fs_spec_count = PRW_SC_TERMS + 1;
         }
-        if (env->pipes && env->pipes->envlight && env->pipes->envlight->active && !btf) { /* gi_env.glsl */
+        if (env->pipes && env->pipes->envlight && env->pipes->envlight->active) { /* gi_env.glsl, btf_env.glsl */
             d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
             d->fs_spec[PRW_SC_ENV] = 1;
             d->fs_spec_count = PRW_SC_ENV + 1;
