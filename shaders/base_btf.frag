@@ -107,21 +107,22 @@ void main()
     float p11 = length(vec3(vp[0][1], vp[1][1], vp[2][1])); // 1 / tan(half fov): clip y = p11 x view y
     float px_m = abs(dFdy(clip.y / clip.w)) / p11 * length(v_pos - eye);
     // The terms (gi_lightmap.glsl's PRW_SC_TERMS): direct = emission + direct light; with an environment
-    // (PRW_SC_ENV) + the environment term: the average BRDF's (gi_env.glsl, visibility 1) or the BTF's
-    // (btf_env.glsl).
+    // (PRW_SC_ENV) + the environment term: the average BRDF's (gi_env.glsl) or the BTF's (btf_env.glsl),
+    // occluded by the light maps' visibility in the PRW_GI variant.  No indirect diffuse from the light
+    // maps on either (the BTF's response to it is not built; the average alone would jump at the switch).
     if ((prw_terms & PRW_TERM_DIRECT) == 0) radiance = vec3(0.0);
     if (mat.alpha.y > 0.5 && px_m * mat.alpha.w > abs(dot(n, v))) {
         float rough = prw_roughness_from(mat.mr.y, 1.0);
         ggx_view w = ggx_view_at(dot(n, v), rough);
         if ((prw_terms & PRW_TERM_DIRECT) != 0)
             prw_direct_light(radiance, w, v_pos, n, v, mat.base_color.rgb, mat.mr.x, rough, mat.extra.x, 1.5);
-        radiance += prw_env_radiance(w, n, v, mat.base_color.rgb, mat.mr.x, rough, mat.extra.x, 1.0,
-                                     vec4(0.0, 0.0, 0.0, -1.0));
+        radiance += prw_env_radiance(w, n, v, mat.base_color.rgb, mat.mr.x, rough, mat.extra.x, prw_env_visibility(),
+                                     prw_env_cone());
     } else {
         uint m = floatBitsToUint(mat.alpha.z);
         btf_px X = btf_setup(m, F.xy, btf_to_local(F, v)); // the view's directions and the texels: once
         if ((prw_terms & PRW_TERM_DIRECT) != 0) prw_btf_direct_light_px(radiance, X, F, v_pos, 1.5);
-        radiance += prw_btf_env_light(X, F, m);
+        radiance += prw_btf_env_light(X, F, m, prw_env_visibility());
     }
     o_color = vec4(radiance, 1.0);
 #ifdef PRW_GBUFFER

@@ -6,16 +6,21 @@
 // f at the fragment's 3 view directions and 4 texels (btf_setup's), A_k = int w_k dl, c_k the weight's
 // centroid and r_k the prefilter roughness of its width (the material's environment table,
 // engine/render/prw_btf_gpu.h), P the prefiltered environment levels (gi_env.glsl).  What is left is the
-// prefilter's kernel standing in for w_k's shape.  Not occluded: the BTF kind has no light-map variant
-// (visibility 1, as gi_env.glsl's surfaces without light maps), and mirror images leave it out as they
-// do there.  PRW_SC_ENV = 0 or the term off: nothing (the specialisation removes the code).
+// prefilter's kernel standing in for w_k's shape.  Times vis, the light maps' environment visibility
+// (prw_env_visibility: the unoccluded fraction of the environment's irradiance; 1 without light maps),
+// one factor for the whole sum (the BTF reflects mostly diffusely; the open cone that gi_env.glsl uses
+// for the specular lobe is not used here).  Mirror images draw it only in the light-map variants, as
+// gi_env.glsl.  PRW_SC_ENV = 0 or the term off: nothing (the specialisation removes the code).
 // Needs gi_env.glsl, btf_eval.glsl and btf_lights.glsl first.
 #ifndef PRW_BTF_ENV_GLSL
 #define PRW_BTF_ENV_GLSL
 
-vec3 prw_btf_env_light(btf_px X, btf_frame F, uint m)
+vec3 prw_btf_env_light(btf_px X, btf_frame F, uint m, float vis)
 {
-    if (prw_env_on == 0 || (prw_terms & PRW_TERM_ENVIRONMENT) == 0 || g.params.z > 0.5) return vec3(0.0);
+    if (prw_env_on == 0 || (prw_terms & PRW_TERM_ENVIRONMENT) == 0) return vec3(0.0);
+#ifndef PRW_GI
+    if (g.params.z > 0.5) return vec3(0.0);
+#endif
     uint tab = PRW_BTF_BLOB(m + 19u);
     vec3 s = vec3(0.0);
     for (uint k = 0u; k < X.H.lights; k++) {
@@ -35,7 +40,7 @@ vec3 prw_btf_env_light(btf_px X, btf_frame F, uint m)
         // codec ringing below 0: no light (as the direct light and the path tracer)
         s += max(f, vec3(0.0)) * (A * prw_env_prefiltered(F.t * c.x + F.b * c.y + F.n * c.z, r));
     }
-    return s;
+    return s * vis;
 }
 
 #endif

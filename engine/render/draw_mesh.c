@@ -67,7 +67,6 @@ static const prw_gpu_mesh *gi_draw(const prw_render_env *env, const prw_draw_ctx
     uint32_t slot = prw_scene_gpu_slot(env->scene, env->sg->meshes[k].material);
     uint32_t f = env->sg->slot_flags[slot];
     if (f & (PRW_SG_BLEND | PRW_SG_COAT)) return NULL;
-    if (env->scene->material_count && env->scene->materials[slot].kind != PRW_MATERIAL_GLTF_MR) return NULL; /* BTF */
     return prw_lightmap_gpu_draw(env->lm, env->scene, node, k);
 }
 

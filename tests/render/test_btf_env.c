@@ -28,7 +28,9 @@
 
 #include "prw_btf_codec.h"
 #include "prw_btf_synth.h"
+#include "lightmaps.h"
 #include "prw_env_bake.h"
+#include "prw_gi.h"
 #include "prw_image.h"
 #include "prw_metrics.h"
 #include "prw_reference.h"
@@ -119,17 +121,22 @@ static prw_scene *sphere_scene(double rotation_deg, const char *material, prw_er
     return s;
 }
 
-static bool render_raster(const prw_scene *s, const prw_view *v, prw_image *hdr, prw_error *e)
+static bool render_raster_lm(const prw_scene *s, const prw_view *v, const prw_lightmaps *lm, prw_image *hdr, prw_error *e)
 {
     prw_env_data env;
     bool hit = false;
     if (!prw_env_bake(&s->environment, ENV_H, &env, &hit, NULL, 0, e)) return false;
     prw_render_desc rd = {.width = v->width, .height = v->height, .quality = prw_quality_default(), .environment = &env,
-                          .terms = PRW_TERM_ENVIRONMENT};
+                          .lightmaps = lm, .terms = PRW_TERM_ENVIRONMENT};
     rd.quality.msaa = 4;
     bool ok = prw_test_render(s, &rd, v, 1, hdr, NULL, e);
     prw_env_data_free(&env);
     return ok;
+}
+
+static bool render_raster(const prw_scene *s, const prw_view *v, prw_image *hdr, prw_error *e)
+{
+    return render_raster_lm(s, v, NULL, hdr, e);
 }
 
 static bool render_ref(prw_ref_renderer *ref, const prw_view *v, uint64_t spp, uint64_t seed, prw_image *out, prw_error *e)
@@ -289,9 +296,88 @@ static void test_sphere(void)
     prw_scene_destroy(s), prw_scene_destroy(st), prw_scene_destroy(sa);
 }
 
+/* The light maps' visibility on the BTF (the PRW_GI variant of base_btf.frag): a leather floor half
+ * under a black slab roof (0.55 m up; black, so the frame shows the BTF's term only) under the same
+ * sky, a reduced bake made here, camera low enough to see under the roof.  Over the pixels where the reference's term is > 0: LDR-FLIP beyond noise <=
+ * FLIP_BOUND and the worst channel mean within OCC_MEAN_BOUND; the control without light maps
+ * (visibility 1: the roof's shade ignored) must miss the means by more than twice that. */
+#define OCC_MEAN_BOUND 0.06
+static void test_occluded(void)
+{
+    prw_error e = {{0}};
+    bool light = prw_test_light();
+    uint32_t w = light ? 64 : 128, h = light ? 36 : 72;
+    uint64_t spp = light ? 16 : 128;
+    CHECK_OK(write_sky(prw_test_path("btf_env_sky.exr"), &e), &e);
+    prw_btf_average avg;
+    memset(&avg, 0, sizeof avg);
+    CHECK_OK(write_btf(prw_test_path("btf_env.btfc"), &avg, &e), &e);
+    const char *text =
+        "{\"prw_manifest\": 1, \"environment\": {\"file\": \"btf_env_sky.exr\", \"scale\": 1},"
+        " \"materials\": [{\"name\": \"leather\", \"btf\": \"btf_env.btfc\", \"btf_texel_m\": 0.06},"
+        " {\"name\": \"black\", \"base_color\": [0, 0, 0], \"metallic\": 0, \"roughness\": 1, \"specular\": 0}],"
+        " \"meshes\": [{\"name\": \"floor\", \"quad\": {\"centre\": [0, 0, 0], \"half_u\": [1.5, 0, 0], \"half_v\": [0, 0, -1.5]},"
+        " \"material\": \"leather\"},"
+        " {\"name\": \"roof\", \"box\": {\"min\": [-1.5, 0.55, -1.5], \"max\": [0.1, 0.6, 1.5]}, \"material\": \"black\"}],"
+        " \"cameras\": [{\"position\": [0.2, 0.45, 2.4], \"target\": [-0.1, 0.0, 0], \"yfov_deg\": 50}]}";
+    char *path = prw_test_path("btf_env_occ.json");
+    write_text(path, text);
+    prw_scene *s = prw_scene_create();
+    bool ok = prw_scene_load_manifest(s, path, &e);
+    CHECK_OK(ok, &e);
+    if (!ok) {
+        prw_scene_destroy(s);
+        return;
+    }
+    prw_scene_update(s);
+    prw_view v;
+    CHECK_OK(prw_ref_view_for_camera(s, NULL, w, h, &v, &e), &e);
+    prw_gi_options o = {.radiosity_size = light ? 32 : 64, .samples = light ? 16 : 64, .seed = 7,
+                        .filter_radius = PRW_GI_DEFAULT_FILTER_RADIUS};
+    prw_gi_bake *b = NULL;
+    prw_gi_result gr;
+    prw_app_lightmaps *lms = NULL;
+    CHECK_OK(prw_gi_run(s, &o, true, NULL, NULL, &b, &gr, &e), &e);
+    CHECK_OK(b && prw_app_lightmaps_from_bake(s, b, &lms, &e), &e);
+    prw_image raster = {0}, vis1 = {0}, ra = {0}, rb = {0};
+    CHECK_OK(render_raster_lm(s, &v, prw_app_lightmaps_get(lms), &raster, &e), &e);
+    CHECK_OK(render_raster(s, &v, &vis1, &e), &e);
+    prw_ref_renderer *ref = NULL;
+    CHECK_OK(prw_ref_create(s, v.eye, 2, &ref, &e), &e);
+    ok = ref && render_ref(ref, &v, spp, 1, &ra, &e) && render_ref(ref, &v, spp, 2, &rb, &e);
+    prw_ref_destroy(ref);
+    CHECK_OK(ok, &e);
+    if (ok && raster.rgba && vis1.rgba) {
+        size_t n = (size_t)w * h, bad = 0;
+        for (size_t i = 0; i < 4 * n; i++) bad += !isfinite(raster.rgba[i]) || raster.rgba[i] < 0;
+        CHECK_MSG(bad == 0, "%zu raster values not finite or negative", bad);
+        double ev = lit_ev100(&ra);
+        double f = flip(&raster, &ra, ev, &e), fn = flip(&rb, &ra, ev, &e), f1 = flip(&vis1, &ra, ev, &e);
+        double m = mean_error(&raster, &ra), mn = mean_error(&rb, &ra), m1 = mean_error(&vis1, &ra);
+        printf("leather floor half under a roof, sky + patch, %ux%u, light maps radiosity_size %u, %u samples, "
+               "reference %llu spp, EV100 %.3f:\n",
+               w, h, o.radiosity_size, o.samples, (unsigned long long)spp, ev);
+        printf("  LDR-FLIP   raster %.4f, reference noise %.4f: beyond noise %.4f (bound %.2f)\n", f, fn, f - fn, FLIP_BOUND);
+        printf("  worst channel mean: raster %.4f (bound %.2f), reference noise %.4f\n", m, OCC_MEAN_BOUND, mn);
+        printf("  control visibility 1 (no light maps): FLIP beyond noise %.4f, worst channel mean %.4f\n", f1 - fn, m1);
+        write_if("btf_env_occ_raster", &raster, ev);
+        write_if("btf_env_occ_vis1", &vis1, ev);
+        write_if("btf_env_occ_ref_a", &ra, ev);
+        if (!light) {
+            CHECK_MSG(f - fn <= FLIP_BOUND, "LDR-FLIP beyond noise %.4f", f - fn);
+            CHECK_MSG(m <= OCC_MEAN_BOUND, "channel means off by %.4f", m);
+            CHECK_MSG(m1 > 2 * OCC_MEAN_BOUND, "the control (visibility 1) passes: %.4f", m1);
+        } else
+            CHECK_MSG(m1 > m, "the control (visibility 1) is not worse");
+    }
+    prw_image_free(&raster), prw_image_free(&vis1), prw_image_free(&ra), prw_image_free(&rb);
+    prw_app_lightmaps_destroy(lms);
+    prw_scene_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
-    static const prw_test_case cases[] = {{"sphere", test_sphere}};
+    static const prw_test_case cases[] = {{"sphere", test_sphere}, {"occluded", test_occluded}};
     int rc = prw_test_main(argc, argv, cases, (int)PRW_ARRAY_LEN(cases));
     return prw_test_gpu_finish() ? 1 : rc;
 }
