@@ -9,9 +9,11 @@ layout(std140, set = 2, binding = 0) uniform prw_mv_block { mat4 view_proj[2]; v
 #include "prw_shading.h"
 #include "shadows.glsl"
 #include "lights.glsl"
+#include "gi_lightmap.glsl"
+#include "gi_env.glsl"
 
 // Base pass of the BTF material kind (prw_material.btf_file): emission + direct light of every light
-// through the BTF (btf_lights.glsl), with the path tracer's frame and texel mapping (engine/reference
+// through the BTF (btf_lights.glsl), with an environment its term (btf_env.glsl), with the path tracer's frame and texel mapping (engine/reference
 // ref_trace.c btf_frame, prw_scene.h): the triangle's dP/du, dP/dv (uv set 0, here from the screen
 // derivatives of the interpolated position and uv: exact for a triangle's affine mapping) give x = dP/du
 // made tangent to the shading normal, y = n x x turned towards dP/dv, texel (u |dP/du|, v |dP/dv|) /
@@ -47,6 +49,7 @@ layout(constant_id = PRW_SC_MAT) const uint prw_btf_sc = 0u;
 #define PRW_BTF_K1 (prw_btf_sc >> 2u)
 #include "btf_eval.glsl"
 #include "btf_lights.glsl"
+#include "btf_env.glsl"
 
 layout(location = 0) out vec4 o_color;
 #ifdef PRW_GBUFFER
@@ -103,12 +106,24 @@ void main()
     vec4 clip = vp * vec4(v_pos, 1.0);
     float p11 = length(vec3(vp[0][1], vp[1][1], vp[2][1])); // 1 / tan(half fov): clip y = p11 x view y
     float px_m = abs(dFdy(clip.y / clip.w)) / p11 * length(v_pos - eye);
+    // The terms (gi_lightmap.glsl's PRW_SC_TERMS): direct = emission + direct light; with an environment
+    // (PRW_SC_ENV) + the environment term: the average BRDF's (gi_env.glsl) or the BTF's (btf_env.glsl),
+    // occluded by the light maps' visibility in the PRW_GI variant.  No indirect diffuse from the light
+    // maps on either (the BTF's response to it is not built; the average alone would jump at the switch).
+    if ((prw_terms & PRW_TERM_DIRECT) == 0) radiance = vec3(0.0);
     if (mat.alpha.y > 0.5 && px_m * mat.alpha.w > abs(dot(n, v))) {
         float rough = prw_roughness_from(mat.mr.y, 1.0);
-        prw_direct_light(radiance, ggx_view_at(dot(n, v), rough), v_pos, n, v, mat.base_color.rgb, mat.mr.x, rough,
-                         mat.extra.x, 1.5);
-    } else
-        prw_btf_direct_light(radiance, floatBitsToUint(mat.alpha.z), F, v_pos, v, 1.5);
+        ggx_view w = ggx_view_at(dot(n, v), rough);
+        if ((prw_terms & PRW_TERM_DIRECT) != 0)
+            prw_direct_light(radiance, w, v_pos, n, v, mat.base_color.rgb, mat.mr.x, rough, mat.extra.x, 1.5);
+        radiance += prw_env_radiance(w, n, v, mat.base_color.rgb, mat.mr.x, rough, mat.extra.x, prw_env_visibility(),
+                                     prw_env_cone());
+    } else {
+        uint m = floatBitsToUint(mat.alpha.z);
+        btf_px X = btf_setup(m, F.xy, btf_to_local(F, v)); // the view's directions and the texels: once
+        if ((prw_terms & PRW_TERM_DIRECT) != 0) prw_btf_direct_light_px(radiance, X, F, v_pos, 1.5);
+        radiance += prw_btf_env_light(X, F, m, prw_env_visibility());
+    }
     o_color = vec4(radiance, 1.0);
 #ifdef PRW_GBUFFER
     o_normal = vec4(n, 1.0);

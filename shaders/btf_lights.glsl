@@ -41,9 +41,9 @@ vec3 btf_light_one(btf_px X, btf_frame F, prw_gpu_light L, int type, bool shadow
     return f * L.radiance.rgb * E * (shadowed ? shadow_factor(L, p, F.n, shadow_offset, may_be_cube) : 1.0);
 }
 
-void prw_btf_direct_light(inout vec3 radiance, uint m, btf_frame F, vec3 p, vec3 v, float shadow_offset)
+// X: btf_setup at the fragment (the view's directions and the texels: once for every light)
+void prw_btf_direct_light_px(inout vec3 radiance, btf_px X, btf_frame F, vec3 p, float shadow_offset)
 {
-    btf_px X = btf_setup(m, F.xy, btf_to_local(F, v)); // the view's directions and the texels: once
     if (prw_lights_sorted) {
         for (int i = 0; i < PRW_N_LIGHTS; i++)
             radiance += btf_light_one(X, F, g.lights[i], PRW_SLOT_RECT(i) ? PRW_GPU_LIGHT_RECT : int(g.lights[i].pos_type.w),
@@ -55,6 +55,11 @@ void prw_btf_direct_light(inout vec3 radiance, uint m, btf_frame F, vec3 p, vec3
         prw_gpu_light L = g.lights[i];
         radiance += btf_light_one(X, F, L, int(L.pos_type.w), L.cone_shadow.z >= 0.0, true, p, shadow_offset);
     }
+}
+
+void prw_btf_direct_light(inout vec3 radiance, uint m, btf_frame F, vec3 p, vec3 v, float shadow_offset)
+{
+    prw_btf_direct_light_px(radiance, btf_setup(m, F.xy, btf_to_local(F, v)), F, p, shadow_offset);
 }
 
 #endif

@@ -1,8 +1,10 @@
 /* btf_gpu.c — a BTF material packed into 32-bit words for shaders/btf_eval.glsl (prw_btf_gpu.h). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "prw_btf_gpu.h"
+#include "prw_math.h"
 /* the interpolation header's fetches, for its grid size (the functions are not used here) */
 #define PRW_BTF_DT_PARAMS const prw_btf_dirtab *dt,
 #define PRW_BTF_DT_ARGS dt,
@@ -69,6 +71,94 @@ static void put_block(uint32_t *w, uint64_t col, uint32_t R, const uint16_t *con
         }
 }
 
+/* The environment table (prw_btf_gpu.h).  The interpolated BTF is sum_k w_k(l) f_k with w_k the light
+ * weights of prw_btf_dirtab_weights (w_k cos theta_l / cos theta_k), so under a distant light L(l)
+ *   int BTF(l) L(l) dl = sum_k f_k int w_k(l) L(l) dl = sum_k f_k A_k Lbar_k,
+ * A_k = int w_k dl, Lbar_k = L averaged with the kernel w_k: read from the prefiltered environment at the
+ * kernel's centroid c_k, at the roughness whose prefilter kernel has the kernel's median angle about c_k.
+ * Integrals by the midpoint rule on ENV_NZ x ENV_NP cells of equal solid angle (z = cos theta, phi). */
+#define ENV_NZ 96
+#define ENV_NP 384
+#define ENV_BINS 360 /* quarter-degree bins of the angle from the centroid */
+#define ENV_ROUGH 101
+
+/* Median angle of the environment prefilter's kernel at GGX alpha (materials/env/prw_env.h: l the
+ * reflection of d about h, h ~ D(h) cos theta_h, weight d.l = cos 2 theta_h; the angle is 2 theta_h). */
+static double ggx_median_angle(double alpha)
+{
+    enum { N = 4000 };
+    double a2 = alpha * alpha, tot = 0, cdf[N];
+    for (int i = 0; i < N; i++) {
+        double th = (i + 0.5) * (0.25 * PRW_PI / N), c = cos(th), q = c * c * (a2 - 1) + 1;
+        tot += a2 / (PRW_PI * q * q) * c * sin(th) * cos(2 * th);
+        cdf[i] = tot;
+    }
+    for (int i = 0; i < N; i++)
+        if (cdf[i] >= 0.5 * tot) return 2 * (i + 0.5) * (0.25 * PRW_PI / N);
+    return 0.5 * PRW_PI;
+}
+
+static uint32_t put_env_table(prw_btf_gpu_words *a, const prw_btf_dirtab *t)
+{
+    uint32_t n = t->count;
+    double *A = prw_calloc(n, sizeof *A), *c = prw_calloc(3 * (size_t)n, sizeof *c);
+    double *hist = prw_calloc((size_t)n * ENV_BINS, sizeof *hist);
+    double dw = (1.0 / ENV_NZ) * (2 * PRW_PI / ENV_NP), med_r[ENV_ROUGH];
+    for (int pass = 0; pass < 2; pass++)
+        for (int i = 0; i < ENV_NZ; i++)
+            for (int j = 0; j < ENV_NP; j++) {
+                double z = (i + 0.5) / ENV_NZ, s = sqrt(1 - z * z), p = 2 * PRW_PI * (j + 0.5) / ENV_NP;
+                double d[3] = {s * cos(p), s * sin(p), z};
+                uint32_t idx[3];
+                float w[3];
+                prw_btf_dirtab_weights(t, d, true, idx, w);
+                for (int k = 0; k < 3; k++) {
+                    if (!(w[k] > 0) || idx[k] >= n) continue;
+                    double wk = w[k] * dw;
+                    uint32_t m = idx[k];
+                    if (pass == 0) {
+                        A[m] += wk;
+                        for (int q = 0; q < 3; q++) c[3 * m + q] += wk * d[q];
+                    } else {
+                        double ca = d[0] * c[3 * m] + d[1] * c[3 * m + 1] + d[2] * c[3 * m + 2];
+                        int b = (int)(acos(fmin(fmax(ca, -1.0), 1.0)) * (180.0 / PRW_PI) * 4);
+                        hist[(size_t)m * ENV_BINS + (b < ENV_BINS ? b : ENV_BINS - 1)] += wk;
+                    }
+                }
+                if (pass == 0 && i == ENV_NZ - 1 && j == ENV_NP - 1)
+                    for (uint32_t m = 0; m < n; m++) { /* the centroids made unit for the second pass */
+                        double l = sqrt(c[3 * m] * c[3 * m] + c[3 * m + 1] * c[3 * m + 1] + c[3 * m + 2] * c[3 * m + 2]);
+                        for (int q = 0; q < 3; q++) c[3 * m + q] = l > 0 ? c[3 * m + q] / l : (q == 2);
+                    }
+            }
+    for (int r = 0; r < ENV_ROUGH; r++) { /* prw_alpha_from_roughness (prw_brdf.h): max(r^2, 0.002) */
+        double rr = (double)r / (ENV_ROUGH - 1);
+        med_r[r] = ggx_median_angle(fmax(rr * rr, 0.002));
+    }
+    uint32_t at = grow(a, 5 * (size_t)n);
+    for (uint32_t m = 0; m < n; m++) {
+        double acc = 0, med = 0;
+        for (int b = 0; b < ENV_BINS; b++) {
+            acc += hist[(size_t)m * ENV_BINS + b];
+            if (acc >= 0.5 * A[m]) {
+                med = (b + 0.5) / 4 * (PRW_PI / 180);
+                break;
+            }
+        }
+        double rough = 1.0; /* the roughness whose median angle is med, linear between the table's */
+        for (int r = 1; r < ENV_ROUGH; r++)
+            if (med_r[r] >= med) {
+                double f = (med - med_r[r - 1]) / fmax(med_r[r] - med_r[r - 1], 1e-12);
+                rough = ((r - 1) + fmin(fmax(f, 0.0), 1.0)) / (ENV_ROUGH - 1);
+                break;
+            }
+        float v[5] = {(float)c[3 * m], (float)c[3 * m + 1], (float)c[3 * m + 2], (float)A[m], (float)rough};
+        memcpy(a->w + at + 5 * m, v, sizeof v);
+    }
+    free(A), free(c), free(hist);
+    return at;
+}
+
 bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_words *a, uint32_t *offset, prw_error *e)
 {
     const prw_btf_packed *p = &m->p;
@@ -82,7 +172,7 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
     /* the codec arrays (halves two per word; RGB entries two words), then at most two tables of <= 2 x 512
      * triangles (12 words each), 256 cosines and the grid */
     uint64_t table = 5 + 12 * 2 * 512 + PRW_BTF_DIRS_MAX + PRW_BTF_GRID_WORDS;
-    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nw + 4 * M) / 2 + 8 + ni + (N + 1) + 6 * rows * cols + 4 + 2 * table;
+    uint64_t need = a->count + PRW_BTF_GPU_HEADER + (nw + 4 * M) / 2 + 8 + ni + (N + 1) + 6 * rows * cols + 4 + 2 * table + 5 * (uint64_t)p->lights;
     if (k > PRW_BTF_GPU_KMAX)
         return prw_fail(e, "%s: %u components: the base pass holds at most %u", name, p->components, PRW_BTF_GPU_KMAX);
     if (need >= (1ull << 31)) return prw_fail(e, "%s: %llu words do not fit one GPU buffer", name, (unsigned long long)need);
@@ -115,6 +205,7 @@ bool prw_btf_gpu_pack(const prw_btf_material *m, const char *name, prw_btf_gpu_w
         for (uint64_t col = 0; col < cols; col++) put_block(a->w + blk + 4 * B * (g * cols + col), col, R, src, first, step);
     }
     h[17] = blk / 4, h[18] = (uint32_t)cols;
+    h[19] = put_env_table(a, m->shared ? &m->views : &m->lights);
     memcpy(a->w + at, h, sizeof h);
     *offset = at;
     return true;

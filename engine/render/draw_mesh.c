@@ -5,11 +5,12 @@
  * (MASK, BLEND) casters through the alpha-tested caster pipeline.  Light-mapped meshes (lightmap_gpu.h)
  * are drawn from the light maps' buffers with the light-map shaders (PRW_PIPE_GI) by the base pass's
  * plain, pre-pass and EQUAL draws and their G-buffer forms (the pre-pass from the same buffers and vertex shader, so EQUAL
- * matches) and by the colour draws of the other lightmapped recipes (the mirror image's, with its clip plane), unless their material is blended or clear-coated; every other draw is as before. */
+ * matches) and by the colour draws of the other lightmapped recipes (the mirror image's, with its clip plane), unless their material is blended or clear-coated, or BTF without an environment (the light maps give a BTF only the environment's visibility); every other draw is as before. */
 #include <stdlib.h>
 
 #include "lightmap_gpu.h"
 #include "pipes.h"
+#include "prw_env_gpu.h"
 #include "prw_pass.h"
 #include "scene_gpu.h"
 
@@ -67,7 +68,9 @@ static const prw_gpu_mesh *gi_draw(const prw_render_env *env, const prw_draw_ctx
     uint32_t slot = prw_scene_gpu_slot(env->scene, env->sg->meshes[k].material);
     uint32_t f = env->sg->slot_flags[slot];
     if (f & (PRW_SG_BLEND | PRW_SG_COAT)) return NULL;
-    if (env->scene->material_count && env->scene->materials[slot].kind != PRW_MATERIAL_GLTF_MR) return NULL; /* BTF */
+    /* BTF: the light-map variant only for the environment term's visibility (else the pipelines of before) */
+    bool env_on = env->pipes && env->pipes->envlight && env->pipes->envlight->active;
+    if (env->scene->material_count && env->scene->materials[slot].kind != PRW_MATERIAL_GLTF_MR && !env_on) return NULL;
     return prw_lightmap_gpu_draw(env->lm, env->scene, node, k);
 }
 

@@ -108,14 +108,14 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
         fs = mv ? prw_shader_mv_base_btf_frag() : gbuf ? prw_shader_gbuf_base_btf_frag() : prw_shader_base_btf_frag();
     }
     bool gi = (k->features & PRW_PIPE_GI) != 0;
-    if (gi && (btf || mv || floor || blend || (k->features & PRW_PIPE_COAT)))
-        return prw_fail(e, "render: the light-map shaders have no BTF, multiview, floor, blended or clear-coat "
-                           "variant");
+    if (gi && (mv || floor || blend || (k->features & PRW_PIPE_COAT)))
+        return prw_fail(e, "render: the light-map shaders have no multiview, floor, blended or clear-coat variant");
     if (gi) { /* with a clip plane: the mirror image's draws (pass_mirror.c) */
         vs = k->clip ? (ext ? prw_shader_gi_clip_ext_base_vert() : prw_shader_gi_clip_base_vert())
                      : (ext ? prw_shader_gi_ext_base_vert() : prw_shader_gi_base_vert());
         fs = ext ? (gbuf ? prw_shader_gi_gbuf_ext_base_frag() : prw_shader_gi_ext_base_frag())
                  : (gbuf ? prw_shader_gi_gbuf_base_frag() : prw_shader_gi_base_frag());
+        if (btf) fs = gbuf ? prw_shader_gi_gbuf_base_btf_frag() : prw_shader_gi_base_btf_frag(); /* visibility only */
     }
     if (floor) fs = gbuf ? prw_shader_gbuf_floor_frag() : prw_shader_floor_frag(); /* everything else the same */
     VkCullModeFlags cull = k->two_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
@@ -152,7 +152,7 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
             d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
             d->fs_spec_count = PRW_SC_TERMS + 1;
         }
-        if (env->pipes && env->pipes->envlight && env->pipes->envlight->active && !btf) { /* gi_env.glsl */
+        if (env->pipes && env->pipes->envlight && env->pipes->envlight->active) { /* gi_env.glsl, btf_env.glsl */
             d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
             d->fs_spec[PRW_SC_ENV] = 1;
             d->fs_spec_count = PRW_SC_ENV + 1;
