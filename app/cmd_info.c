@@ -7,6 +7,7 @@
 #include "app.h"
 #include "lightmaps.h"
 #include "prw_render.h"
+#include "quality_args.h"
 #include "prw_stereo.h"
 
 static const char *light_type_name(prw_light_type t)
@@ -60,12 +61,12 @@ static void print_emissive(const prw_scene *s, const prw_emissive_lights *em)
     }
 }
 
-static bool print_graph(const prw_scene *s, uint32_t views, uint32_t w, uint32_t h, prw_error *e)
+static bool print_graph(const prw_scene *s, const prw_quality *q, uint32_t views, uint32_t w, uint32_t h, prw_error *e)
 {
     prw_gpu *gpu = NULL;
     prw_renderer *r = NULL;
     bool ok = prw_app_create_gpu(false, &gpu, e);
-    prw_render_desc rd = {.width = w, .height = h, .max_views = views};
+    prw_render_desc rd = {.width = w, .height = h, .max_views = views, .quality = *q};
     ok = ok && prw_renderer_create(gpu, s, &rd, &r, e);
     if (ok) {
         const prw_emissive_lights *em = prw_renderer_emissive(r);
@@ -76,7 +77,8 @@ static bool print_graph(const prw_scene *s, uint32_t views, uint32_t w, uint32_t
         print_emissive(s, em);
         char buf[16384] = "";
         prw_renderer_describe(r, buf, sizeof buf);
-        printf("render graph (%ux%u, %u view%s, 4x MSAA, per-view loop):\n%s", w, h, views, views > 1 ? "s" : "", buf);
+        printf("render graph (%ux%u, %u view%s, %ux MSAA, per-view loop):\n%s", w, h, views, views > 1 ? "s" : "",
+               q->msaa, buf);
     }
     prw_view v[2];
     if (ok && s->camera_count) {
@@ -107,13 +109,14 @@ int prw_cmd_info(int argc, char **argv)
     prw_error e = {{0}};
     prw_args_init(&a, argc, argv, &e);
     if (prw_args_flag(&a, "help")) {
-        printf("usage: prw info [SCENE] [--views N] [--size WxH]\n"
+        printf("usage: prw info [SCENE] [--views N] [--size WxH] [--preset CONFIG]\n"
                "  prints meshes, materials, lights (physical units), cameras, bounds, and the render graph the\n"
                "  scene gets: passes in order with the resources each uses (or why a pass is not in the graph),\n"
                "  the graph's images, and for one frame from the first camera which passes ran or were skipped\n"
                "  (and why) with the frame's barrier and render-pass-begin counts\n"
                "  --views N   1 (default) or 2 (a desktop stereo pair)\n"
-               "  --size WxH  render size of that frame (default 128x72)\n");
+               "  --size WxH  render size of that frame (default 128x72)\n"
+               "%s", prw_quality_args_help());
         prw_args_free(&a);
         return 0;
     }
@@ -123,6 +126,8 @@ int prw_cmd_info(int argc, char **argv)
     const char *v;
     if ((v = prw_args_value(&a, "views", &e, &bad)) && !prw_parse_int(v, "--views", 1, 2, &views, &e)) bad = true;
     if ((v = prw_args_value(&a, "size", &e, &bad)) && !prw_parse_size(v, &w, &h, &e)) bad = true;
+    prw_quality q; /* the graph for these knobs (e.g. "mirror_recursion=0": the reflection passes out) */
+    prw_quality_args_read(&a, &q, &bad, &e);
     if (bad || !prw_args_finish(&a, &e)) {
         fprintf(stderr, "prw info: error: %s\n", e.msg);
         prw_args_free(&a);
@@ -180,17 +185,18 @@ int prw_cmd_info(int argc, char **argv)
     {
         const char *why;
         char path[4096] = "";
-        prw_quality q = prw_quality_default();
-        if (!prw_app_lightmaps_wanted(s, &why))
+        if (!q.gi_lookups)
+            printf("  gi bake: not drawn (gi_lookups=0: no light maps, no environment term)\n");
+        else if (!prw_app_lightmaps_wanted(s, &why))
             printf("  gi bake: none (%s): no indirect light in the rasterizer\n", why);
         else if (prw_app_lightmaps_cached(s, &q, path, sizeof path))
-            printf("  gi bake: cached (%s; default quality, radiosity_size %u): render, walk and bench draw its "
+            printf("  gi bake: cached (%s; radiosity_size %u): render, walk and bench draw its "
                    "indirect diffuse\n", path, q.radiosity_size);
         else
-            printf("  gi bake: not cached (default quality, radiosity_size %u): render, walk and bench bake it first "
+            printf("  gi bake: not cached (radiosity_size %u): render, walk and bench bake it first "
                    "(prw bake SCENE --gi; --no-bake renders without indirect light)\n", q.radiosity_size);
     }
-    int rc = prw_app_bake_scene(s, &e) && print_graph(s, (uint32_t)views, w, h, &e) ? 0 : 1;
+    int rc = prw_app_bake_scene(s, &e) && print_graph(s, &q, (uint32_t)views, w, h, &e) ? 0 : 1;
     if (rc) fprintf(stderr, "prw: error: %s\n", e.msg);
     prw_scene_destroy(s);
     prw_args_free(&a);

@@ -63,6 +63,9 @@ typedef struct prw_quality {
     double reflection_skip;     /* planar reflectors (pass_mirror.c): a reflector is not reflected in a view when its
                                    estimated reflection is below this share of its own radiance (Meseth §11.3:
                                    0.05); 0: always reflected */
+    uint32_t gi_lookups;        /* 1: the base pass reads the baked light maps and the environment term when the
+                                   renderer is given them; 0: it is given neither (pipelines, images and the sky
+                                   exactly as without them): with mirror_recursion 0, the frame without GI */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */
