@@ -221,14 +221,17 @@ static double reflection_share(const reflector *r, const prw_scene *s, const prw
 
 /* The pixels of view v the reflector may cover (bounding rectangle of its projected vertices, clipped to
  * the view); 0 when none (behind the eye, outside, edge-on, its back seen, or between pixel centres). */
-static double reflector_pixels(const reflector *r, const prw_view *v, const char **why)
+/* The rectangle [b0, b2) x [b1, b3) in view pixels (y down, as the base pass draws) bounding the
+ * reflector's corners' projections, clipped to the view; the whole view when a corner lies behind the
+ * eye.  false with why when no pixel can show the reflector's front. */
+static bool reflector_bounds(const reflector *r, const prw_view *v, double b[4], const char **why)
 {
     double s = prw_v3_dot(r->n, v->eye) - r->d;
     double extent = 0;
     for (uint32_t k = 1; k < r->corner_count; k++)
         extent = fmax(extent, prw_v3_len(prw_v3_sub(r->corners[k], r->corners[0])));
-    if (fabs(s) <= 1e-9 * fmax(extent, 1.0)) return (*why = "eye in the mirror's plane"), 0;
-    if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), 0;
+    if (fabs(s) <= 1e-9 * fmax(extent, 1.0)) return (*why = "eye in the mirror's plane"), false;
+    if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), false;
     prw_dmat4 vp = prw_dm4_mul(prw_view_proj(v), v->view); /* absolute world -> clip */
     double x0 = DBL_MAX, y0 = DBL_MAX, x1 = -DBL_MAX, y1 = -DBL_MAX;
     uint32_t behind = 0;
@@ -245,13 +248,36 @@ static double reflector_pixels(const reflector *r, const prw_view *v, const char
         double px = (cx / cw * 0.5 + 0.5) * v->width, py = (cy / cw * 0.5 + 0.5) * v->height;
         x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
     }
-    if (behind == r->corner_count) return (*why = "mirror behind the eye"), 0;
+    if (behind == r->corner_count) return (*why = "mirror behind the eye"), false;
     if (behind) x0 = y0 = 0, x1 = v->width, y1 = v->height; /* it crosses the eye's plane */
-    x0 = fmax(x0, 0), y0 = fmax(y0, 0), x1 = fmin(x1, v->width), y1 = fmin(y1, v->height);
+    b[0] = fmax(x0, 0), b[1] = fmax(y0, 0), b[2] = fmin(x1, v->width), b[3] = fmin(y1, v->height);
+    return true;
+}
+
+static double reflector_pixels(const reflector *r, const prw_view *v, const char **why)
+{
+    double b[4];
+    if (!reflector_bounds(r, v, b, why)) return 0;
     /* pixel centres i + 0.5 inside [x0, x1) */
-    double nx = ceil(x1 - 0.5) - ceil(x0 - 0.5), ny = ceil(y1 - 0.5) - ceil(y0 - 0.5);
+    double nx = ceil(b[2] - 0.5) - ceil(b[0] - 0.5), ny = ceil(b[3] - 0.5) - ceil(b[1] - 0.5);
     if (nx <= 0 || ny <= 0) return (*why = "mirror off-screen or covering no pixel"), 0;
     return nx * ny;
+}
+
+/* The reflector's bounds grown by pad view pixels, in the pixels of a w x h image covering the view: the
+ * scissor of the draws that only its pixels (and the glossy kernel around them) read. */
+static VkRect2D reflector_rect(const reflector *r, const prw_view *v, double pad, uint32_t w, uint32_t h)
+{
+    double b[4];
+    const char *why;
+    VkRect2D full = {{0, 0}, {w, h}};
+    if (!reflector_bounds(r, v, b, &why)) return full;
+    double sx = (double)w / v->width, sy = (double)h / v->height;
+    double x0 = floor((b[0] - pad) * sx) - 1, y0 = floor((b[1] - pad) * sy) - 1;
+    double x1 = ceil((b[2] + pad) * sx) + 1, y1 = ceil((b[3] + pad) * sy) + 1;
+    x0 = fmax(x0, 0), y0 = fmax(y0, 0), x1 = fmin(x1, w), y1 = fmin(y1, h);
+    if (x1 <= x0 || y1 <= y0) return full;
+    return (VkRect2D){{(int32_t)x0, (int32_t)y0}, {(uint32_t)(x1 - x0), (uint32_t)(y1 - y0)}};
 }
 
 /* The reflectors rendered for view v: up to max of those covering pixels and not skipped by the skip rule,
@@ -439,8 +465,12 @@ static bool mirror_record_one(prw_pass_ctx *c, mirror_state *m, const reflector 
     prw_gpu_image *hdr = prw_pass_image(c, HDR_NAMES[k]), *depth = prw_pass_image(c, DEPTH_NAMES[k]);
     VkRenderingAttachmentInfo ca = prw_pipes_color_attachment(hdr, NULL, VK_RESOLVE_MODE_NONE, 0);
     VkRenderingAttachmentInfo da = prw_pipes_depth_attachment(depth);
+    /* only the part of the mirror image that mirror_add reads: the reflector's pixels, and for a glossy one
+     * its kernel's reach around them (mirror_add.frag caps the radius at a quarter of the view's height) */
+    bool glossy = env->scene->materials[r->material].roughness > MIRROR_MAX_ROUGHNESS;
+    VkRect2D area = reflector_rect(r, v, glossy ? 0.25 * v->height + 2 : 2, hdr->width, hdr->height);
     VkRenderingInfo rinfo = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
-                             .renderArea = {{0, 0}, {hdr->width, hdr->height}},
+                             .renderArea = area,
                              .layerCount = 1,
                              .colorAttachmentCount = 1,
                              .pColorAttachments = &ca,
@@ -449,6 +479,7 @@ static bool mirror_record_one(prw_pass_ctx *c, mirror_state *m, const reflector 
                        .sg = env->sg, .layout = env->pipes->base_layout};
     prw_pass_begin_rendering(c, &rinfo);
     prw_cmd_viewport(c->cmd, hdr->width, hdr->height);
+    vkCmdSetScissor(c->cmd, 0, 1, &area);
     vkCmdPushConstants(c->cmd, env->pipes->base_layout, VK_SHADER_STAGE_ALL, PRW_CLIP_PUSH_OFFSET, 16, dv.clip_plane);
     prw_drawables_record(env->drawables, env, &dc);
     if (prw_drawables_have(env->drawables, env, PRW_DRAW_BLEND)) { /* blended surfaces, sorted from the reflected eye */
@@ -654,6 +685,8 @@ static bool add_record(prw_pass_ctx *c, prw_error *e)
     prw_cmd_viewport(c->cmd, out->width, out->height);
     vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->pipe);
     for (uint32_t k = 0; k < n; k++) { /* each only in its reflector's pixels: the sums do not overlap */
+        VkRect2D area = reflector_rect(&a->set.r[pick[k]], v, 0, out->width, out->height);
+        vkCmdSetScissor(c->cmd, 0, 1, &area);
         vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, a->layout, 0, 1, &a->sets[c->view][k], 0,
                                 NULL);
         vkCmdPushConstants(c->cmd, a->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc[k], &pc[k]);
