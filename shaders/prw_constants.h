@@ -43,10 +43,15 @@
 #define PRW_TERM_DIRECT 1           /* emission + direct light */
 #define PRW_TERM_INDIRECT_DIFFUSE 2 /* the light maps' indirect diffuse (PRW_GI variants only) */
 #define PRW_TERM_ENVIRONMENT 4      /* the environment light seen by one bounce (gi_env.glsl, with PRW_SC_ENV) */
-#define PRW_TERM_ALL 7
+#define PRW_TERM_PROBES 8           /* the reflection probes' indirect glossy (gi_probe.glsl, with PRW_SC_PROBES) */
+#define PRW_TERM_ALL 15
 /* The base fragment shaders' environment term (int, 0/1; gi_env.glsl, engine/render/prw_env_gpu.h): 1 when
  * the renderer has an environment.  Unset (0): the shaders of before. */
 #define PRW_SC_ENV 9
+/* The base fragment shaders' reflection probes (int, 0/1; gi_probe.glsl, engine/render/prw_probe_gpu.h): 1 when
+ * the renderer has probes.  Unset (0): the shaders of before. */
+#define PRW_SC_PROBES 10
+#define PRW_GPU_MAX_PROBES 8
 #define PRW_GPU_MAT_NO_BASE_TEX 1     /* the base colour is the factor (white fallback texture) */
 #define PRW_GPU_MAT_NO_MR_TEX 2       /* metallic and roughness are the factors; the block's ggx rows are theirs */
 #define PRW_GPU_MAT_NO_NORMAL_TEX 4   /* no normal map */

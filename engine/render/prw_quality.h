@@ -63,6 +63,10 @@ typedef struct prw_quality {
     double reflection_skip;     /* planar reflectors (pass_mirror.c): a reflector is not reflected in a view when its
                                    estimated reflection is below this share of its own radiance (Meseth §11.3:
                                    0.05); 0: always reflected */
+    uint32_t probe_count;       /* reflection probes (engine/bake/prw_probe.h): at most this many curved glossy
+                                   objects get one (0: none, the probe term off) */
+    uint32_t probe_size;        /* reflection probes: rows of a probe's gathered map (width 2x; the prefiltered
+                                   levels have half as many) */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */
