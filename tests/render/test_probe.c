@@ -203,6 +203,7 @@ static void test_gi_room_probes(void)
     write_if(dir, "ref_b.exr", &rb, ev);
     if (light) {
         printf("  light mode: the bounds are not checked at %llu spp\n", (unsigned long long)spp);
+        CHECK_MSG(c_zero.flip > err.flip, "the probes-off control is not worse: %.4f vs %.4f", c_zero.flip, err.flip);
     } else {
         CHECK_MSG(fb <= FLIP_BOUND, "LDR-FLIP beyond noise %.4f > %.3f", fb, FLIP_BOUND);
         CHECK_MSG(rb_ <= REL_BOUND, "relMSE beyond noise %.4f > %.3f", rb_, REL_BOUND);
