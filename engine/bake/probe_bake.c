@@ -323,7 +323,7 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
     *out = NULL;
     rbuf r = {data, size, 0};
     char magic[8];
-    uint32_t v[6];
+    uint32_t v[6] = {0, 0, 0, 0, 0, 0};
     if (size < PROBE_HDR + 8 || !rget(&r, magic, 8) || memcmp(magic, k_magic, 8) != 0)
         return prw_fail(e, "%s: not a probe file (PRWPRB01)", name);
     uint64_t h;
@@ -347,10 +347,10 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
     for (int c = 0; c < 3; c++) ok = ok && rget(&r, &b->parallax_max[c], 8);
     for (uint32_t i = 0; i < b->count && ok; i++) {
         prw_probe_info *p = &b->probes[i];
-        uint32_t u[4];
+        uint32_t u[4] = {0, 0, 0, 0};
         for (int j = 0; j < 4; j++) ok = ok && rget(&r, &u[j], 4);
         p->node = u[0], p->mesh = u[1], p->material = (int32_t)u[2];
-        double f[10];
+        double f[10] = {0};
         for (int j = 0; j < 10; j++) ok = ok && rget(&r, &f[j], 8);
         for (int j = 0; j < 10 && ok; j++) ok = isfinite(f[j]);
         for (int c = 0; c < 3; c++) p->centre[c] = f[c], p->box_min[c] = f[3 + c], p->box_max[c] = f[6 + c];

@@ -14,13 +14,15 @@
  * both <= the bounds below.  Controls that must exceed a bound: the probes x 0.8, the probes without parallax
  * correction (the parallax box at 10 km), the probes off (a zero term).
  *
- * Environment: PRW_PROBE_SPP (reference samples per pixel, default 256), PRW_PROBE_OUT=DIR writes
+ * Environment: PRW_PROBE_SPP (reference samples per pixel, default 256), PRW_PROBE_SIZE / PRW_PROBE_RAYS (the
+ * probes' map rows and rays per texel, for the error-against-bake-time sweep), PRW_PROBE_OUT=DIR writes
  * raster.exr, ref_a.exr, ref_b.exr there (and PNGs at the metric exposure). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "lightmaps.h"
 #include "prw_image.h"
@@ -108,10 +110,13 @@ static void test_gi_room_probes(void)
     prw_probe_options o = prw_app_probe_options(&q);
     o.seed = 7;
     if (light) o.size = 16, o.samples = 2;
+    o.size = (uint32_t)env_u("PRW_PROBE_SIZE", o.size), o.samples = (uint32_t)env_u("PRW_PROBE_RAYS", o.samples);
     prw_probe_bake *b = NULL;
     prw_probe_result pr;
+    clock_t c0 = clock();
     CHECK_OK(prw_probe_run(s, &o, true, NULL, NULL, &b, &pr, &e), &e);
-    printf("probes: %u (size %u, %u rays per texel) in %.1f s\n", b->count, b->size, b->samples, pr.seconds_total);
+    printf("probes: %u (size %u, %u rays per texel) in %.1f s (CPU %.1f s)\n", b->count, b->size, b->samples,
+           pr.seconds_total, (double)(clock() - c0) / CLOCKS_PER_SEC);
     CHECK_MSG(b->count == 2, "gi-room: %u probes (expected the gold and the blue sphere)", b->count);
     bool probed[64] = {false};
     for (uint32_t i = 0; i < b->count; i++) {
