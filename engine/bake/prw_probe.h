@@ -52,11 +52,11 @@
 extern "C" {
 #endif
 
-#define PRW_PROBE_ALGO_VERSION "probe-2026-12-06a"
+#define PRW_PROBE_ALGO_VERSION "probe-2026-12-06b" /* b: prefilter 256 samples */
 #define PRW_PROBE_CACHE_KIND "probe"
 #define PRW_PROBE_MAX 8
 #define PRW_PROBE_LEVELS 21u /* roughness steps of 0.05 */
-#define PRW_PROBE_PREFILTER_SAMPLES 512u
+#define PRW_PROBE_PREFILTER_SAMPLES 256u
 #define PRW_PROBE_DEFAULT_SAMPLES 16u
 #define PRW_PROBE_DEFAULT_MAX_ROUGHNESS 0.5
 
