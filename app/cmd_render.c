@@ -349,7 +349,8 @@ int prw_cmd_render(int argc, char **argv)
             else if (!strcmp(t, "environment")) job.terms |= PRW_TERM_ENVIRONMENT;
             else if (!strcmp(t, "probes")) job.terms |= PRW_TERM_PROBES;
             else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
-            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment, probes or all", t);
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes",
+                                   t);
         }
     }
     if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)
