@@ -28,6 +28,7 @@ vec3 prw_probe_radiance(ggx_view w, vec3 pos, vec3 n, vec3 v, vec3 base, float m
                         float specular)
 {
     if (prw_probes_on == 0 || (prw_terms & PRW_TERM_PROBES) == 0) return vec3(0.0);
+    if (!prw_mat_probed) return vec3(0.0); // only the probed materials' pipelines keep the code
     vec3 wp = pos + g.origin.xyz;
     int count = int(prw_probe.head.x), found = -1;
     for (int i = 0; i < count && found < 0; i++)

@@ -58,8 +58,10 @@
 #define PRW_GPU_MAT_NO_EMISSIVE_TEX 8 /* the emission is the factor */
 #define PRW_GPU_MAT_NO_METAL 16       /* metallic is 0 (factor 0): the metal lobes drop out */
 #define PRW_GPU_MAT_ALL_METAL 32      /* metallic is 1 (factor 1, no texture): the dielectric and diffuse lobes drop out */
-#define PRW_GPU_MAT_BITS 6
-#define PRW_GPU_MAT_MASK 63 /* all PRW_GPU_MAT_* bits */
+#define PRW_GPU_MAT_PROBE 64       /* not a lack: the slot's material has a reflection probe (gi_probe.glsl; set by the
+                                      renderer only when it has probes, so other scenes keep their pipelines) */
+#define PRW_GPU_MAT_BITS 7
+#define PRW_GPU_MAT_MASK 127 /* all PRW_GPU_MAT_* bits */
 
 /* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
 #define PRW_VERTEX_FLOATS 12

@@ -61,6 +61,10 @@ static bool create_scene_parts(prw_renderer *r, prw_error *e)
     prw_emissive_lights_build(r->scene, budget, &r->emissive);
     prw_shadow_plan_make_with(r->scene, &r->emissive, &r->plan);
     if (!prw_scene_gpu_create(r->gpu, r->scene, r->pipes->material_layout, r->pool, &r->sg, e)) return false;
+    /* only the probed materials' pipelines carry the probe term (gi_probe.glsl, PRW_GPU_MAT_PROBE) */
+    for (uint32_t i = 0; r->probes && r->probes->active && i < r->probes->count; i++)
+        r->sg->slot_flags[prw_scene_gpu_slot(r->scene, r->desc.probes->probe[i].material)] |=
+            (uint32_t)PRW_GPU_MAT_PROBE << PRW_SG_LACKS_SHIFT;
     r->env.sg = r->sg;
     if (!prw_drawables_create(&r->drawables, prw_drawables_default, &r->env, e)) return false;
     const prw_pass *const *table = r->desc.debug && r->desc.debug->passes ? r->desc.debug->passes : prw_passes_default;
