@@ -172,7 +172,8 @@ static inline prw_render_desc bench_desc(const bench_ctx *c, const prw_quality *
 {
     return (prw_render_desc){.width = c->o.width, .height = c->o.height, .quality = *q,
                              .lightmaps = prw_app_lightmaps_get(c->lightmaps),
-                             .environment = prw_app_lightmaps_env(c->lightmaps)};
+                             .environment = prw_app_lightmaps_env(c->lightmaps),
+                             .probes = prw_app_lightmaps_probes(c->lightmaps)};
 }
 
 #endif

@@ -14,7 +14,9 @@
 #include "app.h"
 #include "bake_curve.h"
 #include "prw_bake.h"
+#include "lightmaps.h"
 #include "prw_gi.h"
+#include "prw_probe.h"
 #include "quality_args.h"
 
 static void progress(void *user, const char *line)
@@ -87,6 +89,10 @@ static void gi_help(void)
            "  Cache: $PRW_CACHE_DIR, else $XDG_CACHE_HOME/prw, else ~/.cache/prw; subdirectory gi/; the key\n"
            "  hashes the static geometry, materials, textures, lights, environment, the knobs and the algorithm\n"
            "  version (not the cameras).\n"
+           "  Then the reflection probes (engine/bake/prw_probe.h; subdirectory probe/): one per curved glossy\n"
+           "  object (non-planar, roughness <= 0.5), at most the knob probe_count, the radiance leaving the\n"
+           "  surfaces around it gathered at its centre on a 2N x N map (N: the knob probe_size), prefiltered per\n"
+           "  roughness; printed with their place.  probe_count=0: none.\n"
            "options:\n"
            "  --samples N        gather rays per texel / vertex, 1..65536 (default %d)\n"
            "  --seed N           random-number seed (default 0)\n"
@@ -343,6 +349,19 @@ static int bake_gi(prw_args *a)
         prw_scene_destroy(s);
         return 1;
     }
+    /* the reflection probes, with the light maps (the same cache rules) */
+    prw_probe_bake *pb = NULL;
+    prw_probe_result pr;
+    memset(&pr, 0, sizeof pr);
+    prw_probe_options po = prw_app_probe_options(&q);
+    double pcpu0 = cpu_seconds();
+    if (q.probe_count && !prw_probe_run(s, &po, no_cache, gi_progress, &bar, &pb, &pr, &e)) {
+        fprintf(stderr, "prw bake: error: %s\n", e.msg);
+        prw_gi_bake_destroy(b);
+        prw_scene_destroy(s);
+        return 1;
+    }
+    double pcpu = cpu_seconds() - pcpu0;
     int rc = 0;
     if (out) {
         uint8_t *data = NULL;
@@ -374,7 +393,24 @@ static int bake_gi(prw_args *a)
         if (r.cache_path[0]) printf("cache %s%s\n", r.cache_path, r.cache_hit || r.cache_written ? "" : " (not written)");
         else printf("cache not used\n");
         if (out) printf("wrote %s\n", out);
+        if (pb) {
+            printf("probes: %u (probe_count %u), map %ux%u, %u rays per texel, %u levels of %ux%u\n", pb->count,
+                   q.probe_count, 2 * pb->size, pb->size, pb->samples, pb->levels, 2 * pb->level_height,
+                   pb->level_height);
+            for (uint32_t i = 0; i < pb->count; i++) {
+                const prw_probe_info *p = &pb->probes[i];
+                printf("  probe %u: node '%s', material '%s', centre (%.3f, %.3f, %.3f), box (%.3f, %.3f, %.3f)-(%.3f, "
+                       "%.3f, %.3f)\n", i, s->nodes[p->node].name, s->materials[p->material].name, p->centre[0],
+                       p->centre[1], p->centre[2], p->box_min[0], p->box_min[1], p->box_min[2], p->box_max[0],
+                       p->box_max[1], p->box_max[2]);
+            }
+            if (pr.built) printf("probes built in %.2f s (CPU %.2f s)\n", pr.seconds_total, pcpu);
+            else printf("probes: cache hit (nothing built), %.3f s\n", pr.seconds_total);
+            if (pr.warning[0]) fprintf(stderr, "prw bake: warning: %s\n", pr.warning);
+            if (pr.cache_path[0]) printf("probe cache %s%s\n", pr.cache_path, pr.cache_hit || pr.cache_written ? "" : " (not written)");
+        }
     }
+    prw_probe_bake_destroy(pb);
     prw_gi_bake_destroy(b);
     prw_scene_destroy(s);
     return rc;

@@ -38,8 +38,9 @@ static void render_usage(void)
            "  --term T           draw one term only, to compare with prw reference --filter: direct (emission +\n"
            "                     direct light), indirect-diffuse (the light maps' indirect diffuse; --filter\n"
            "                     indirect-diffuse-last) or environment (the environment light, occluded by the\n"
-           "                     light maps' visibility; --filter environment-direct), or a comma-separated\n"
-           "                     list of them; default: all\n"
+           "                     light maps' visibility; --filter environment-direct), probes (the reflection\n"
+           "                     probes on curved glossy objects; --filter indirect-glossy-last there), or a\n"
+           "                     comma-separated list of them; default: all\n"
            "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
@@ -190,6 +191,11 @@ static int prw_render_job_run(const render_job *job)
         prw_fail(&e, "--term indirect-diffuse: %s has no light maps (--no-bake, or nothing to bake)", scene->source);
         goto done;
     }
+    if (job->terms == PRW_TERM_PROBES && !prw_app_lightmaps_probes(lms)) {
+        prw_fail(&e, "--term probes: %s has no reflection probes (--no-bake, probe_count=0, or no curved glossy object)",
+                 scene->source);
+        goto done;
+    }
     if (job->has_ev) view.ev100 = job->ev100;
     if (!prw_app_create_gpu(false, &gpu, &e)) goto done;
     prw_display disp;
@@ -200,6 +206,7 @@ static int prw_render_job_run(const render_job *job)
                           .timestamps = job->pass_times, .glare = job->glare ? &gs : NULL,
                           .display_signal = hdr10 || job->display_exr,
                           .lightmaps = prw_app_lightmaps_get(lms), .environment = prw_app_lightmaps_env(lms),
+                          .probes = prw_app_lightmaps_probes(lms),
                           .terms = job->terms};
     if (!prw_renderer_create(gpu, scene, &rd, &r, &e)) goto done;
     prw_tonemap_settings tms = {.op = (prw_tm_op)job->q.tonemap, .overlay = job->tm_overlay,
@@ -340,8 +347,10 @@ int prw_cmd_render(int argc, char **argv)
             if (!strcmp(t, "direct")) job.terms |= PRW_TERM_DIRECT;
             else if (!strcmp(t, "indirect-diffuse")) job.terms |= PRW_TERM_INDIRECT_DIFFUSE;
             else if (!strcmp(t, "environment")) job.terms |= PRW_TERM_ENVIRONMENT;
+            else if (!strcmp(t, "probes")) job.terms |= PRW_TERM_PROBES;
             else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
-            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all", t);
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes",
+                                   t);
         }
     }
     if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)

@@ -111,7 +111,8 @@ static bool get_renderer(walk_ctx *c, int lv, prw_renderer **out, bool *created,
                               .quality = c->o->q,
                               .timestamps = c->o->pass_times,
                               .lightmaps = prw_app_lightmaps_get(c->lightmaps),
-                              .environment = prw_app_lightmaps_env(c->lightmaps)};
+                              .environment = prw_app_lightmaps_env(c->lightmaps),
+                              .probes = prw_app_lightmaps_probes(c->lightmaps)};
         if (!prw_renderer_create(c->gpu, c->scene, &rd, &c->level[lv], e)) return false;
         if (!prw_renderer_set_tonemap(c->level[lv], &c->disp, &c->tms, e)) return false;
     }
@@ -440,7 +441,8 @@ static int walk_run(const walk_opts *o)
             prw_view full = v;
             if (o->replay) full = prw_camera_sample_view(&sample, o->w, o->h, znear, ev100, 0);
             prw_render_desc md = {.quality = o->q, .lightmaps = prw_app_lightmaps_get(c.lightmaps),
-                                  .environment = prw_app_lightmaps_env(c.lightmaps)};
+                                  .environment = prw_app_lightmaps_env(c.lightmaps),
+                                  .probes = prw_app_lightmaps_probes(c.lightmaps)};
             fprintf(stderr, "walk: measuring the error against the reference (%u px wide, %u spp)...\n", o->measure_width,
                     o->measure_spp);
             if (!walk_measure_run(c.gpu, c.scene, &full, &md, o->measure_width, o->measure_spp, 0, &c.measure, &e))

@@ -11,6 +11,7 @@
 #include "lightmaps.h"
 #include "prw_cache.h"
 #include "prw_env_bake.h"
+#include "prw_probe.h"
 
 struct prw_app_lightmaps {
     prw_gi_bake *bake;
@@ -20,6 +21,8 @@ struct prw_app_lightmaps {
     prw_lightmaps lm;
     bool has_env;     /* the scene's environment light (prw_env_bake.h) */
     prw_env_data env;
+    prw_probe_bake *probe_bake; /* reflection probes (prw_probe.h), baked with the light maps */
+    prw_probes probes;          /* what the renderer takes (prw_probe_gpu.h) */
 };
 
 /* The baker's rule (engine/bake/gi_build.c): a mesh is baked when its material has a diffuse lobe (and,
@@ -71,6 +74,7 @@ bool prw_app_lightmaps_cached(const prw_scene *s, const prw_quality *q, char *pa
 
 typedef struct bar {
     const char *cmd;
+    const char *what; /* "gi bake", "probe bake" */
     double last;
     bool tty;
 } bar;
@@ -86,7 +90,7 @@ static void progress(void *user, double f, const char *line)
     int n = (int)(f * 32 + 0.5);
     for (int i = 0; i < 32; i++) cells[i] = i < n ? '#' : '.';
     cells[32] = 0;
-    fprintf(stderr, "%sprw %s: gi bake [%s] %3.0f%% %s%s", b->tty ? "\r" : "", b->cmd, cells, f * 100, line,
+    fprintf(stderr, "%sprw %s: %s [%s] %3.0f%% %s%s", b->tty ? "\r" : "", b->cmd, b->what, cells, f * 100, line,
             b->tty ? "" : "\n");
     if (b->tty && f >= 1) fprintf(stderr, "\n");
     fflush(stderr);
@@ -100,6 +104,7 @@ void prw_app_lightmaps_destroy(prw_app_lightmaps *a)
     free(a->atlases);
     free(a->inst);
     prw_gi_bake_destroy(a->bake);
+    prw_probe_bake_destroy(a->probe_bake);
     if (a->has_env) prw_env_data_free(&a->env);
     free(a);
 }
@@ -107,6 +112,57 @@ void prw_app_lightmaps_destroy(prw_app_lightmaps *a)
 const prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a) { return a && a->bake ? &a->lm : NULL; }
 
 const prw_env_data *prw_app_lightmaps_env(const prw_app_lightmaps *a) { return a && a->has_env ? &a->env : NULL; }
+
+const prw_probes *prw_app_lightmaps_probes(const prw_app_lightmaps *a)
+{
+    return a && a->probe_bake && a->probes.count ? &a->probes : NULL;
+}
+
+prw_probe_options prw_app_probe_options(const prw_quality *q)
+{
+    prw_probe_options o;
+    memset(&o, 0, sizeof o);
+    o.count = q->probe_count;
+    o.size = q->probe_size;
+    return o;
+}
+
+void prw_app_probes_from_bake(const prw_probe_bake *b, prw_probes *out)
+{
+    memset(out, 0, sizeof *out);
+    out->count = b->count < PRW_GPU_MAX_PROBES ? b->count : PRW_GPU_MAX_PROBES;
+    out->levels = b->levels;
+    out->height = b->level_height;
+    for (int c = 0; c < 3; c++) out->parallax_min[c] = (float)b->parallax_min[c], out->parallax_max[c] = (float)b->parallax_max[c];
+    for (uint32_t i = 0; i < out->count; i++) {
+        const prw_probe_info *p = &b->probes[i];
+        for (int c = 0; c < 3; c++) {
+            out->probe[i].centre[c] = (float)p->centre[c];
+            out->probe[i].box_min[c] = (float)p->box_min[c];
+            out->probe[i].box_max[c] = (float)p->box_max[c];
+        }
+        out->probe[i].material = p->material;
+    }
+    out->levels_rgb = b->levels_rgb;
+}
+
+/* The reflection probes (the "probe" cache, built on a miss) into a; none with the knob probe_count 0. */
+static bool add_probes(const char *cmd, const prw_scene *s, const prw_quality *q, prw_app_lightmaps *a, prw_error *e)
+{
+    if (q->probe_count == 0) return true;
+    prw_probe_options o = prw_app_probe_options(q);
+    bar pb = {cmd, "probe bake", 0, isatty(fileno(stderr)) != 0};
+    prw_probe_result r;
+    if (!prw_probe_run(s, &o, false, progress, &pb, &a->probe_bake, &r, e))
+        return prw_fail_wrap(e, "probe bake (--no-bake renders without it)");
+    if (r.warning[0]) fprintf(stderr, "prw %s: warning: %s\n", cmd, r.warning);
+    if (r.built && a->probe_bake->count)
+        fprintf(stderr, "prw %s: probe bake: built in %.1f s (%u probes, %ux%u, %u rays per texel)%s\n", cmd,
+                r.seconds_total, a->probe_bake->count, 2 * a->probe_bake->size, a->probe_bake->size,
+                a->probe_bake->samples, r.cache_written ? ", cached" : "");
+    prw_app_probes_from_bake(a->probe_bake, &a->probes);
+    return true;
+}
 
 bool prw_app_lightmaps_from_bake(const prw_scene *s, prw_gi_bake *b, prw_app_lightmaps **out, prw_error *e)
 {
@@ -197,7 +253,7 @@ bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const prw_qu
     }
     if (!prw_app_lightmaps_wanted(s, &why)) return add_env(cmd, s, q, out, e);
     if (!prepare_gi(cmd, s, q, out, e)) return false;
-    if (!add_env(cmd, s, q, out, e)) {
+    if (!add_env(cmd, s, q, out, e) || !add_probes(cmd, s, q, *out, e)) {
         prw_app_lightmaps_destroy(*out);
         *out = NULL;
         return false;
@@ -208,7 +264,7 @@ bool prw_app_lightmaps_prepare(const char *cmd, const prw_scene *s, const prw_qu
 static bool prepare_gi(const char *cmd, const prw_scene *s, const prw_quality *q, prw_app_lightmaps **out, prw_error *e)
 {
     prw_gi_options o = options_of(q);
-    bar pb = {cmd, 0, isatty(fileno(stderr)) != 0};
+    bar pb = {cmd, "gi bake", 0, isatty(fileno(stderr)) != 0};
     prw_gi_bake *b = NULL;
     prw_gi_result r;
     if (!prw_gi_run(s, &o, false, progress, &pb, &b, &r, e))

@@ -14,6 +14,8 @@
 #include "prw_env_file.h"
 #include "prw_gi.h"
 #include "prw_lightmap.h"
+#include "prw_probe.h"
+#include "prw_probe_gpu.h"
 #include "prw_quality.h"
 #include "prw_scene.h"
 
@@ -34,6 +36,13 @@ const prw_lightmaps *prw_app_lightmaps_get(const prw_app_lightmaps *a);
  * the "env" cache at the quality's envmap_size; prepare makes it with the GI bake, and skips it with
  * no_bake / PRW_NO_BAKE), NULL when none; valid while a lives. */
 const prw_env_data *prw_app_lightmaps_env(const prw_app_lightmaps *a);
+/* What prw_render_desc.probes takes: the reflection probes (engine/bake/prw_probe.h, the "probe" cache; prepare
+ * bakes them after the light maps unless the quality's probe_count is 0), NULL when none; valid while a lives. */
+const prw_probes *prw_app_lightmaps_probes(const prw_app_lightmaps *a);
+/* The probe bake's options for quality q (what `prw bake SCENE --gi` and prepare use). */
+prw_probe_options prw_app_probe_options(const prw_quality *q);
+/* The renderer's view of a probe bake (pointing into b: valid while b lives). */
+void prw_app_probes_from_bake(const prw_probe_bake *b, prw_probes *out);
 void prw_app_lightmaps_destroy(prw_app_lightmaps *a);
 
 #endif

@@ -12,6 +12,7 @@ layout(std140, set = 2, binding = 0) uniform prw_mv_block { mat4 view_proj[2]; v
 #include "material_gltf.glsl"
 #include "gi_lightmap.glsl"
 #include "gi_env.glsl"
+#include "gi_probe.glsl"
 
 // Base pass: emission + direct light from every light (shadowed by shadow maps), in cd/m^2, for one
 // material kind (material_gltf.glsl; variants by -D, shaders/CMakeLists.txt).  PRW_GBUFFER also writes
@@ -20,6 +21,7 @@ layout(std140, set = 2, binding = 0) uniform prw_mv_block { mat4 view_proj[2]; v
 // alpha = coverage for the "over" blend of its pipeline); with PRW_GLTF_COAT the clear coat too.
 // PRW_GI: + the light maps' indirect diffuse (gi_lightmap.glsl, which also gates the terms drawn).
 // With an environment (PRW_SC_ENV): + the environment term (gi_env.glsl; not under a clear coat).
+// With reflection probes (PRW_SC_PROBES): + the probe term (gi_probe.glsl; not under a clear coat).
 
 layout(location = 0) in vec3 v_pos;
 layout(location = 1) in vec3 v_normal;
@@ -69,14 +71,16 @@ void main()
     radiance = prw_terms_radiance(radiance, w, S.base, S.metallic, S.specular);
 #ifndef PRW_GLTF_COAT
     radiance += prw_env_radiance(w, n, v, S.base, S.metallic, S.roughness, S.specular, prw_env_visibility(),
-                                 prw_env_cone());
+                                 prw_env_cone()) +
+                prw_probe_radiance(w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular);
 #endif
     o_color = vec4(radiance, mode == PRW_GPU_ALPHA_BLEND ? clamp(S.alpha, 0.0, 1.0) : 1.0);
 #else
     prw_direct_light(radiance, w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
     o_color = vec4(prw_terms_radiance(radiance, w, S.base, S.metallic, S.specular) +
                        prw_env_radiance(w, n, v, S.base, S.metallic, S.roughness, S.specular, prw_env_visibility(),
-                                        prw_env_cone()),
+                                        prw_env_cone()) +
+                       prw_probe_radiance(w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular),
                    1.0);
 #endif
 #ifdef PRW_GBUFFER

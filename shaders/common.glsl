@@ -22,6 +22,7 @@ layout(std140, set = 0, binding = 0) uniform prw_globals {
     vec4 params;              // x: light count, y: shadow map size, z: 1 drops emission (mirror images), w: unused (0)
     prw_gpu_light lights[PRW_MAX_LIGHTS];
     mat4 shadow_mats[PRW_MAX_SHADOW_VIEWS]; // camera-relative world -> light clip
+    vec4 origin;              // xyz: the camera-relative frame's origin in world coordinates (reflection probes)
 } g;
 
 #endif

@@ -41,6 +41,7 @@ const bool prw_no_normal_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_NORMAL_TEX) != 0;
 const bool prw_no_emissive_tex = (prw_mat_lacks & PRW_GPU_MAT_NO_EMISSIVE_TEX) != 0;
 const bool prw_no_metal = (prw_mat_lacks & PRW_GPU_MAT_NO_METAL) != 0;
 const bool prw_all_metal = (prw_mat_lacks & PRW_GPU_MAT_ALL_METAL) != 0;
+const bool prw_mat_probed = (prw_mat_lacks & PRW_GPU_MAT_PROBE) != 0; // gi_probe.glsl
 
 #ifdef PRW_LIGHTS_GLSL
 // The fits at the surface's roughness and n.v (lights.glsl): from the block when the roughness is the

@@ -43,18 +43,25 @@
 #define PRW_TERM_DIRECT 1           /* emission + direct light */
 #define PRW_TERM_INDIRECT_DIFFUSE 2 /* the light maps' indirect diffuse (PRW_GI variants only) */
 #define PRW_TERM_ENVIRONMENT 4      /* the environment light seen by one bounce (gi_env.glsl, with PRW_SC_ENV) */
-#define PRW_TERM_ALL 7
+#define PRW_TERM_PROBES 8           /* the reflection probes' indirect glossy (gi_probe.glsl, with PRW_SC_PROBES) */
+#define PRW_TERM_ALL 15
 /* The base fragment shaders' environment term (int, 0/1; gi_env.glsl, engine/render/prw_env_gpu.h): 1 when
  * the renderer has an environment.  Unset (0): the shaders of before. */
 #define PRW_SC_ENV 9
+/* The base fragment shaders' reflection probes (int, 0/1; gi_probe.glsl, engine/render/prw_probe_gpu.h): 1 when
+ * the renderer has probes.  Unset (0): the shaders of before. */
+#define PRW_SC_PROBES 10
+#define PRW_GPU_MAX_PROBES 8
 #define PRW_GPU_MAT_NO_BASE_TEX 1     /* the base colour is the factor (white fallback texture) */
 #define PRW_GPU_MAT_NO_MR_TEX 2       /* metallic and roughness are the factors; the block's ggx rows are theirs */
 #define PRW_GPU_MAT_NO_NORMAL_TEX 4   /* no normal map */
 #define PRW_GPU_MAT_NO_EMISSIVE_TEX 8 /* the emission is the factor */
 #define PRW_GPU_MAT_NO_METAL 16       /* metallic is 0 (factor 0): the metal lobes drop out */
 #define PRW_GPU_MAT_ALL_METAL 32      /* metallic is 1 (factor 1, no texture): the dielectric and diffuse lobes drop out */
-#define PRW_GPU_MAT_BITS 6
-#define PRW_GPU_MAT_MASK 63 /* all PRW_GPU_MAT_* bits */
+#define PRW_GPU_MAT_PROBE 64       /* not a lack: the slot's material has a reflection probe (gi_probe.glsl; set by the
+                                      renderer only when it has probes, so other scenes keep their pipelines) */
+#define PRW_GPU_MAT_BITS 7
+#define PRW_GPU_MAT_MASK 127 /* all PRW_GPU_MAT_* bits */
 
 /* Vertex layout of every drawable: position 3, normal 3, uv 2, tangent 4 (xyz, w = handedness). */
 #define PRW_VERTEX_FLOATS 12

@@ -28,6 +28,7 @@ typedef struct prw_gpu_globals {
     float params[4];
     prw_gpu_light lights[PRW_MAX_LIGHTS];
     prw_mat4 shadow_mats[PRW_MAX_SHADOW_VIEWS];
+    float origin[4]; /* the frame's origin, world (gi_probe.glsl) */
 } prw_gpu_globals;
 
 /* shaders/material_gltf.glsl: uniform prw_material_block (set 1, binding 0); the shaders without
@@ -63,7 +64,7 @@ _Static_assert(offsetof(prw_gpu_globals, eye_rel) == 64, "globals.eye_rel");
 _Static_assert(offsetof(prw_gpu_globals, params) == 80, "globals.params");
 _Static_assert(offsetof(prw_gpu_globals, lights) == 96, "globals.lights");
 _Static_assert(offsetof(prw_gpu_globals, shadow_mats) == 96 + PRW_MAX_LIGHTS * 7 * 16, "globals.shadow_mats");
-_Static_assert(sizeof(prw_gpu_globals) == 96 + PRW_MAX_LIGHTS * 7 * 16 + PRW_MAX_SHADOW_VIEWS * 64, "globals size");
+_Static_assert(sizeof(prw_gpu_globals) == 96 + PRW_MAX_LIGHTS * 7 * 16 + PRW_MAX_SHADOW_VIEWS * 64 + 16, "globals size");
 _Static_assert(offsetof(prw_gpu_material, alpha) == 64, "material block: the core part is 4 vec4");
 _Static_assert(sizeof(prw_gpu_material) == (6 + 2 * PRW_GPU_SLOTS + 9) * 16, "material block: 6 + 2 x slots + 9 vec4");
 _Static_assert(offsetof(prw_gpu_material, ggx_ec) == (6 + 2 * PRW_GPU_SLOTS) * 16 &&

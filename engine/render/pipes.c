@@ -6,6 +6,7 @@
 
 #include "lightmap_gpu.h"
 #include "prw_env_gpu.h"
+#include "prw_probe_gpu.h"
 #include "prw_constants.h"
 #include "prw_ltc.h"
 #include "prw_shaders.h"
@@ -68,7 +69,7 @@ static const VkVertexInputAttributeDescription k_attrs_mask_no_uv1[3] = {
     {4, 0, VK_FORMAT_R32G32_SFLOAT, 24},
 };
 
-_Static_assert(PRW_SC_ENV < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
+_Static_assert(PRW_SC_ENV < PRW_SC_PROBES && PRW_SC_PROBES < PRW_GPU_MAX_FS_SPEC, "specialisation constants: at most PRW_GPU_MAX_FS_SPEC");
 
 bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, VkPipelineLayout layout,
                              prw_graphics_desc *d, prw_error *e)
@@ -157,6 +158,11 @@ bool prw_pipes_describe_base(const prw_render_env *env, const prw_pipe_key *k, V
             d->fs_spec[PRW_SC_ENV] = 1;
             d->fs_spec_count = PRW_SC_ENV + 1;
         }
+        if (env->pipes && env->pipes->probes && env->pipes->probes->active && !btf) { /* gi_probe.glsl */
+            d->fs_spec[PRW_SC_TERMS] = env->desc->terms;
+            d->fs_spec[PRW_SC_PROBES] = 1;
+            d->fs_spec_count = PRW_SC_PROBES + 1;
+        }
     }
     return true;
 }
@@ -222,7 +228,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
     p->gpu = env->gpu;
     p->env = env;
     VkShaderStageFlags vf = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding globals[8] = {
+    VkDescriptorSetLayoutBinding globals[11] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, vf, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
@@ -233,6 +239,10 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        /* the reflection probes (prw_probe_gpu.h) */
+        {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {10, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutBinding material[10];
     for (uint32_t i = 0; i < 8; i++)
@@ -256,7 +266,7 @@ bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e)
         !prw_image_upload(p->gpu, &p->ltc, 0, prw_ltc_table_texels(), layer_bytes, e) ||
         !prw_image_upload(p->gpu, &p->ltc, 1, prw_ltc_table_texels() + layer_bytes / sizeof(float), layer_bytes, e))
         return false;
-    if (!prw_desc_layout_create(p->gpu, globals, 8, &p->globals_layout, e) ||
+    if (!prw_desc_layout_create(p->gpu, globals, 11, &p->globals_layout, e) ||
         !prw_desc_layout_create(p->gpu, material, 10, &p->material_layout, e) ||
         !prw_desc_layout_create(p->gpu, storage2, 2, &p->storage2_layout, e))
         return false;
@@ -302,6 +312,12 @@ void prw_pipes_write_globals(const prw_pipes *p, VkDescriptorSet set)
     prw_desc_write_image(p->gpu, set, 6, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->levels.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_REPEAT), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     prw_desc_write_image(p->gpu, set, 7, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->envlight->dfg.view,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    /* the reflection probes (prw_probe_gpu.h): levels wrap around in u as the environment's */
+    prw_desc_write_buffer(p->gpu, set, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &p->probes->buf, 0, sizeof(prw_gpu_probes));
+    prw_desc_write_image(p->gpu, set, 9, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->probes->levels.view,
+                         prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_REPEAT), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    prw_desc_write_image(p->gpu, set, 10, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, p->probes->dfg.view,
                          prw_gpu_sampler(p->gpu, PRW_SAMPLER_LINEAR_CLAMP), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 

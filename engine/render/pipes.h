@@ -14,7 +14,8 @@
  *    (prw_pipes_describe_base).
  *  - Layouts: set 0 = per-view globals (uniform block + the shadow atlas with its compare sampler
  *    (binding 1) and for gathers (binding 2, PRW_SAMPLER_SHADOW_DEPTH), the LTC table (binding 3), the
- *    light-map atlas (binding 4, lightmap_gpu.h), the environment light (bindings 5-7, prw_env_gpu.h)), set 1 = material (uniform block
+ *    light-map atlas (binding 4, lightmap_gpu.h), the environment light (bindings 5-7, prw_env_gpu.h), the
+ *    reflection probes (bindings 8-10, prw_probe_gpu.h)), set 1 = material (uniform block
  *    + seven textures: base colour, metal-rough, normal, emissive, clear coat, its roughness, its
  *    normal; binding 8: the scene's BTF words, a storage buffer, prw_btf_gpu.h); the base layout has
  *    128 bytes of push constants (112 per draw: prw_draw_push_model; then the clip plane of
@@ -82,6 +83,8 @@ typedef struct prw_pipes {
                                      by the renderer before any globals set is written */
     const struct prw_env_gpu *envlight; /* set 0 bindings 5-7 (prw_env_gpu.h), set like lightmap_atlas; its
                                            `active` specialises the base shaders (PRW_SC_ENV) */
+    const struct prw_probe_gpu *probes; /* set 0 bindings 8-10 (prw_probe_gpu.h), set like envlight; its `active`
+                                           specialises the base shaders (PRW_SC_PROBES) */
 } prw_pipes;
 
 bool prw_pipes_create(const prw_render_env *env, prw_pipes **out, prw_error *e);

@@ -66,6 +66,10 @@ typedef struct prw_quality {
     uint32_t gi_lookups;        /* 1: the base pass reads the baked light maps and the environment term when the
                                    renderer is given them; 0: it is given neither (pipelines, images and the sky
                                    exactly as without them): with mirror_recursion 0, the frame without GI */
+    uint32_t probe_count;       /* reflection probes (engine/bake/prw_probe.h): at most this many curved glossy
+                                   objects get one (0: none, the probe term off) */
+    uint32_t probe_size;        /* reflection probes: rows of a probe's gathered map (width 2x; the prefiltered
+                                   levels have half as many) */
     /* no effect yet (the features arrive with later issues) */
     uint32_t btf_clusters;      /* BTF: clusters */
     uint32_t btf_components;    /* BTF: components per cluster */

@@ -93,6 +93,8 @@ typedef struct prw_render_desc {
     const struct prw_env_data *environment; /* the scene's environment light (materials/env/prw_env_file.h,
                                                prw_env_gpu.h): the base shaders add the environment term;
                                                NULL: none (the shaders of before).  Read at create only */
+    const struct prw_probes *probes; /* reflection probes (prw_probe_gpu.h): the base shaders add the probe term on
+                                        their objects; NULL: none (the shaders of before).  Read at create only */
     uint32_t terms;      /* PRW_TERM_* bits (prw_constants.h) the base shaders draw; 0 = all (emission, direct light,
                             the light maps' indirect diffuse) */
     bool display_signal; /* keep the float display signal of every view for prw_renderer_read_signal (HDR10

@@ -7,6 +7,7 @@
 #include "graph.h"
 #include "lightmap_gpu.h"
 #include "prw_env_gpu.h"
+#include "prw_probe_gpu.h"
 #include "pipes.h"
 #include "prw_glare.h"
 #include "prw_render.h"
@@ -27,6 +28,7 @@ struct prw_renderer {
     prw_scene_gpu *sg;
     prw_lightmap_gpu *lm;
     prw_env_gpu *envlight; /* the environment light (prw_env_gpu.h), never NULL after create */
+    prw_probe_gpu *probes; /* the reflection probes (prw_probe_gpu.h), never NULL after create */
     prw_shadow_plan plan;
     prw_emissive_lights emissive; /* the emissive meshes' area lights (the plan takes them while slots are left) */
     prw_tm_gpu *tm;

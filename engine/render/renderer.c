@@ -61,6 +61,10 @@ static bool create_scene_parts(prw_renderer *r, prw_error *e)
     prw_emissive_lights_build(r->scene, budget, &r->emissive);
     prw_shadow_plan_make_with(r->scene, &r->emissive, &r->plan);
     if (!prw_scene_gpu_create(r->gpu, r->scene, r->pipes->material_layout, r->pool, &r->sg, e)) return false;
+    /* only the probed materials' pipelines carry the probe term (gi_probe.glsl, PRW_GPU_MAT_PROBE) */
+    for (uint32_t i = 0; r->probes && r->probes->active && i < r->probes->count; i++)
+        r->sg->slot_flags[prw_scene_gpu_slot(r->scene, r->desc.probes->probe[i].material)] |=
+            (uint32_t)PRW_GPU_MAT_PROBE << PRW_SG_LACKS_SHIFT;
     r->env.sg = r->sg;
     if (!prw_drawables_create(&r->drawables, prw_drawables_default, &r->env, e)) return false;
     const prw_pass *const *table = r->desc.debug && r->desc.debug->passes ? r->desc.debug->passes : prw_passes_default;
@@ -113,6 +117,9 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
     if (ok) r->pipes->lightmap_atlas = r->lm->atlas.view; /* globals binding 4 */
     if (ok && !prw_env_gpu_create(gpu, r->desc.environment, &r->envlight, e)) ok = prw_fail_wrap(e, "render");
     if (ok) r->pipes->envlight = r->envlight; /* globals bindings 5-7 */
+    if (ok && !prw_probe_gpu_create(gpu, scene, r->desc.probes, r->desc.quality.probe_count, &r->probes, e))
+        ok = prw_fail_wrap(e, "render");
+    if (ok) r->pipes->probes = r->probes; /* globals bindings 8-10 */
     ok = ok && prw_tm_gpu_create(gpu, r->pool, r->desc.width, r->desc.height, r->desc.max_views,
                                  (prw_tm_op)r->desc.quality.tonemap,
                                  &r->tm, e);
@@ -147,6 +154,7 @@ void prw_renderer_destroy(prw_renderer *r)
     for (uint32_t v = 0; v < PRW_MAX_VIEWS; v++) prw_buffer_destroy(r->gpu, &r->globals[v]);
     prw_lightmap_gpu_destroy(r->gpu, r->lm);
     prw_env_gpu_destroy(r->gpu, r->envlight);
+    prw_probe_gpu_destroy(r->gpu, r->probes);
     prw_pipes_destroy(r->pipes);
     if (r->pool) prw_desc_pool_destroy(r->gpu, r->pool);
     if (r->timer) prw_timer_destroy(r->gpu, r->timer);

@@ -28,6 +28,7 @@ void prw_view_globals_fill(const prw_scene *s, const prw_shadow_plan *plan, uint
     g->eye_rel[0] = (float)(v->eye.x - o.x);
     g->eye_rel[1] = (float)(v->eye.y - o.y);
     g->eye_rel[2] = (float)(v->eye.z - o.z);
+    g->origin[0] = (float)o.x, g->origin[1] = (float)o.y, g->origin[2] = (float)o.z;
     uint32_t nl = plan->slot_count;
     g->params[0] = (float)nl;
     g->params[1] = (float)shadow_size;
