@@ -341,6 +341,15 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
     char k[33];
     rget(&r, k, 32);
     k[32] = 0;
+    bool hex = true, zero = true;
+    for (int i = 0; i < 32; i++) {
+        hex = hex && ((k[i] >= '0' && k[i] <= '9') || (k[i] >= 'a' && k[i] <= 'f'));
+        zero = zero && k[i] == 0;
+    }
+    if (!hex && !zero) {
+        prw_probe_bake_destroy(b);
+        return prw_fail(e, "%s: cache key is neither 32 hex digits nor zeros", name);
+    }
     if (key) memcpy(key, k, 33);
     bool ok = true;
     for (int c = 0; c < 3; c++) ok = ok && rget(&r, &b->parallax_min[c], 8);
@@ -352,12 +361,15 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
         p->node = u[0], p->mesh = u[1], p->material = (int32_t)u[2];
         double f[10] = {0};
         for (int j = 0; j < 10; j++) ok = ok && rget(&r, &f[j], 8);
-        for (int j = 0; j < 10 && ok; j++) ok = isfinite(f[j]);
+        for (int j = 0; j < 10 && ok; j++) ok = isfinite(f[j]) && fabs(f[j]) <= 1e30; /* the GPU takes floats */
+        ok = ok && u[3] == 0; /* reserved */
         for (int c = 0; c < 3; c++) p->centre[c] = f[c], p->box_min[c] = f[3 + c], p->box_max[c] = f[6 + c];
         p->tnear = f[9];
         ok = ok && p->tnear >= 0 && p->material >= 0;
     }
-    for (int c = 0; c < 3 && ok; c++) ok = isfinite(b->parallax_min[c]) && isfinite(b->parallax_max[c]);
+    for (int c = 0; c < 3 && ok; c++)
+        ok = isfinite(b->parallax_min[c]) && isfinite(b->parallax_max[c]) && fabs(b->parallax_min[c]) <= 1e30 &&
+             fabs(b->parallax_max[c]) <= 1e30;
     size_t lb = level_bytes(b);
     if (ok && r.n - r.at != lb) ok = false;
     if (ok && b->count) {
@@ -367,7 +379,8 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
     }
     if (!ok) {
         prw_probe_bake_destroy(b);
-        return prw_fail(e, "%s: truncated, trailing bytes or a non-finite / negative value", name);
+        return prw_fail(e, "%s: truncated, trailing bytes, a non-zero reserved field or a non-finite / negative / "
+                        "out-of-range value", name);
     }
     *out = b;
     return true;
