@@ -383,6 +383,7 @@ static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_pack
                         (unsigned long long)N, (unsigned long long)P);
     if (!prw_mem_check(prw_mul_sat(N * P, 2), "btf sparse", "the residual energies", e)) return false;
     if (!cluster(a, p, out, e)) return false;
+    pthread_once(&half_once, half_fill); /* the residuals are taken against the decode, which reads half_table */
     uint64_t M = (uint64_t)llround(p->sparse_per_texel * (double)N);
     progress(p, "sparse: residual", 0);
     sparse_ctx x = {a, out, prw_malloc(sizeof(uint16_t) * N * P)};
