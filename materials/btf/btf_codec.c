@@ -1,7 +1,6 @@
 /* btf_codec.c — the BTF codecs, the decode definition and the error figures (prw_btf_codec.h). */
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,7 +12,9 @@ static uint16_t h16(double v) { return prw_btf_float_to_half((float)v); }
 /* prw_btf_half_to_float of every half, for the decode (the path tracer decodes ~100 halves per shading
  * point: the conversion was a third of its instructions); filled once, the same values to the bit. */
 static float half_table[65536];
-static pthread_once_t half_once = PTHREAD_ONCE_INIT;
+/* filled before main: every decode path reads it, and a path that forgot to fill it first read zeros
+ * (SPARSE's residuals, f376c19) */
+static void half_fill(void) __attribute__((constructor));
 static void half_fill(void)
 {
     for (uint32_t h = 0; h < 65536; h++) half_table[h] = prw_btf_half_to_float((uint16_t)h);
@@ -383,7 +384,6 @@ static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_pack
                         (unsigned long long)N, (unsigned long long)P);
     if (!prw_mem_check(prw_mul_sat(N * P, 2), "btf sparse", "the residual energies", e)) return false;
     if (!cluster(a, p, out, e)) return false;
-    pthread_once(&half_once, half_fill); /* the residuals are taken against the decode, which reads half_table */
     uint64_t M = (uint64_t)llround(p->sparse_per_texel * (double)N);
     progress(p, "sparse: residual", 0);
     sparse_ctx x = {a, out, prw_malloc(sizeof(uint16_t) * N * P)};
@@ -428,7 +428,6 @@ static bool sparse(const prw_btf *a, const prw_btf_codec_params *p, prw_btf_pack
 float prw_btf_packed_value(const prw_btf_packed *p, uint32_t v, uint32_t l, uint32_t x, uint32_t y, uint32_t c)
 {
     uint32_t N = p->width * p->height, t = y * p->width + x, d = (v * p->lights + l) * 3 + c;
-    pthread_once(&half_once, half_fill);
     switch (p->codec) {
     case PRW_BTF_CODEC_FMF: return prw_btf_decode_fmf(p, d, t, p->components);
     case PRW_BTF_CODEC_CLUSTER: return prw_btf_decode_cluster(p, d, t, p->components, p->views * p->lights * 3);
