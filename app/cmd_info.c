@@ -186,7 +186,7 @@ int prw_cmd_info(int argc, char **argv)
         const char *why;
         char path[4096] = "";
         if (!q.gi_lookups)
-            printf("  gi bake: not drawn (gi_lookups=0: no light maps, no environment term)\n");
+            printf("  gi bake: not drawn (gi_lookups=0: no light maps, no environment term, no probes)\n");
         else if (!prw_app_lightmaps_wanted(s, &why))
             printf("  gi bake: none (%s): no indirect light in the rasterizer\n", why);
         else if (prw_app_lightmaps_cached(s, &q, path, sizeof path))

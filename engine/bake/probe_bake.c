@@ -332,7 +332,7 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
     r.n = size - 8;
     for (int i = 0; i < 6; i++) rget(&r, &v[i], 4);
     if (v[0] != PROBE_VERSION) return prw_fail(e, "%s: version %u (expected %u)", name, v[0], PROBE_VERSION);
-    if (v[1] > PRW_PROBE_MAX || v[2] < 8 || v[2] > 512 || v[3] < 1 || v[3] > 4096 || v[4] < 1 || v[4] > 64 ||
+    if (v[1] > PRW_PROBE_MAX || v[2] < 8 || v[2] > 512 || v[3] < 1 || v[3] > 4096 || v[4] != PRW_PROBE_LEVELS ||
         v[5] != level_height(v[2]))
         return prw_fail(e, "%s: header out of range (count %u, size %u, samples %u, levels %u, height %u)", name, v[1],
                         v[2], v[3], v[4], v[5]);
@@ -386,6 +386,22 @@ bool prw_probe_decode(const void *data, size_t size, const char *name, prw_probe
     return true;
 }
 
+/* A cache entry names scene nodes, meshes and materials: it is used only when they are the ones this scene
+ * and these options select (the placement is a pure function of both), so a stale or forged entry cannot
+ * index past the scene or put a probe on a material the renderer does not probe. */
+static bool selection_matches(const prw_scene *s, const prw_probe_options *o, const prw_probe_bake *b)
+{
+    prw_probe_bake sel;
+    memset(&sel, 0, sizeof sel);
+    prw_probe_select(s, o, &sel);
+    if (sel.count != b->count) return false;
+    for (uint32_t i = 0; i < b->count; i++)
+        if (sel.probes[i].node != b->probes[i].node || sel.probes[i].mesh != b->probes[i].mesh ||
+            sel.probes[i].material != b->probes[i].material)
+            return false;
+    return true;
+}
+
 bool prw_probe_run(const prw_scene *s, const prw_probe_options *o, bool no_cache, prw_probe_progress_fn progress,
                    void *user, prw_probe_bake **out, prw_probe_result *res, prw_error *e)
 {
@@ -405,7 +421,8 @@ bool prw_probe_run(const prw_scene *s, const prw_probe_options *o, bool no_cache
                 char k[33];
                 prw_probe_bake *b = NULL;
                 if (prw_read_file(res->cache_path, &data, &n, &ce) &&
-                    prw_probe_decode(data, n, res->cache_path, &b, k, &ce) && strcmp(k, res->key) == 0) {
+                    prw_probe_decode(data, n, res->cache_path, &b, k, &ce) && strcmp(k, res->key) == 0 &&
+                    selection_matches(s, o, b)) {
                     free(data);
                     res->cache_hit = true;
                     res->seconds_total = prw_now() - t0;
@@ -413,7 +430,7 @@ bool prw_probe_run(const prw_scene *s, const prw_probe_options *o, bool no_cache
                     return true;
                 }
                 if (b) {
-                    snprintf(ce.msg, sizeof ce.msg, "%.900s holds another key", res->cache_path);
+                    snprintf(ce.msg, sizeof ce.msg, "%.900s holds another key or other probes", res->cache_path);
                     prw_probe_bake_destroy(b);
                 }
                 free(data);

@@ -34,7 +34,8 @@
  *
  * File (PRWPRB01, little-endian, probe_bake.c has the layout): read back with every count checked
  * against limits and the remaining bytes before allocation, non-finite or negative values refused, a
- * prw_hash64 checksum.  Cache: <cache>/probe/<key>.probe, key = prw_cache_key over "prw-probe-key",
+ * prw_hash64 checksum; levels must be PRW_PROBE_LEVELS.  A cache entry is used only when its probes' nodes,
+ * meshes and materials are the ones prw_probe_select gives for the scene and options.  Cache: <cache>/probe/<key>.probe, key = prw_cache_key over "prw-probe-key",
  * PRW_PROBE_ALGO_VERSION, the file version, the resolved options (count, size, samples, seed,
  * max_roughness; not threads), the material model's hash and prw_gi_content_hash (static content and
  * lights, not cameras).  Nothing here prints: progress goes to the callback.

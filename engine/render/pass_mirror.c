@@ -219,8 +219,6 @@ static double reflection_share(const reflector *r, const prw_scene *s, const prw
     return F >= 1.0 ? INFINITY : F * r->rho_seen / ((1.0 - F) * r->rho_d);
 }
 
-/* The pixels of view v the reflector may cover (bounding rectangle of its projected vertices, clipped to
- * the view); 0 when none (behind the eye, outside, edge-on, its back seen, or between pixel centres). */
 /* The rectangle [b0, b2) x [b1, b3) in view pixels (y down, as the base pass draws) bounding the
  * reflector's corners' projections, clipped to the view; the whole view when a corner lies behind the
  * eye.  false with why when no pixel can show the reflector's front. */
@@ -254,6 +252,8 @@ static bool reflector_bounds(const reflector *r, const prw_view *v, double b[4],
     return true;
 }
 
+/* The pixels of view v the reflector may cover (bounding rectangle of its projected vertices, clipped to
+ * the view); 0 when none (behind the eye, outside, edge-on, its back seen, or between pixel centres). */
 static double reflector_pixels(const reflector *r, const prw_view *v, const char **why)
 {
     double b[4];

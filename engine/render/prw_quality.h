@@ -63,9 +63,10 @@ typedef struct prw_quality {
     double reflection_skip;     /* planar reflectors (pass_mirror.c): a reflector is not reflected in a view when its
                                    estimated reflection is below this share of its own radiance (Meseth §11.3:
                                    0.05); 0: always reflected */
-    uint32_t gi_lookups;        /* 1: the base pass reads the baked light maps and the environment term when the
-                                   renderer is given them; 0: it is given neither (pipelines, images and the sky
-                                   exactly as without them): with mirror_recursion 0, the frame without GI */
+    uint32_t gi_lookups;        /* 1: the base pass reads the baked light maps, the environment term and the
+                                   reflection probes when the renderer is given them; 0: it is given none of them
+                                   (pipelines, images and the sky exactly as without them): with mirror_recursion
+                                   0, the frame without GI */
     uint32_t probe_count;       /* reflection probes (engine/bake/prw_probe.h): at most this many curved glossy
                                    objects get one (0: none, the probe term off) */
     uint32_t probe_size;        /* reflection probes: rows of a probe's gathered map (width 2x; the prefiltered

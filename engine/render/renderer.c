@@ -103,7 +103,8 @@ bool prw_renderer_create(prw_gpu *gpu, const prw_scene *scene, const prw_render_
         r->desc.glare = &r->glare;
     }
     bool ok = validate_desc(&r->desc, e);
-    if (!r->desc.quality.gi_lookups) r->desc.lightmaps = NULL, r->desc.environment = NULL; /* the knob's B frame */
+    if (!r->desc.quality.gi_lookups) /* the knob's B frame: no baked or environment light at all */
+        r->desc.lightmaps = NULL, r->desc.environment = NULL, r->desc.probes = NULL;
     VkSampleCountFlagBits samples = r->desc.quality.msaa == 4 ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
     r->env = (prw_render_env){.gpu = gpu, .scene = scene, .desc = &r->desc, .samples = samples,
                               .shadows = &r->plan, .drawables = &r->drawables};

@@ -1,6 +1,5 @@
 /* Writes the seed corpus of fuzz_probe (not a test): probe_corpus_gen <dir>
- * Small probe files built by hand through prw_probe_encode (one probe of the smallest map with two
- * levels; no probe; a keyless file) and a text file. */
+ * Small probe files built by hand through prw_probe_encode (one probe of the smallest map; no probe; a keyless file) and a text file. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,8 +40,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: probe_corpus_gen DIR\n");
         return 2;
     }
-    /* size 8: level height 4, levels 4 x 8 texels x RGB */
-    enum { LEVELS = 2, H = 4 };
+    /* size 8: level height 4, PRW_PROBE_LEVELS levels of 8 x 4 texels x RGB */
+    enum { LEVELS = PRW_PROBE_LEVELS, H = 4 };
     static float rgb[LEVELS * H * 2 * H * 3];
     for (size_t i = 0; i < sizeof rgb / sizeof rgb[0]; i++) rgb[i] = 0.125f * (float)(i % 17);
     prw_probe_bake b = {.count = 1, .size = 8, .samples = 4, .levels = LEVELS, .level_height = H,
