@@ -21,6 +21,29 @@ static bool make_image(prw_gpu *gpu, uint32_t w, uint32_t h, uint32_t layers, Vk
     return prw_image_create(gpu, &d, out, e);
 }
 
+bool prw_env_gpu_rgb_layers(prw_gpu *gpu, uint32_t w, uint32_t h, uint32_t layers, const float *rgb,
+                            prw_gpu_image *out, prw_error *e)
+{
+    if (!make_image(gpu, w, h, layers, VK_FORMAT_R32G32B32A32_SFLOAT, out, e)) return false;
+    size_t texels = (size_t)w * h;
+    float *px = prw_calloc(texels * 4, sizeof(float));
+    bool ok = true;
+    for (uint32_t k = 0; k < layers && ok; k++) {
+        for (size_t t = 0; rgb && t < texels; t++) {
+            memcpy(px + 4 * t, rgb + ((size_t)k * texels + t) * 3, 3 * sizeof(float));
+            px[4 * t + 3] = 1.0f;
+        }
+        ok = prw_image_upload(gpu, out, k, px, texels * 4 * sizeof(float), e);
+    }
+    free(px);
+    return ok;
+}
+
+bool prw_env_gpu_rg_image(prw_gpu *gpu, uint32_t w, uint32_t h, prw_gpu_image *out, prw_error *e)
+{
+    return make_image(gpu, w, h, 1, VK_FORMAT_R32G32_SFLOAT, out, e);
+}
+
 bool prw_env_gpu_create(prw_gpu *gpu, const prw_env_data *d, prw_env_gpu **out, prw_error *e)
 {
     prw_env_gpu *g = prw_calloc(1, sizeof *g);
@@ -45,20 +68,10 @@ bool prw_env_gpu_create(prw_gpu *gpu, const prw_env_data *d, prw_env_gpu **out, 
     if (!prw_buffer_create(gpu, sizeof u, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                            PRW_MEM_GPU, &g->ubo, e) ||
         !prw_buffer_upload(gpu, &g->ubo, 0, &u, sizeof u, e) ||
-        !make_image(gpu, W, H, K, VK_FORMAT_R32G32B32A32_SFLOAT, &g->levels, e) ||
-        !make_image(gpu, N, N, 1, VK_FORMAT_R32G32_SFLOAT, &g->dfg, e))
+        !prw_env_gpu_rgb_layers(gpu, W, H, K, d ? d->maps : NULL, &g->levels, e) ||
+        !prw_env_gpu_rg_image(gpu, N, N, &g->dfg, e))
         return false;
-    size_t texels = (size_t)W * H;
-    float *px = prw_calloc(texels * 4, sizeof(float));
     bool ok = true;
-    for (uint32_t k = 0; k < K && ok; k++) {
-        for (size_t t = 0; d && t < texels; t++) {
-            memcpy(px + 4 * t, d->maps + ((size_t)k * texels + t) * 3, 3 * sizeof(float));
-            px[4 * t + 3] = 1.0f;
-        }
-        ok = prw_image_upload(gpu, &g->levels, k, px, texels * 4 * sizeof(float), e);
-    }
-    free(px);
     /* the file's table is i-major (i: mu, j: roughness): texel (x = i, y = j) */
     float *tab = prw_calloc((size_t)N * N * 2, sizeof(float));
     for (uint32_t i = 0; d && i < N; i++)

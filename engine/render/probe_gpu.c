@@ -6,18 +6,10 @@
 #include <string.h>
 
 #include "prw_env.h"
+#include "prw_env_gpu.h"
 #include "scene_gpu.h"
 
 #define DFG_N 32u
-
-static bool make_image(prw_gpu *gpu, uint32_t w, uint32_t h, uint32_t layers, VkFormat f, prw_gpu_image *out,
-                       prw_error *e)
-{
-    prw_image_desc d = {.width = w, .height = h, .layers = layers, .format = f,
-                        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                        .view_type = VK_IMAGE_VIEW_TYPE_2D_ARRAY};
-    return prw_image_create(gpu, &d, out, e);
-}
 
 static bool check(const prw_scene *s, const prw_probes *d, prw_error *e)
 {
@@ -65,20 +57,10 @@ bool prw_probe_gpu_create(prw_gpu *gpu, const prw_scene *s, const prw_probes *d,
     if (!prw_buffer_create(gpu, sizeof u, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                            PRW_MEM_GPU, &g->buf, e) ||
         !prw_buffer_upload(gpu, &g->buf, 0, &u, sizeof u, e) ||
-        !make_image(gpu, W, H, layers, VK_FORMAT_R32G32B32A32_SFLOAT, &g->levels, e) ||
-        !make_image(gpu, N, N, 1, VK_FORMAT_R32G32_SFLOAT, &g->dfg, e))
+        !prw_env_gpu_rgb_layers(gpu, W, H, layers, d ? d->levels_rgb : NULL, &g->levels, e) ||
+        !prw_env_gpu_rg_image(gpu, N, N, &g->dfg, e))
         return prw_fail_wrap(e, "probes");
-    size_t texels = (size_t)W * H;
-    float *px = prw_calloc(texels * 4, sizeof(float));
     bool ok = true;
-    for (uint32_t l = 0; l < layers && ok; l++) {
-        for (size_t t = 0; d && t < texels; t++) {
-            memcpy(px + 4 * t, d->levels_rgb + ((size_t)l * texels + t) * 3, 3 * sizeof(float));
-            px[4 * t + 3] = 1.0f;
-        }
-        ok = prw_image_upload(gpu, &g->levels, l, px, texels * 4 * sizeof(float), e);
-    }
-    free(px);
     float *tab = prw_calloc((size_t)N * N * 2, sizeof(float));
     for (uint32_t j = 0; d && j < N; j++) /* texel (x = i: mu, y = j: roughness), as prw_env_gpu.h */
         for (uint32_t i = 0; i < N; i++) {

@@ -37,4 +37,11 @@ typedef struct prw_env_gpu {
 bool prw_env_gpu_create(prw_gpu *gpu, const prw_env_data *d, prw_env_gpu **out, prw_error *e);
 void prw_env_gpu_destroy(prw_gpu *gpu, prw_env_gpu *g);
 
+/* An equirect map set as one sampled 2D-array image (w x h, `layers` layers, RGBA32F): layer k from
+ * rgb + k w h 3 (alpha 1), or zeros when rgb is NULL.  Shared by the environment and the probes. */
+bool prw_env_gpu_rgb_layers(prw_gpu *gpu, uint32_t w, uint32_t h, uint32_t layers, const float *rgb,
+                            prw_gpu_image *out, prw_error *e);
+/* A sampled w x h RG32F image for the split-sum table (uploaded by the caller). */
+bool prw_env_gpu_rg_image(prw_gpu *gpu, uint32_t w, uint32_t h, prw_gpu_image *out, prw_error *e);
+
 #endif
