@@ -171,7 +171,8 @@ static void test_gi_room_indirect_diffuse(void)
     CHECK_OK(prw_ref_create(s, v.eye, 0, &ref, &e), &e);
     bool ok = render_ref(ref, &v, spp, 1, PRW_REF_INDIRECT_DIFFUSE_LAST, &ra, &e) &&
               render_ref(ref, &v, spp, 2, PRW_REF_INDIRECT_DIFFUSE_LAST, &rb, &e) &&
-              render_ref(ref, &v, spp, 3, PRW_REF_ALL, &rall, &e);
+              /* the full reference only picks the mask's pixels (term > 1 % of it): a quarter of the samples */
+              render_ref(ref, &v, spp / 4 ? spp / 4 : 1, 3, PRW_REF_ALL, &rall, &e);
     prw_ref_destroy(ref);
     CHECK_OK(ok, &e);
 
