@@ -80,8 +80,17 @@ static bool write_sky(const char *path, prw_error *e)
     return ok;
 }
 
+/* Both cases use the same file: it is synthesised and compressed once per process (most of the light
+ * mode's time under the sanitizers went to compressing it twice). */
+static bool g_btf_written;
+static prw_btf_average g_btf_avg;
+
 static bool write_btf(const char *path, prw_btf_average *avg, prw_error *e)
 {
+    if (g_btf_written) {
+        *avg = g_btf_avg;
+        return true;
+    }
     prw_btf_synth_params sp = {.kind = PRW_BTF_SYNTH_LEATHER, .size = TILE, .rays = 1, .spp = 1, .texel_m = 0.01,
                                .seed = 1, .threads = 2};
     prw_btf b;
@@ -96,6 +105,7 @@ static bool write_btf(const char *path, prw_btf_average *avg, prw_error *e)
     p.has_average = false; /* no scale rule: the BTF everywhere */
     ok = prw_btf_packed_write(path, &p, e);
     prw_btf_packed_free(&p);
+    if (ok) g_btf_written = true, g_btf_avg = *avg;
     return ok;
 }
 
