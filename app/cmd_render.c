@@ -39,8 +39,9 @@ static void render_usage(void)
            "                     direct light), indirect-diffuse (the light maps' indirect diffuse; --filter\n"
            "                     indirect-diffuse-last) or environment (the environment light, occluded by the\n"
            "                     light maps' visibility; --filter environment-direct), probes (the reflection\n"
-           "                     probes on curved glossy objects; --filter indirect-glossy-last there), or a\n"
-           "                     comma-separated list of them; default: all\n"
+           "                     probes on curved glossy objects; --filter indirect-glossy-last there),\n"
+           "                     indirect-glossy (the light maps through the specular lobe of rough surfaces\n"
+           "                     without a probe), or a comma-separated list of them; default: all\n"
            "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
@@ -348,8 +349,10 @@ int prw_cmd_render(int argc, char **argv)
             else if (!strcmp(t, "indirect-diffuse")) job.terms |= PRW_TERM_INDIRECT_DIFFUSE;
             else if (!strcmp(t, "environment")) job.terms |= PRW_TERM_ENVIRONMENT;
             else if (!strcmp(t, "probes")) job.terms |= PRW_TERM_PROBES;
+            else if (!strcmp(t, "indirect-glossy")) job.terms |= PRW_TERM_INDIRECT_GLOSSY;
             else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
-            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes",
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes or "
+                                   "indirect-glossy",
                                    t);
         }
     }
