@@ -5,9 +5,11 @@
 // (e(mu_i) = 0): the same float code as the direct light's diffuse lobe, not a second derivation.
 // Rough glossy indirect (PRW_TERM_INDIRECT_GLOSSY): on a surface rougher than PRW_GI_GLOSSY_MIN_ROUGHNESS
 // whose material has no probe, the dielectric specular lobe's share of the same light,
-//   L_igr = (1 - metallic) E_ds(mu_o) E_ind / pi,   E_ds = specular e_d(mu_o) + F_ms e_c(mu_o)
-// (the dielectric specular albedo of gi_env.glsl / gi_probe.glsl): the incoming indirect radiance taken as
-// uniform over the lobe, which a wide lobe averages anyway.  Below that roughness the probes (<= 0.5) and
+//   L_igr = (1 - metallic) E_ds(mu_o) E_ind / (pi (1 - e_avg)),   E_ds = specular e_d(mu_o) + F_ms e_c(mu_o)
+// (the dielectric specular albedo of gi_env.glsl / gi_probe.glsl; e_avg its cosine-weighted mean, as in
+// prw_brdf_diffuse_terms): the incoming indirect radiance taken as uniform over the lobe, which a wide lobe
+// averages anyway; then the baked E_ind, weighted by 1 - e(mu_i) (prw_gi.h), is (1 - e_avg) times the
+// plain irradiance.  Below that roughness the probes (<= 0.5) and
 // the planar reflectors (glossy_max_roughness, default 0.3) carry the lobe's indirect light.  Metals are
 // left out (their albedo needs the split-sum table, bound only with an environment).
 // E_ind: ATLAS mode by a bicubic B-spline over the atlas layer (four bilinear taps, Sigg & Hadwiger
@@ -80,8 +82,9 @@ vec3 prw_terms_radiance(vec3 direct, ggx_view w, vec3 base, float metallic, floa
         }
         if ((prw_terms & PRW_TERM_INDIRECT_GLOSSY) != 0 && !probed && roughness > PRW_GI_GLOSSY_MIN_ROUGHNESS) {
             float s = clamp(specular, 0.0, 1.0);
-            float e_ds = s * w.ed_o + prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg) * w.ec_o;
-            r += (1.0 - clamp(metallic, 0.0, 1.0)) * e_ds * (1.0 / 3.14159265358979) * E;
+            float fms = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg);
+            float e_ds = s * w.ed_o + fms * w.ec_o, e_avg = s * w.ed_avg + fms * w.ec_avg;
+            r += (1.0 - clamp(metallic, 0.0, 1.0)) * e_ds / (3.14159265358979 * max(1.0 - e_avg, 1e-3)) * E;
         }
     }
 #endif
