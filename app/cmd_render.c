@@ -192,6 +192,10 @@ static int prw_render_job_run(const render_job *job)
         prw_fail(&e, "--term indirect-diffuse: %s has no light maps (--no-bake, or nothing to bake)", scene->source);
         goto done;
     }
+    if (job->terms == PRW_TERM_INDIRECT_GLOSSY && !lms) {
+        prw_fail(&e, "--term indirect-glossy: %s has no light maps (--no-bake, or nothing to bake)", scene->source);
+        goto done;
+    }
     if (job->terms == PRW_TERM_PROBES && !prw_app_lightmaps_probes(lms)) {
         prw_fail(&e, "--term probes: %s has no reflection probes (--no-bake, probe_count=0, or no curved glossy object)",
                  scene->source);
@@ -358,6 +362,8 @@ int prw_cmd_render(int argc, char **argv)
     }
     if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)
         bad = true, prw_fail(&e, "--term indirect-diffuse needs the light maps: not with --no-bake");
+    if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_GLOSSY)
+        bad = true, prw_fail(&e, "--term indirect-glossy needs the light maps: not with --no-bake");
     job.display = prw_args_value(&a, "display", &e, &bad);
     job.tonemap = prw_args_value(&a, "tonemap", &e, &bad);
     job.tm_overlay = prw_args_flag(&a, "tm-overlay");
