@@ -8,10 +8,10 @@
 # Golden references (float32 EXR as prw reference writes them, tests/data/golden/), regenerated with:
 #   prw reference demo --size 128x72 --spp 1024 --seed 1 --out tests/data/golden/demo_gi_main_128x72_s1.exr
 #   prw reference demo --size 128x72 --spp 1024 --seed 2 --out tests/data/golden/demo_gi_main_128x72_s2.exr
-#   (the .var.exr files are not kept; about 45 CPU-s each; redo them when the demo or the path tracer changes)
+#   (the .var.exr files are not kept; about 42 CPU-s each; redo them when the demo or the path tracer changes)
 # Light mode (-DLIGHT=1, sanitizer builds): a reduced bake (radiosity_size 32, probe_size 16), figures printed, only the
 # ordering full GI < gi_lookups=0 checked (the bound needs the default bake).
-# A cheaper bake for a quick run: -DPRESET=radiosity_size=64 (measured 0.044 beyond noise, bake ~5 CPU-s).
+# A cheaper bake for a quick run: -DPRESET=radiosity_size=64 (measured 0.045 beyond noise, bake ~5 CPU-s).
 # -DPRW=... -DG1=... -DG2=... -DOUT=dir [-DBOUND=0.05] [-DPRESET=config] [-DLIGHT=1]
 if(NOT BOUND)
   set(BOUND 0.05)
