@@ -39,8 +39,9 @@ static void render_usage(void)
            "                     direct light), indirect-diffuse (the light maps' indirect diffuse; --filter\n"
            "                     indirect-diffuse-last) or environment (the environment light, occluded by the\n"
            "                     light maps' visibility; --filter environment-direct), probes (the reflection\n"
-           "                     probes on curved glossy objects; --filter indirect-glossy-last there), or a\n"
-           "                     comma-separated list of them; default: all\n"
+           "                     probes on curved glossy objects; --filter indirect-glossy-last there),\n"
+           "                     indirect-glossy (the light maps through the specular lobe of rough surfaces\n"
+           "                     without a probe), or a comma-separated list of them; default: all\n"
            "%s"
            "  --display PROFILE  display profile: a built-in name (srgb, office-lcd, default-lcd, bright-lcd,\n"
            "                     hdr10-1000, hmd-lcd) or a .json file (default srgb: the ideal sRGB display)\n"
@@ -189,6 +190,10 @@ static int prw_render_job_run(const render_job *job)
     if (!prw_app_lightmaps_prepare("render", scene, &job->q, job->no_bake, &lms, &e)) goto done;
     if (job->terms == PRW_TERM_INDIRECT_DIFFUSE && !lms) {
         prw_fail(&e, "--term indirect-diffuse: %s has no light maps (--no-bake, or nothing to bake)", scene->source);
+        goto done;
+    }
+    if (job->terms == PRW_TERM_INDIRECT_GLOSSY && !lms) {
+        prw_fail(&e, "--term indirect-glossy: %s has no light maps (--no-bake, or nothing to bake)", scene->source);
         goto done;
     }
     if (job->terms == PRW_TERM_PROBES && !prw_app_lightmaps_probes(lms)) {
@@ -348,13 +353,17 @@ int prw_cmd_render(int argc, char **argv)
             else if (!strcmp(t, "indirect-diffuse")) job.terms |= PRW_TERM_INDIRECT_DIFFUSE;
             else if (!strcmp(t, "environment")) job.terms |= PRW_TERM_ENVIRONMENT;
             else if (!strcmp(t, "probes")) job.terms |= PRW_TERM_PROBES;
+            else if (!strcmp(t, "indirect-glossy")) job.terms |= PRW_TERM_INDIRECT_GLOSSY;
             else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
-            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes",
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes or "
+                                   "indirect-glossy",
                                    t);
         }
     }
     if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_DIFFUSE)
         bad = true, prw_fail(&e, "--term indirect-diffuse needs the light maps: not with --no-bake");
+    if (!bad && job.no_bake && job.terms == PRW_TERM_INDIRECT_GLOSSY)
+        bad = true, prw_fail(&e, "--term indirect-glossy needs the light maps: not with --no-bake");
     job.display = prw_args_value(&a, "display", &e, &bad);
     job.tonemap = prw_args_value(&a, "tonemap", &e, &bad);
     job.tm_overlay = prw_args_flag(&a, "tm-overlay");

@@ -68,7 +68,7 @@ void main()
 #else
     prw_direct_light(radiance, w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
 #endif
-    radiance = prw_terms_radiance(radiance, w, S.base, S.metallic, S.specular);
+    radiance = prw_terms_radiance(radiance, w, S.base, S.metallic, S.roughness, S.specular, prw_mat_probed);
 #ifndef PRW_GLTF_COAT
     radiance += prw_env_radiance(w, n, v, S.base, S.metallic, S.roughness, S.specular, prw_env_visibility(),
                                  prw_env_cone()) +
@@ -77,7 +77,7 @@ void main()
     o_color = vec4(radiance, mode == PRW_GPU_ALPHA_BLEND ? clamp(S.alpha, 0.0, 1.0) : 1.0);
 #else
     prw_direct_light(radiance, w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular, 1.5);
-    o_color = vec4(prw_terms_radiance(radiance, w, S.base, S.metallic, S.specular) +
+    o_color = vec4(prw_terms_radiance(radiance, w, S.base, S.metallic, S.roughness, S.specular, prw_mat_probed) +
                        prw_env_radiance(w, n, v, S.base, S.metallic, S.roughness, S.specular, prw_env_visibility(),
                                         prw_env_cone()) +
                        prw_probe_radiance(w, v_pos, n, v, S.base, S.metallic, S.roughness, S.specular),

@@ -3,6 +3,15 @@
 //   L_idl = (1 - metallic) base / pi x (1 - e(mu_o)) / (1 - e_avg) x E_ind,
 // which is prw_brdf_diffuse_terms (materials/prw_brdf.h) with the incoming direction's albedo terms 0
 // (e(mu_i) = 0): the same float code as the direct light's diffuse lobe, not a second derivation.
+// Rough glossy indirect (PRW_TERM_INDIRECT_GLOSSY): on a surface rougher than PRW_GI_GLOSSY_MIN_ROUGHNESS
+// whose material has no probe, the dielectric specular lobe's share of the same light,
+//   L_igr = (1 - metallic) E_ds(mu_o) E_ind / (pi (1 - e_avg)),   E_ds = specular e_d(mu_o) + F_ms e_c(mu_o)
+// (the dielectric specular albedo of gi_env.glsl / gi_probe.glsl; e_avg its cosine-weighted mean, as in
+// prw_brdf_diffuse_terms): the incoming indirect radiance taken as uniform over the lobe, which a wide lobe
+// averages anyway; then the baked E_ind, weighted by 1 - e(mu_i) (prw_gi.h), is (1 - e_avg) times the
+// plain irradiance.  Below that roughness the probes (<= 0.5) and
+// the planar reflectors (glossy_max_roughness, default 0.3) carry the lobe's indirect light.  Metals are
+// left out (their albedo needs the split-sum table, bound only with an environment).
 // E_ind: ATLAS mode by a bicubic B-spline over the atlas layer (four bilinear taps, Sigg & Hadwiger
 // 2005; the baker dilates 2 texels around every chart, the reach of the B-spline), VERTEX mode
 // interpolated from the vertices.  Needs lights.glsl (ggx_view) and prw_constants.h.
@@ -59,13 +68,24 @@ vec4 prw_gi_cone()
 
 // The radiance the pipeline's terms draw: direct (emission + direct light, computed by the caller)
 // and, in the PRW_GI variants, the light map's indirect diffuse seen along w (the view's fits).
-vec3 prw_terms_radiance(vec3 direct, ggx_view w, vec3 base, float metallic, float specular)
+#define PRW_GI_GLOSSY_MIN_ROUGHNESS 0.5
+vec3 prw_terms_radiance(vec3 direct, ggx_view w, vec3 base, float metallic, float roughness, float specular,
+                        bool probed)
 {
     vec3 r = (prw_terms & PRW_TERM_DIRECT) != 0 ? direct : vec3(0.0);
 #ifdef PRW_GI
-    if ((prw_terms & PRW_TERM_INDIRECT_DIFFUSE) != 0) {
-        float k = prw_brdf_diffuse_terms(1.0, metallic, specular, w.ec_avg, w.ed_avg, w.ec_o, 0.0, w.ed_o, 0.0);
-        r += k * base * prw_gi_irradiance();
+    if ((prw_terms & (PRW_TERM_INDIRECT_DIFFUSE | PRW_TERM_INDIRECT_GLOSSY)) != 0) {
+        vec3 E = prw_gi_irradiance();
+        if ((prw_terms & PRW_TERM_INDIRECT_DIFFUSE) != 0) {
+            float k = prw_brdf_diffuse_terms(1.0, metallic, specular, w.ec_avg, w.ed_avg, w.ec_o, 0.0, w.ed_o, 0.0);
+            r += k * base * E;
+        }
+        if ((prw_terms & PRW_TERM_INDIRECT_GLOSSY) != 0 && !probed && roughness > PRW_GI_GLOSSY_MIN_ROUGHNESS) {
+            float s = clamp(specular, 0.0, 1.0);
+            float fms = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg);
+            float e_ds = s * w.ed_o + fms * w.ec_o, e_avg = s * w.ed_avg + fms * w.ec_avg;
+            r += (1.0 - clamp(metallic, 0.0, 1.0)) * e_ds / (3.14159265358979 * max(1.0 - e_avg, 1e-3)) * E;
+        }
     }
 #endif
     return r;

@@ -44,7 +44,9 @@
 #define PRW_TERM_INDIRECT_DIFFUSE 2 /* the light maps' indirect diffuse (PRW_GI variants only) */
 #define PRW_TERM_ENVIRONMENT 4      /* the environment light seen by one bounce (gi_env.glsl, with PRW_SC_ENV) */
 #define PRW_TERM_PROBES 8           /* the reflection probes' indirect glossy (gi_probe.glsl, with PRW_SC_PROBES) */
-#define PRW_TERM_ALL 15
+#define PRW_TERM_INDIRECT_GLOSSY 16 /* the light maps' E_ind through the dielectric specular lobe of rough, unprobed
+                                       surfaces (gi_lightmap.glsl, PRW_GI variants only) */
+#define PRW_TERM_ALL 31
 /* The base fragment shaders' environment term (int, 0/1; gi_env.glsl, engine/render/prw_env_gpu.h): 1 when
  * the renderer has an environment.  Unset (0): the shaders of before. */
 #define PRW_SC_ENV 9
