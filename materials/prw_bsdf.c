@@ -44,27 +44,54 @@ typedef struct fit_basis {
     float a[16];
 } fit_basis;
 
+/* prw_clamp01 without its two libm calls (fminf / fmaxf are calls in C without -ffinite-math-only): the
+ * same value for every x, NaN included (0), except that -0 may come out as +0, which the basis does not
+ * tell apart (it feeds sqrt, a max with 0.1 and ==). */
+static float clamp01_inline(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
+
+/* prw_ggx_fit_u's operations and constants (prw_ggx_fit.h), its maxima inline; test_brdf_model's
+ * header_bits fails if the generated header changes them */
 static void basis_at(float mu, fit_basis *b)
 {
-    b->mu = prw_clamp01(mu);
-    float u = prw_ggx_fit_u(mu);
+    b->mu = clamp01_inline(mu);
+    float t = sqrtf(b->mu);
+    t = t > 0.100000001f ? t : 0.100000001f;
+    float u = (t - 0.100000001f) * 2.22222233f - 1.0f;
     b->a[0] = 1.0f, b->a[1] = u;
+#pragma GCC unroll 16
     for (int k = 2; k < 16; k++) b->a[k] = 2.0f * u * b->a[k - 1] - b->a[k - 2];
 }
 
 /* The basis at mu: *have when it is the same clamped cosine, else computed into *mine. */
 static const fit_basis *basis_or(const fit_basis *have, float mu, fit_basis *mine)
 {
-    if (have && have->mu == prw_clamp01(mu)) return have;
+    if (have && have->mu == clamp01_inline(mu)) return have;
     basis_at(mu, mine);
     return mine;
+}
+
+/* max(prw_exp(y) - 0.001, 0) as prw_ggx_Ec_at / _Ed_at end (x - 0.001 is never -0: x > 0 ? x : 0 is fmaxf) */
+static float fit_end(float y)
+{
+    float x = prw_exp(y) - 0.00100000005f;
+    return x > 0.0f ? x : 0.0f;
 }
 
 static float fit_at(const float d[16], const fit_basis *b)
 {
     float y = d[0] * b->a[0];
+#pragma GCC unroll 16
     for (int k = 1; k < 16; k++) y += d[k] * b->a[k];
-    return PRW_B_MAX(prw_exp(y) - 0.00100000005f, 0.0f);
+    return fit_end(y);
+}
+
+/* two rows at one basis: two independent sums (each in the header's order) */
+static void fit_at2(const float d[16], const float e[16], const fit_basis *b, float *fd, float *fe)
+{
+    float y = d[0] * b->a[0], z = e[0] * b->a[0];
+#pragma GCC unroll 16
+    for (int k = 1; k < 16; k++) y += d[k] * b->a[k], z += e[k] * b->a[k];
+    *fd = fit_end(y), *fe = fit_end(z);
 }
 
 /* The roughness-only fits (two rows and two averages), kept per thread for the last few roughness
@@ -96,7 +123,9 @@ static const rough_fits *rough_fits_of(float r)
 /* prw_coat_albedo of prw_brdf.h with the coat's rows and a basis at mu: the same float operations. */
 static float coat_albedo_rows(const prw_bsdf_lobes *l, const fit_basis *b)
 {
-    return fit_at(l->cd_row, b) + l->coat_fms * fit_at(l->cc_row, b);
+    float ed, ec;
+    fit_at2(l->cd_row, l->cc_row, b, &ed, &ec);
+    return ed + l->coat_fms * ec;
 }
 
 /* prw_coat_transmission */
@@ -127,7 +156,7 @@ static void fill_fits(const prw_bsdf *b, const double wo[3], prw_bsdf_lobes *l)
     l->ec_avg = rf->ec_avg, l->ed_avg = rf->ed_avg;
     fit_basis bo, bc;
     basis_at(mo, &bo);
-    l->ec_o = fit_at(l->ec_row, &bo), l->ed_o = fit_at(l->ed_row, &bo);
+    fit_at2(l->ec_row, l->ed_row, &bo, &l->ec_o, &l->ed_o);
     if (!has_coat(b)) return;
     double nc[3];
     coat_normal(b, nc);
@@ -143,6 +172,39 @@ static void fill_fits(const prw_bsdf *b, const double wo[3], prw_bsdf_lobes *l)
     l->coat_t_o = 1.0 - prw_clamp01((float)b->clearcoat) * l->coat_a_o;
     l->coat_mo = PRW_B_MIN(NcV, 1.0);
     l->cc_o = fit_at(l->cc_row, bv);
+}
+
+/* prw_brdf_diffuse_terms (+ prw_brdf_specular_terms unless diffuse_only) of prw_brdf.h for the three
+ * channels: what does not depend on the channel (the Fresnel-free lobes D V, the dielectric Fresnel,
+ * the F_ms factors, the diffuse energy ratio) computed once, then per channel the header's remaining
+ * operations in its order and precision (double where its double constants promote), so the same bits
+ * (test_brdf_model's header_bits). */
+static void base_terms(const float base[3], float metallic, float specular, float roughness, float mo, float mi,
+                       float NoH, float VoH, float ec_avg, float ed_avg, float ec_o, float ec_i, float ed_o, float ed_i,
+                       bool diffuse_only, float fb[3])
+{
+    float m = prw_clamp01(metallic);
+    float s = prw_clamp01(specular);
+    float fms = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, ec_avg); /* = the specular lobe's fms_diel */
+    float e_o = s * ed_o + fms * ec_o;
+    float e_i = s * ed_i + fms * ec_i;
+    float e_avg = s * ed_avg + fms * ec_avg;
+    double ratio = (1.0 - e_o) * (1.0 - e_i) / (1.0 - e_avg);
+    for (int k = 0; k < 3; k++) fb[k] = (1.0 - m) * prw_lambert(base[k]) * ratio;
+    if (diffuse_only) return;
+    float alpha = prw_alpha_from_roughness(roughness);
+    float c = prw_clamp01(VoH);
+    float dv = prw_D_ggx(prw_clamp01(NoH), alpha) * prw_V_smith_ggx(mo, mi, alpha);
+    float ms = prw_ggx_ms_terms(ec_avg, ec_o, ec_i);
+    float f_diel = s * prw_F_dielectric(c);
+    float diel = dv * f_diel + ms * fms;
+    for (int k = 0; k < 3; k++) {
+        float f_metal = prw_F_schlick(base[k], c);
+        float fms_metal = prw_F_ms(base[k] + (1.0 - base[k]) * (1.0 / 21.0), ec_avg);
+        float metal = dv * f_metal + ms * fms_metal;
+        float spec = (1.0 - m) * diel + m * metal;
+        fb[k] += spec;
+    }
 }
 
 static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3],
@@ -175,11 +237,9 @@ static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3],
         float mo = fminf(NoV, 1.0f), mi = fminf(NoL, 1.0f);
         float ec_avg = l->ec_avg, ed_avg = l->ed_avg, ec_o = l->ec_o, ed_o = l->ed_o;
         basis_at(mi, &bi), have = &bi;
-        float ec_i = fit_at(l->ec_row, &bi), ed_i = fit_at(l->ed_row, &bi);
-        for (int c = 0; c < 3; c++) {
-            fb[c] = prw_brdf_diffuse_terms(base[c], m, sp, ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i);
-            if (!diffuse_only) fb[c] += prw_brdf_specular_terms(mo, mi, NoH, VoH, base[c], m, r, sp, ec_avg, ec_o, ec_i);
-        }
+        float ec_i, ed_i;
+        fit_at2(l->ec_row, l->ed_row, &bi, &ec_i, &ed_i);
+        base_terms(base, m, sp, r, mo, mi, NoH, VoH, ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i, diffuse_only, fb);
     }
     float cc = (float)b->clearcoat, c = prw_clamp01(cc);
     if (!has_coat(b) || c <= 0.0) {
