@@ -49,6 +49,15 @@ static double peak_gb(void)
     return (double)ru.ru_maxrss / (1024.0 * 1024.0); /* KiB -> GiB */
 }
 
+/* user + system CPU seconds of the process so far (every thread): on a shared machine the wall time
+ * depends on the load, these do much less */
+static double cpu_s(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (double)ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6 + (double)ru.ru_stime.tv_sec + ru.ru_stime.tv_usec * 1e-6;
+}
+
 typedef struct prog {
     const char *what;
     int last;
@@ -186,7 +195,7 @@ int prw_cmd_btf_compress(int argc, char **argv)
     /* the input */
     char name[256];
     prw_btf btf;
-    double t0 = prw_now();
+    double t0 = prw_now(), c0 = cpu_s();
     if (raw_s) {
         const char *base = strrchr(raw_s, '/');
         snprintf(name, sizeof name, "%s", base ? base + 1 : raw_s);
@@ -214,10 +223,11 @@ int prw_cmd_btf_compress(int argc, char **argv)
         }
         printf("wrote %s\n", save_s);
     }
-    double t_in = prw_now() - t0, raw_mb = 12.0 * btf.width * btf.height * btf.views * btf.lights / 1e6;
-    printf("btf input: %s, %u x %u texels, %u x %u directions, %.1f MB as float RGB, %.1f s, |A - Abar| / |A| = %.3f, "
-           "peak memory %.2f GB\n",
-           name, btf.width, btf.height, btf.views, btf.lights, raw_mb, t_in, prw_btf_varying_fraction(&btf), peak_gb());
+    double t_in = prw_now() - t0, c_in = cpu_s() - c0, raw_mb = 12.0 * btf.width * btf.height * btf.views * btf.lights / 1e6;
+    printf("btf input: %s, %u x %u texels, %u x %u directions, %.1f MB as float RGB, %.1f s (%.1f CPU-s), |A - Abar| / |A| = "
+           "%.3f, peak memory %.2f GB\n",
+           name, btf.width, btf.height, btf.views, btf.lights, raw_mb, t_in, c_in, prw_btf_varying_fraction(&btf),
+           peak_gb());
     fflush(stdout);
 
     char csv_path[4096];

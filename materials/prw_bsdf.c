@@ -32,24 +32,106 @@ static void coat_normal(const prw_bsdf *b, double nc[3])
 
 /* The rows travel in prw_bsdf_lobes as float[16] (prw_bsdf.h does not include the generated header). */
 _Static_assert(sizeof(prw_ggx_row) == 16 * sizeof(float), "prw_ggx_row is 16 floats");
-static prw_ggx_row row_of(const float r[16])
+
+/* ---- the fitted albedos, as prw_ggx_fit.h evaluates them ----
+ * prw_ggx_Ec_at / prw_ggx_Ed_at(row, mu) are a Chebyshev basis in u(mu) dotted with the row, then
+ * max(prw_exp(y) - 0.001, 0).  The basis depends on mu only (prw_ggx_fit_u clamps mu to [0, 1] first), so
+ * rows evaluated at the same clamped cosine share it here; the float operations are the header's in
+ * the header's order, so the values are the same bits (test_brdf_model: eval against the header's
+ * prw_brdf_coated_channel bit for bit). */
+typedef struct fit_basis {
+    float mu; /* prw_clamp01 of the cosine */
+    float a[16];
+} fit_basis;
+
+/* prw_clamp01 without its two libm calls (fminf / fmaxf are calls in C without -ffinite-math-only): the
+ * same value for every x, NaN included (0), except that -0 may come out as +0, which the basis does not
+ * tell apart (it feeds sqrt, a max with 0.1 and ==). */
+static float clamp01_inline(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
+
+/* prw_ggx_fit_u's operations and constants (prw_ggx_fit.h), its maxima inline; test_brdf_model's
+ * header_bits fails if the generated header changes them */
+static void basis_at(float mu, fit_basis *b)
 {
-    prw_ggx_row w;
-    memcpy(&w, r, sizeof w);
-    return w;
+    b->mu = clamp01_inline(mu);
+    float t = sqrtf(b->mu);
+    t = t > 0.100000001f ? t : 0.100000001f;
+    float u = (t - 0.100000001f) * 2.22222233f - 1.0f;
+    b->a[0] = 1.0f, b->a[1] = u;
+#pragma GCC unroll 16
+    for (int k = 2; k < 16; k++) b->a[k] = 2.0f * u * b->a[k - 1] - b->a[k - 2];
 }
 
-/* prw_coat_albedo / prw_coat_transmission of prw_brdf.h with the coat's rows: the same float operations. */
-static float coat_albedo_rows(const prw_bsdf_lobes *l, float mu)
+/* The basis at mu: *have when it is the same clamped cosine, else computed into *mine. */
+static const fit_basis *basis_or(const fit_basis *have, float mu, fit_basis *mine)
 {
-    float m = prw_clamp01(mu);
-    float fms = prw_F_ms(PRW_DIELECTRIC_F_AVG, l->cc_avg);
-    return prw_ggx_Ed_at(row_of(l->cd_row), m) + fms * prw_ggx_Ec_at(row_of(l->cc_row), m);
+    if (have && have->mu == clamp01_inline(mu)) return have;
+    basis_at(mu, mine);
+    return mine;
 }
 
-static float coat_transmission_rows(const prw_bsdf_lobes *l, float mu, float clearcoat)
+/* max(prw_exp(y) - 0.001, 0) as prw_ggx_Ec_at / _Ed_at end (x - 0.001 is never -0: x > 0 ? x : 0 is fmaxf) */
+static float fit_end(float y)
 {
-    return 1.0 - prw_clamp01(clearcoat) * coat_albedo_rows(l, mu);
+    float x = prw_exp(y) - 0.00100000005f;
+    return x > 0.0f ? x : 0.0f;
+}
+
+static float fit_at(const float d[16], const fit_basis *b)
+{
+    float y = d[0] * b->a[0];
+#pragma GCC unroll 16
+    for (int k = 1; k < 16; k++) y += d[k] * b->a[k];
+    return fit_end(y);
+}
+
+/* two rows at one basis: two independent sums (each in the header's order) */
+static void fit_at2(const float d[16], const float e[16], const fit_basis *b, float *fd, float *fe)
+{
+    float y = d[0] * b->a[0], z = e[0] * b->a[0];
+#pragma GCC unroll 16
+    for (int k = 1; k < 16; k++) y += d[k] * b->a[k], z += e[k] * b->a[k];
+    *fd = fit_end(y), *fe = fit_end(z);
+}
+
+/* The roughness-only fits (two rows and two averages), kept per thread for the last few roughness
+ * values: a path tracer shades hit after hit with a scene's few materials, and the 16 x 16 row
+ * evaluation per hit cost as much as the rest of the BSDF.  A pure function of r, so cached or not
+ * the same bits. */
+typedef struct rough_fits {
+    float r;
+    int valid;
+    prw_ggx_row ec, ed;
+    float ec_avg, ed_avg;
+} rough_fits;
+
+#define FITS_CACHE 4
+static _Thread_local rough_fits fits_cache[FITS_CACHE];
+static _Thread_local unsigned fits_next;
+
+static const rough_fits *rough_fits_of(float r)
+{
+    for (int k = 0; k < FITS_CACHE; k++)
+        if (fits_cache[k].valid && memcmp(&fits_cache[k].r, &r, sizeof r) == 0) return &fits_cache[k];
+    rough_fits *f = &fits_cache[fits_next++ % FITS_CACHE];
+    f->r = r, f->valid = 1;
+    f->ec = prw_ggx_Ec_row(r), f->ed = prw_ggx_Ed_row(r);
+    f->ec_avg = prw_ggx_Ec_avg(r), f->ed_avg = prw_ggx_Ed_avg(r);
+    return f;
+}
+
+/* prw_coat_albedo of prw_brdf.h with the coat's rows and a basis at mu: the same float operations. */
+static float coat_albedo_rows(const prw_bsdf_lobes *l, const fit_basis *b)
+{
+    float ed, ec;
+    fit_at2(l->cd_row, l->cc_row, b, &ed, &ec);
+    return ed + l->coat_fms * ec;
+}
+
+/* prw_coat_transmission */
+static float coat_transmission_rows(const prw_bsdf_lobes *l, const fit_basis *b, float clearcoat)
+{
+    return 1.0 - prw_clamp01(clearcoat) * coat_albedo_rows(l, b);
 }
 
 /* The fits of prw_bsdf_lobes: everything eval needs that does not depend on wi, with the arguments
@@ -68,22 +150,61 @@ static void fill_fits(const prw_bsdf *b, const double wo[3], prw_bsdf_lobes *l)
     }
     float NoV = (float)wo[2], r = (float)b->roughness;
     float mo = fminf(NoV, 1.0f);
-    prw_ggx_row ec = prw_ggx_Ec_row(r), ed = prw_ggx_Ed_row(r);
-    memcpy(l->ec_row, &ec, sizeof ec);
-    memcpy(l->ed_row, &ed, sizeof ed);
-    l->ec_avg = prw_ggx_Ec_avg(r), l->ed_avg = prw_ggx_Ed_avg(r);
-    l->ec_o = prw_ggx_Ec_at(ec, mo), l->ed_o = prw_ggx_Ed_at(ed, mo);
+    const rough_fits *rf = rough_fits_of(r);
+    memcpy(l->ec_row, &rf->ec, sizeof rf->ec);
+    memcpy(l->ed_row, &rf->ed, sizeof rf->ed);
+    l->ec_avg = rf->ec_avg, l->ed_avg = rf->ed_avg;
+    fit_basis bo, bc;
+    basis_at(mo, &bo);
+    fit_at2(l->ec_row, l->ed_row, &bo, &l->ec_o, &l->ed_o);
     if (!has_coat(b)) return;
     double nc[3];
     coat_normal(b, nc);
     float NcV = (float)dot3(nc, wo), rc = (float)b->clearcoat_roughness;
-    prw_ggx_row cc = prw_ggx_Ec_row(rc), cd = prw_ggx_Ed_row(rc);
-    memcpy(l->cc_row, &cc, sizeof cc);
-    memcpy(l->cd_row, &cd, sizeof cd);
-    l->cc_avg = prw_ggx_Ec_avg(rc);
-    l->coat_t_o = coat_transmission_rows(l, NcV, (float)b->clearcoat);
+    const rough_fits *cf = rough_fits_of(rc);
+    memcpy(l->cc_row, &cf->ec, sizeof cf->ec);
+    memcpy(l->cd_row, &cf->ed, sizeof cf->ed);
+    l->cc_avg = cf->ec_avg;
+    l->coat_fms = prw_F_ms(PRW_DIELECTRIC_F_AVG, l->cc_avg);
+    /* coat_mo and NcV clamp to the same basis (prw_ggx_fit_u clamps) */
+    const fit_basis *bv = basis_or(&bo, NcV, &bc);
+    l->coat_a_o = coat_albedo_rows(l, bv);
+    l->coat_t_o = 1.0 - prw_clamp01((float)b->clearcoat) * l->coat_a_o;
     l->coat_mo = PRW_B_MIN(NcV, 1.0);
-    l->cc_o = prw_ggx_Ec_at(cc, l->coat_mo);
+    l->cc_o = fit_at(l->cc_row, bv);
+}
+
+/* prw_brdf_diffuse_terms (+ prw_brdf_specular_terms unless diffuse_only) of prw_brdf.h for the three
+ * channels: what does not depend on the channel (the Fresnel-free lobes D V, the dielectric Fresnel,
+ * the F_ms factors, the diffuse energy ratio) computed once, then per channel the header's remaining
+ * operations in its order and precision (double where its double constants promote), so the same bits
+ * (test_brdf_model's header_bits). */
+static void base_terms(const float base[3], float metallic, float specular, float roughness, float mo, float mi,
+                       float NoH, float VoH, float ec_avg, float ed_avg, float ec_o, float ec_i, float ed_o, float ed_i,
+                       bool diffuse_only, float fb[3])
+{
+    float m = prw_clamp01(metallic);
+    float s = prw_clamp01(specular);
+    float fms = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, ec_avg); /* = the specular lobe's fms_diel */
+    float e_o = s * ed_o + fms * ec_o;
+    float e_i = s * ed_i + fms * ec_i;
+    float e_avg = s * ed_avg + fms * ec_avg;
+    double ratio = (1.0 - e_o) * (1.0 - e_i) / (1.0 - e_avg);
+    for (int k = 0; k < 3; k++) fb[k] = (1.0 - m) * prw_lambert(base[k]) * ratio;
+    if (diffuse_only) return;
+    float alpha = prw_alpha_from_roughness(roughness);
+    float c = prw_clamp01(VoH);
+    float dv = prw_D_ggx(prw_clamp01(NoH), alpha) * prw_V_smith_ggx(mo, mi, alpha);
+    float ms = prw_ggx_ms_terms(ec_avg, ec_o, ec_i);
+    float f_diel = s * prw_F_dielectric(c);
+    float diel = dv * f_diel + ms * fms;
+    for (int k = 0; k < 3; k++) {
+        float f_metal = prw_F_schlick(base[k], c);
+        float fms_metal = prw_F_ms(base[k] + (1.0 - base[k]) * (1.0 / 21.0), ec_avg);
+        float metal = dv * f_metal + ms * fms_metal;
+        float spec = (1.0 - m) * diel + m * metal;
+        fb[k] += spec;
+    }
 }
 
 static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3],
@@ -110,14 +231,15 @@ static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3],
      * depend on the channel) evaluated once, those at wo once per shading point: the same float
      * operations, so the same bits. */
     float fb[3] = {0, 0, 0};
+    fit_basis bi, bc;
+    const fit_basis *have = NULL; /* the basis at mi, when computed */
     if (NoL > 0.0 && NoV > 0.0) {
         float mo = fminf(NoV, 1.0f), mi = fminf(NoL, 1.0f);
         float ec_avg = l->ec_avg, ed_avg = l->ed_avg, ec_o = l->ec_o, ed_o = l->ed_o;
-        float ec_i = prw_ggx_Ec_at(row_of(l->ec_row), mi), ed_i = prw_ggx_Ed_at(row_of(l->ed_row), mi);
-        for (int c = 0; c < 3; c++) {
-            fb[c] = prw_brdf_diffuse_terms(base[c], m, sp, ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i);
-            if (!diffuse_only) fb[c] += prw_brdf_specular_terms(mo, mi, NoH, VoH, base[c], m, r, sp, ec_avg, ec_o, ec_i);
-        }
+        basis_at(mi, &bi), have = &bi;
+        float ec_i, ed_i;
+        fit_at2(l->ec_row, l->ed_row, &bi, &ec_i, &ed_i);
+        base_terms(base, m, sp, r, mo, mi, NoH, VoH, ec_avg, ed_avg, ec_o, ec_i, ed_o, ed_i, diffuse_only, fb);
     }
     float cc = (float)b->clearcoat, c = prw_clamp01(cc);
     if (!has_coat(b) || c <= 0.0) {
@@ -130,11 +252,13 @@ static void eval(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3],
     coat_normal(b, nc);
     float NcV = (float)dot3(nc, wo), NcL = (float)dot3(nc, wi), NcH = (float)dot3(nc, h);
     float rc = (float)b->clearcoat_roughness;
-    float t = l->coat_t_o * coat_transmission_rows(l, NcL, cc);
+    /* the basis at NcL: the base's when the coat normal gives the same cosine (coat_n = n) */
+    const fit_basis *bl = basis_or(have, NcL, &bc);
+    float t = l->coat_t_o * coat_transmission_rows(l, bl, cc);
     float lobe = 0.0f;
-    if (!diffuse_only && NcL > 0.0 && NcV > 0.0) { /* prw_brdf_coat_lobe */
+    if (!diffuse_only && NcL > 0.0 && NcV > 0.0) { /* prw_brdf_coat_lobe; mi > 0 clamps to bl's cosine */
         float mi = PRW_B_MIN(NcL, 1.0);
-        lobe = prw_brdf_coat_terms(l->coat_mo, mi, NcH, VoH, rc, l->cc_avg, l->cc_o, prw_ggx_Ec_at(row_of(l->cc_row), mi));
+        lobe = prw_brdf_coat_terms(l->coat_mo, mi, NcH, VoH, rc, l->cc_avg, l->cc_o, fit_at(l->cc_row, bl));
     }
     for (int k = 0; k < 3; k++) f[k] = diffuse_only ? t * fb[k] : c * lobe + t * fb[k];
 }
@@ -288,11 +412,14 @@ static double coat_alpha(const prw_bsdf *b)
 
 /* Probability of the coat lobe: c E_coat(mu_c) against the base's estimated albedo under the coat;
  * 0 without a coat or when wo is below the coat's horizon. */
-static double coat_probability(const prw_bsdf *b, const coat_frame *f, const double wo[3], double base_albedo)
+static double coat_probability(const prw_bsdf *b, const prw_bsdf_lobes *l, const coat_frame *f, const double wo[3],
+                               double base_albedo)
 {
     double mu = dot3(wo, f->n), c = clampd(b->clearcoat, 0, 1);
     if (!(mu > 0) || !(c > 0)) return 0;
-    double w = c * prw_coat_albedo((float)mu, (float)clampd(b->clearcoat_roughness, 0, 1));
+    /* prw_coat_albedo((float)mu, rc) = the fits' coat_a_o: mu is NcV (the same product), the fits clamp
+     * rc as clampd does */
+    double w = c * l->coat_a_o;
     double wb = (1 - w) * base_albedo;
     if (!(w + wb > 0)) return 0.5;
     return clampd(w / (w + wb), 0.05, 0.95);
@@ -314,7 +441,7 @@ prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3])
     l.ps = spec_probability(b, &l, wo[2], &albedo);
     if (has_coat(b)) {
         coat_frame f = make_coat_frame(b);
-        l.pc = coat_probability(b, &f, wo, albedo);
+        l.pc = coat_probability(b, &l, &f, wo, albedo);
     }
     return l;
 }

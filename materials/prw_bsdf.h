@@ -58,6 +58,7 @@ typedef struct prw_bsdf_lobes {
     int lambert; /* no specular lobe (metallic 0, specular 0, no coat): f = base / pi, fits all zero */
     float ec_row[16], ed_row[16], ec_avg, ed_avg, ec_o, ed_o;         /* base, roughness */
     float cc_row[16], cd_row[16], cc_avg, coat_t_o, cc_o, coat_mo; /* coat, clearcoat roughness */
+    float coat_fms, coat_a_o; /* the coat's F_ms and its albedo at wo */
 } prw_bsdf_lobes;
 prw_bsdf_lobes prw_bsdf_lobes_at(const prw_bsdf *b, const double wo[3]);
 void prw_bsdf_eval_at(const prw_bsdf *b, const prw_bsdf_lobes *l, const double wo[3], const double wi[3], double f[3]);

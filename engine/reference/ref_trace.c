@@ -557,15 +557,19 @@ static void setup_shade(const prw_ref_renderer *r, const surf *s, const double d
  * (prw_brdf_diffuse_channel of the shared model) of the BSDF value fv for direction wl (local). */
 static void class_weight(prw_ref_filter f, const shade *sh, const double wl[3], const double fv[3], double cw[3])
 {
+    bool diffuse = f.kind == PRW_REF_DIFFUSE_LAST || f.kind == PRW_REF_INDIRECT_DIFFUSE_LAST;
+    bool glossy = f.kind == PRW_REF_GLOSSY_LAST || f.kind == PRW_REF_INDIRECT_GLOSSY_LAST;
+    if (!diffuse && !glossy) { /* the other filters weigh every class 1: no diffuse evaluation */
+        cw[0] = cw[1] = cw[2] = 1;
+        return;
+    }
     double kd[3];
     if (sh->btf) memcpy(kd, fv, sizeof kd); /* a BTF has no lobes: it counts as diffuse */
     else prw_bsdf_eval_diffuse_at(&sh->b, &sh->lobes, sh->wo, wl, kd);
     for (int c = 0; c < 3; c++) {
         double x = fv[c] > 0 ? kd[c] / fv[c] : 0;
         x = fmin(fmax(x, 0.0), 1.0);
-        bool diffuse = f.kind == PRW_REF_DIFFUSE_LAST || f.kind == PRW_REF_INDIRECT_DIFFUSE_LAST;
-        bool glossy = f.kind == PRW_REF_GLOSSY_LAST || f.kind == PRW_REF_INDIRECT_GLOSSY_LAST;
-        cw[c] = diffuse ? x : glossy ? 1 - x : 1;
+        cw[c] = diffuse ? x : 1 - x;
     }
 }
 

@@ -521,6 +521,55 @@ static void test_coat_albedo(void)
            worst_e, checked, worst);
 }
 
+/* prw_bsdf_eval / _eval_diffuse are the header's prw_brdf_coated_channel / _diffuse_channel per channel
+ * to the bit (prw_bsdf.c evaluates the fits its own way: shared Chebyshev bases, per-thread roughness
+ * rows), with the arguments prw_bsdf.c derives from the vectors.  Roughness values come from a pool of
+ * 7 (more than the row cache holds, so rows are evicted and refilled) or are drawn; coat normals are
+ * +Z (the bases of base and coat coincide) or tilted. */
+static void test_header_bits(void)
+{
+    mt_rng r = {77};
+    const double pool[7] = {0.0, 0.15, 0.3, sqrt(0.05), 0.5, 0.7, 1.0};
+    int n = 40000, differ = 0, differ_d = 0;
+    for (int k = 0; k < n; k++) {
+        prw_bsdf b = random_coated(&r);
+        if (mt_rand(&r) < 0.5) b.clearcoat = 0;
+        if (mt_rand(&r) < 0.5) b.coat_n[0] = b.coat_n[1] = b.coat_n[2] = 0;
+        if (mt_rand(&r) < 0.7) b.roughness = pool[(int)(7 * mt_rand(&r)) % 7];
+        if (mt_rand(&r) < 0.7) b.clearcoat_roughness = pool[(int)(7 * mt_rand(&r)) % 7];
+        double wo[3], wi[3], f[3], fd[3], nc[3] = {0, 0, 1};
+        random_dir(&r, wo, 1e-4);
+        random_dir(&r, wi, 1e-4);
+        if (b.coat_n[0] != 0 || b.coat_n[1] != 0 || b.coat_n[2] != 0)
+            for (int q = 0; q < 3; q++) nc[q] = b.coat_n[q];
+        prw_bsdf_eval(&b, wo, wi, f);
+        prw_bsdf_eval_diffuse(&b, wo, wi, fd);
+        double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
+        double hl = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+        for (int q = 0; q < 3; q++) h[q] /= hl;
+        double oh = wo[0] * h[0] + wo[1] * h[1] + wo[2] * h[2], ih = wi[0] * h[0] + wi[1] * h[1] + wi[2] * h[2];
+        float NoH = (float)h[2], VoH = (float)(0.5 * (oh + ih));
+        float cv = (float)(nc[0] * wo[0] + nc[1] * wo[1] + nc[2] * wo[2]);
+        float cl = (float)(nc[0] * wi[0] + nc[1] * wi[1] + nc[2] * wi[2]);
+        float ch = (float)(nc[0] * h[0] + nc[1] * h[1] + nc[2] * h[2]);
+        for (int c = 0; c < 3; c++) {
+            float a = prw_brdf_coated_channel((float)wo[2], (float)wi[2], NoH, VoH, cv, cl, ch, (float)b.base[c],
+                                              (float)b.metallic, (float)b.roughness, (float)b.specular,
+                                              (float)b.clearcoat, (float)b.clearcoat_roughness);
+            float d = prw_brdf_coated_diffuse_channel((float)wo[2], (float)wi[2], cv, cl, (float)b.base[c],
+                                                      (float)b.metallic, (float)b.roughness, (float)b.specular,
+                                                      (float)b.clearcoat, (float)b.clearcoat_roughness);
+            if ((float)f[c] != a || (double)(float)f[c] != f[c]) differ++;
+            if ((float)fd[c] != d || (double)(float)fd[c] != fd[c]) differ_d++;
+        }
+    }
+    printf("header bits: %d configurations x 3 channels: prw_bsdf_eval differs from prw_brdf_coated_channel in %d, "
+           "prw_bsdf_eval_diffuse from prw_brdf_coated_diffuse_channel in %d\n",
+           n, differ, differ_d);
+    CHECK(differ == 0);
+    CHECK(differ_d == 0);
+}
+
 /* The coated model never reflects more than it receives: max albedo over a grid (base white metal,
  * white dielectric, coat weights and roughnesses). */
 static void test_coat_energy(void)
@@ -546,6 +595,7 @@ static const prw_test_case cases[] = {
     {"reciprocity", test_reciprocity},   {"lambert_albedo", test_lambert_albedo},
     {"lambert_exact", test_lambert_exact}, {"fresnel_exact", test_fresnel_exact},
     {"ggx_albedo", test_ggx_albedo},     {"energy", test_energy},
+    {"header_bits", test_header_bits},
 };
 
 int main(int argc, char **argv) { return prw_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0])); }
