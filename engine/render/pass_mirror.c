@@ -220,8 +220,8 @@ static double reflection_share(const reflector *r, const prw_scene *s, const prw
 }
 
 /* The rectangle [b0, b2) x [b1, b3) in view pixels (y down, as the base pass draws) bounding the
- * reflector's corners' projections, clipped to the view; the whole view when a corner lies behind the
- * eye.  false with why when no pixel can show the reflector's front. */
+ * projection of the reflector's corners' convex hull (its part in front of the eye), clipped to the view.
+ * false with why when no pixel can show the reflector's front. */
 static bool reflector_bounds(const reflector *r, const prw_view *v, double b[4], const char **why)
 {
     double s = prw_v3_dot(r->n, v->eye) - r->d;
@@ -232,22 +232,34 @@ static bool reflector_bounds(const reflector *r, const prw_view *v, double b[4],
     if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), false;
     prw_dmat4 vp = prw_dm4_mul(prw_view_proj(v), v->view); /* absolute world -> clip */
     double x0 = DBL_MAX, y0 = DBL_MAX, x1 = -DBL_MAX, y1 = -DBL_MAX;
+    double c[MIRROR_MAX_CORNERS][3]; /* clip x, y, w */
+    const double wmin = v->znear * 1e-3;
     uint32_t behind = 0;
     for (uint32_t k = 0; k < r->corner_count; k++) {
         prw_dvec3 p = r->corners[k];
         const double *m = vp.m;
-        double cx = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
-        double cy = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
-        double cw = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
-        if (cw <= v->znear * 1e-3) {
+        c[k][0] = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
+        c[k][1] = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
+        c[k][2] = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
+        if (c[k][2] <= wmin) {
             behind++;
             continue;
         }
-        double px = (cx / cw * 0.5 + 0.5) * v->width, py = (cy / cw * 0.5 + 0.5) * v->height;
+        double px = (c[k][0] / c[k][2] * 0.5 + 0.5) * v->width, py = (c[k][1] / c[k][2] * 0.5 + 0.5) * v->height;
         x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
     }
     if (behind == r->corner_count) return (*why = "mirror behind the eye"), false;
-    if (behind) x0 = y0 = 0, x1 = v->width, y1 = v->height; /* it crosses the eye's plane */
+    /* it crosses the eye's plane: the part of the corners' convex hull in front of w = wmin is the hull of
+     * the corners there and of the points where the segments between a corner in front and one behind
+     * cross it (projected, far out in their direction; clipped to the view below) */
+    for (uint32_t a = 0; behind && a < r->corner_count; a++)
+        for (uint32_t k = 0; c[a][2] > wmin && k < r->corner_count; k++) {
+            if (c[k][2] > wmin) continue;
+            double t = (c[a][2] - wmin) / (c[a][2] - c[k][2]);
+            double cx = c[a][0] + t * (c[k][0] - c[a][0]), cy = c[a][1] + t * (c[k][1] - c[a][1]);
+            double px = (cx / wmin * 0.5 + 0.5) * v->width, py = (cy / wmin * 0.5 + 0.5) * v->height;
+            x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
+        }
     b[0] = fmax(x0, 0), b[1] = fmax(y0, 0), b[2] = fmin(x1, v->width), b[3] = fmin(y1, v->height);
     return true;
 }
