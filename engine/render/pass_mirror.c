@@ -1,21 +1,23 @@
 /* pass_mirror — planar mirrors (DESIGN.md §4: the specular term of a reflector of roughness ~0), two
- * passes per view:
+ * passes per view, three with a glossy reflector:
  *   mirror      the scene's drawables re-rendered from the view reflected in the reflector's plane
  *               (camera-relative to the reflected eye, double until then), winding flipped, with a user
  *               clip plane just in front of the mirror (gl_ClipDistance: what lies behind it is not
  *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size times the knob
- *               mirror_scale, one sample);
+ *               mirror_scale, one sample; a glossy reflector only into its top-left part, the knob
+ *               glossy_scale's fraction of it);
  *               emission left out (globals params.z): a light seen in the mirror is carried by the
  *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2:
  *               direct light at the reflected surfaces and, with light maps, their baked indirect diffuse
  *               (the recipe is `lightmapped`: the base pass's PRW_PIPE_GI pipelines with the clip plane).
+ *   mirror_glossy  for a glossy reflector (roughness above 0.05): on that part's grid, the mirror image
+ *               convolved by the reflected GGX lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from
+ *               "mirror_depth", kernel_taps taps importance-sampled from D_GGX cos over the cone holding
+ *               99.5 % of it; mirror_glossy.frag) into "mirror_glossy", in the texels mirror_add reads.
  *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
  *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag; at
- *               mirror_scale < 1 looked up bilinearly, its depth at the nearest texel); for a
- *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
- *               lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from "mirror_depth", kernel_taps taps
- *               importance-sampled from D_GGX cos over the cone holding 99.5 % of it) times the split-sum
- *               reflectance F0 A + B (prw_env_dfg) instead.
+ *               mirror_scale < 1 looked up bilinearly); for a glossy reflector "mirror_glossy" (bilinear)
+ *               times the split-sum reflectance F0 A + B (prw_env_dfg) instead.
  * So the final image = base pass + this term.
  *
  * Reflectors (found when the graph is built): the drawn meshes of a material of roughness <= 0.05 (or up to
