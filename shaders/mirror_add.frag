@@ -6,20 +6,14 @@
 // (G-buffer id), adds the mirror image times the specular lobe's reflectance at the view angle,
 // per channel: metallic * Schlick(F0 = base) + (1 - metallic) * specular * exact dielectric Fresnel
 // (prw_brdf.h, the path tracer's model at roughness -> 0).  Elsewhere adds nothing.
-// Glossy reflector (pc.glossy.x = alpha > 0): the mirror image convolved by the reflected GGX lobe
-// (DESIGN.md §4): a half vector tilted by theta_h moves the reflected ray by ~2 theta_h, so the
-// reflected point (z_r behind the reflection point along the ray, d_m its depth in the mirror image)
-// moves by r = 2 z_r tan(theta_h), r f_px / d_m pixels.  The taps draw tan(theta_h) from D_GGX cos
-// (tan^2 = alpha^2 u / (1 - u)), u stratified over [0, 0.995): the cone holding 99.5 % of the lobe
-// (tan = 14 alpha; DESIGN's 90 % cone, tan(beta) = 3 alpha, cuts GGX's long tail, which the
-// reference shows), golden-angle azimuths (rotated per pixel), the axis
-// across the plane of incidence shortened by mu = n.v (below), equal weights, summed in float;
-// times the split-sum reflectance per channel: metallic (base A + B) + (1 - metallic) specular (0.04 A + B).
+// Glossy reflector (pc.glossy.x = alpha > 0): the mirror image convolved by the reflected GGX lobe,
+// computed on the mirror image's grid by mirror_glossy.frag, read bilinearly, times the split-sum
+// reflectance per channel: metallic (base A + B) + (1 - metallic) specular (0.04 A + B).
 
 layout(set = 0, binding = 0) uniform sampler2D u_mirror;  // the mirrored view's radiance (the target's grid x mirror_scale)
 layout(set = 0, binding = 1) uniform sampler2D u_normal;  // G-buffer: camera-relative normal, roughness
 layout(set = 0, binding = 2) uniform usampler2D u_id;     // G-buffer: material slot + 1
-layout(set = 0, binding = 3) uniform sampler2D u_mdepth;  // the mirrored view's depth (reversed infinite Z)
+layout(set = 0, binding = 3) uniform sampler2D u_glossy;  // glossy: the convolved mirror image (its grid)
 layout(set = 0, binding = 4) uniform prw_mirror_dfg {
     vec4 dfg[32]; // xy: split-sum A, B at mu = (i + 0.5) / 32 for the reflector's roughness
 } u_dfg;
@@ -28,16 +22,8 @@ layout(push_constant) uniform prw_mirror_push {
     mat4 inv_view_proj; // clip -> camera-relative world of the real view
     vec4 base;          // rgb: base colour, a: metallic
     vec4 misc;          // x: specular, y: material id (slot + 1), zw: target size in pixels
-    vec4 glossy;        // x: alpha (0: sharp mirror), y: eye's distance to the plane, z: f_px, w: taps
-    vec4 fwd;           // xyz: unit view axis, w: near plane distance
+    vec4 glossy;        // x: alpha (0: sharp mirror)
 } pc;
-
-// camera-relative direction (unnormalised) of the ray through pixel position xy
-vec3 ray_dir(vec2 xy)
-{
-    vec4 q = pc.inv_view_proj * vec4(xy / pc.misc.zw * 2.0 - 1.0, 1.0, 1.0);
-    return q.xyz / q.w;
-}
 
 vec3 finite_or_zero(vec3 L) { return (any(isnan(L)) || any(isinf(L))) ? vec3(0.0) : L; }
 
@@ -61,40 +47,9 @@ void main()
     float mu = clamp(abs(dot(n, v)), 0.0, 1.0);
     float m = clamp(pc.base.a, 0.0, 1.0);
     // the mirror image may be smaller than the target (knob mirror_scale): then upsampled bilinearly
-    vec2 msize = vec2(textureSize(u_mirror, 0));
-    bool full = msize == pc.misc.zw;
-    ivec2 mp = full ? p : min(ivec2(gl_FragCoord.xy * msize / pc.misc.zw), ivec2(msize) - 1);
+    bool full = vec2(textureSize(u_mirror, 0)) == pc.misc.zw;
     if (pc.glossy.x > 0.0) {
-        float mdepth = texelFetch(u_mdepth, mp, 0).r;
-        float cphi = max(dot(v, -pc.fwd.xyz), 1e-4);                 // ray against the view axis
-        float ts = pc.glossy.y / max(abs(dot(n, v)), 1e-4);          // eye to the reflection point
-        float dm = mdepth > 0.0 ? pc.fwd.w / mdepth : 1e30;          // depth in the mirror image
-        float zr = max(dm / cphi - ts, 0.0);
-        float k = 2.0 * zr * pc.glossy.z / dm;                       // pixels per unit tan(theta_h)
-        float rmax = 0.25 * pc.misc.w;
-        int taps = max(int(pc.glossy.w), 1);
-        // anisotropy: a half-vector tilt eps in the plane of incidence turns the reflected ray by
-        // 2 eps, one across it by 2 eps mu; on screen the plane of incidence is the line through this
-        // pixel where the rays stay in it (ray . b = 0, b its normal): g = grad(ray . b)
-        vec3 b = cross(n, v);
-        float lb = length(b);
-        vec2 s_in = vec2(0.0, 1.0), s_across = vec2(1.0, 0.0);
-        if (lb > 1e-6) {
-            b /= lb;
-            vec2 g = vec2(dot(normalize(ray_dir(gl_FragCoord.xy + vec2(1.0, 0.0))), b),
-                          dot(normalize(ray_dir(gl_FragCoord.xy + vec2(0.0, 1.0))), b));
-            float lg = length(g);
-            if (lg > 1e-12) s_across = g / lg, s_in = vec2(-s_across.y, s_across.x);
-        }
-        float rot = fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715)))) * 6.2831853;
-        vec3 sum = vec3(0.0);
-        for (int i = 0; i < taps; i++) {
-            float u = 0.995 * (float(i) + 0.5) / float(taps);
-            float r = min(k * pc.glossy.x * sqrt(u / (1.0 - u)), rmax);
-            float a = rot + 2.39996323 * float(i);
-            vec2 q = (gl_FragCoord.xy + r * (cos(a) * s_in + mu * sin(a) * s_across)) / pc.misc.zw;
-            sum += finite_or_zero(textureLod(u_mirror, q, 0.0).rgb);
-        }
+        vec3 sum = finite_or_zero(textureLod(u_glossy, gl_FragCoord.xy / pc.misc.zw, 0.0).rgb);
         float x = clamp(mu * 32.0 - 0.5, 0.0, 31.0);
         int i0 = int(floor(x));
         vec2 ab = mix(u_dfg.dfg[i0].xy, u_dfg.dfg[min(i0 + 1, 31)].xy, x - float(i0));
@@ -103,7 +58,7 @@ void main()
         float fs = prw_F_schlick(0.04, mu);
         float sd = (1.0 - m) * clamp(pc.misc.x, 0.0, 1.0) * (0.04 * ab.x + ab.y) * (fs > 0.0 ? prw_F_dielectric(mu) / fs : 1.0);
         vec3 Fg = m * (pc.base.rgb * ab.x + ab.y) + sd;
-        o_color = vec4(Fg * sum / float(taps), 0.0);
+        o_color = vec4(Fg * sum, 0.0);
         return;
     }
     vec3 F;

@@ -1,21 +1,23 @@
 /* pass_mirror — planar mirrors (DESIGN.md §4: the specular term of a reflector of roughness ~0), two
- * passes per view:
+ * passes per view, three with a glossy reflector:
  *   mirror      the scene's drawables re-rendered from the view reflected in the reflector's plane
  *               (camera-relative to the reflected eye, double until then), winding flipped, with a user
  *               clip plane just in front of the mirror (gl_ClipDistance: what lies behind it is not
  *               seen in it), into "mirror_hdr" + "mirror_depth" (the view's internal size times the knob
- *               mirror_scale, one sample);
+ *               mirror_scale, one sample; a glossy reflector only into its top-left part, the knob
+ *               glossy_scale's fraction of it);
  *               emission left out (globals params.z): a light seen in the mirror is carried by the
  *               direct term's specular lobe at the mirror (k = 1 paths), so the image holds k >= 2:
  *               direct light at the reflected surfaces and, with light maps, their baked indirect diffuse
  *               (the recipe is `lightmapped`: the base pass's PRW_PIPE_GI pipelines with the clip plane).
+ *   mirror_glossy  for a glossy reflector (roughness above 0.05): on that part's grid, the mirror image
+ *               convolved by the reflected GGX lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from
+ *               "mirror_depth", kernel_taps taps importance-sampled from D_GGX cos over the cone holding
+ *               99.5 % of it; mirror_glossy.frag) into "mirror_glossy", in the texels mirror_add reads.
  *   mirror_add  full screen, additive into the base pass's radiance: in the pixels whose G-buffer
  *               material id is the reflector's, Fresnel(n.v) x the mirror image (mirror_add.frag; at
- *               mirror_scale < 1 looked up bilinearly, its depth at the nearest texel); for a
- *               glossy reflector (roughness above 0.05) the mirror image convolved by the reflected GGX
- *               lobe (DESIGN.md §4: radius 2 z_r tan(theta_h), z_r from "mirror_depth", kernel_taps taps
- *               importance-sampled from D_GGX cos over the cone holding 99.5 % of it) times the split-sum
- *               reflectance F0 A + B (prw_env_dfg) instead.
+ *               mirror_scale < 1 looked up bilinearly); for a glossy reflector "mirror_glossy" (bilinear)
+ *               times the split-sum reflectance F0 A + B (prw_env_dfg) instead.
  * So the final image = base pass + this term.
  *
  * Reflectors (found when the graph is built): the drawn meshes of a material of roughness <= 0.05 (or up to
@@ -220,8 +222,8 @@ static double reflection_share(const reflector *r, const prw_scene *s, const prw
 }
 
 /* The rectangle [b0, b2) x [b1, b3) in view pixels (y down, as the base pass draws) bounding the
- * reflector's corners' projections, clipped to the view; the whole view when a corner lies behind the
- * eye.  false with why when no pixel can show the reflector's front. */
+ * projection of the reflector's corners' convex hull (its part in front of the eye), clipped to the view.
+ * false with why when no pixel can show the reflector's front. */
 static bool reflector_bounds(const reflector *r, const prw_view *v, double b[4], const char **why)
 {
     double s = prw_v3_dot(r->n, v->eye) - r->d;
@@ -232,22 +234,34 @@ static bool reflector_bounds(const reflector *r, const prw_view *v, double b[4],
     if (s < 0 && !r->two_sided) return (*why = "mirror seen from its back"), false;
     prw_dmat4 vp = prw_dm4_mul(prw_view_proj(v), v->view); /* absolute world -> clip */
     double x0 = DBL_MAX, y0 = DBL_MAX, x1 = -DBL_MAX, y1 = -DBL_MAX;
+    double c[MIRROR_MAX_CORNERS][3]; /* clip x, y, w */
+    const double wmin = v->znear * 1e-3;
     uint32_t behind = 0;
     for (uint32_t k = 0; k < r->corner_count; k++) {
         prw_dvec3 p = r->corners[k];
         const double *m = vp.m;
-        double cx = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
-        double cy = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
-        double cw = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
-        if (cw <= v->znear * 1e-3) {
+        c[k][0] = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
+        c[k][1] = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
+        c[k][2] = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
+        if (c[k][2] <= wmin) {
             behind++;
             continue;
         }
-        double px = (cx / cw * 0.5 + 0.5) * v->width, py = (cy / cw * 0.5 + 0.5) * v->height;
+        double px = (c[k][0] / c[k][2] * 0.5 + 0.5) * v->width, py = (c[k][1] / c[k][2] * 0.5 + 0.5) * v->height;
         x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
     }
     if (behind == r->corner_count) return (*why = "mirror behind the eye"), false;
-    if (behind) x0 = y0 = 0, x1 = v->width, y1 = v->height; /* it crosses the eye's plane */
+    /* it crosses the eye's plane: the part of the corners' convex hull in front of w = wmin is the hull of
+     * the corners there and of the points where the segments between a corner in front and one behind
+     * cross it (projected, far out in their direction; clipped to the view below) */
+    for (uint32_t a = 0; behind && a < r->corner_count; a++)
+        for (uint32_t k = 0; c[a][2] > wmin && k < r->corner_count; k++) {
+            if (c[k][2] > wmin) continue;
+            double t = (c[a][2] - wmin) / (c[a][2] - c[k][2]);
+            double cx = c[a][0] + t * (c[k][0] - c[a][0]), cy = c[a][1] + t * (c[k][1] - c[a][1]);
+            double px = (cx / wmin * 0.5 + 0.5) * v->width, py = (cy / wmin * 0.5 + 0.5) * v->height;
+            x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
+        }
     b[0] = fmax(x0, 0), b[1] = fmax(y0, 0), b[2] = fmin(x1, v->width), b[3] = fmin(y1, v->height);
     return true;
 }
@@ -318,6 +332,48 @@ static uint32_t max_drawn(const prw_render_env *env)
 static const char *const HDR_NAMES[MIRROR_MAX_DRAWN] = {"mirror_hdr", "mirror_hdr1", "mirror_hdr2", "mirror_hdr3"};
 static const char *const DEPTH_NAMES[MIRROR_MAX_DRAWN] = {"mirror_depth", "mirror_depth1", "mirror_depth2",
                                                           "mirror_depth3"};
+/* the glossy convolution of mirror image k (pass mirror_glossy; declared when a reflector is glossy) */
+static const char *const GLOSSY_NAMES[MIRROR_MAX_DRAWN] = {"mirror_glossy", "mirror_glossy1", "mirror_glossy2",
+                                                           "mirror_glossy3"};
+
+static bool is_glossy(const prw_scene *s, const reflector *r)
+{
+    return s->materials[r->material].roughness > MIRROR_MAX_ROUGHNESS;
+}
+
+/* Whether the scene has a glossy reflector (then the graph holds the mirror_glossy images and pass). */
+static bool any_glossy(const prw_render_env *env)
+{
+    reflector_set *set = prw_calloc(1, sizeof *set);
+    reflectors_find(env->scene, &env->desc->quality, false, set);
+    bool any = false;
+    for (uint32_t k = 0; k < set->count; k++) any = any || is_glossy(env->scene, &set->r[k]);
+    free(set);
+    return any;
+}
+
+/* The mirror images' declaration (knob mirror_scale: a smaller image, upsampled by mirror_add). */
+static prw_image_decl mirror_decl(const prw_render_env *env)
+{
+    prw_image_decl hdr = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL};
+    double scale = env->desc->quality.mirror_scale;
+    if (scale > 0 && scale < 1) {
+        hdr.size = PRW_SIZE_FIXED;
+        hdr.width = (uint32_t)fmax(1.0, round(env->desc->width * scale));
+        hdr.height = (uint32_t)fmax(1.0, round(env->desc->height * scale));
+    }
+    return hdr;
+}
+
+/* The glossy reflectors' part of a mirror image of w x h (knob glossy_scale): its top-left sw x sh, the
+ * mirror_glossy images' size. */
+static void glossy_size(const prw_render_env *env, uint32_t w, uint32_t h, uint32_t *sw, uint32_t *sh)
+{
+    double g = env->desc->quality.glossy_scale;
+    if (!(g > 0 && g < 1)) g = 1;
+    *sw = (uint32_t)fmin(w, fmax(1.0, round(w * g)));
+    *sh = (uint32_t)fmin(h, fmax(1.0, round(h * g)));
+}
 
 /* The mirror images the graph holds (0: the passes are not in the graph, skip reason given). */
 static uint32_t in_graph(prw_setup *s)
@@ -367,13 +423,7 @@ static void mirror_setup(prw_setup *s)
     uint32_t n = in_graph(s);
     if (!n) return;
     const prw_render_env *env = prw_setup_env(s);
-    prw_image_decl hdr = {.format = prw_pipes_radiance_format(env), .size = PRW_SIZE_INTERNAL};
-    double scale = env->desc->quality.mirror_scale;
-    if (scale > 0 && scale < 1) { /* the knob mirror_scale: a smaller image, upsampled by mirror_add */
-        hdr.size = PRW_SIZE_FIXED;
-        hdr.width = (uint32_t)fmax(1.0, round(env->desc->width * scale));
-        hdr.height = (uint32_t)fmax(1.0, round(env->desc->height * scale));
-    }
+    prw_image_decl hdr = mirror_decl(env);
     prw_image_decl depth = hdr;
     depth.format = PRW_DEPTH_FORMAT;
     for (uint32_t k = 0; k < n; k++) {
@@ -450,6 +500,12 @@ static bool mirror_record_one(prw_pass_ctx *c, mirror_state *m, const reflector 
     const prw_view *v = &c->frame->views[c->view];
     prw_view mv = mirrored_view(r, v);
     double s = prw_v3_dot(r->n, v->eye) - r->d;
+    prw_gpu_image *hdr = prw_pass_image(c, HDR_NAMES[k]), *depth = prw_pass_image(c, DEPTH_NAMES[k]);
+    /* a glossy reflector's image fills the top-left part the knob glossy_scale gives (mirror_glossy reads it) */
+    bool glossy = is_glossy(env->scene, r);
+    uint32_t w = hdr->width, h = hdr->height;
+    if (glossy) glossy_size(env, hdr->width, hdr->height, &w, &h);
+    mv.width = w, mv.height = h;
     prw_gpu_globals g;
     prw_view_globals_fill(env->scene, env->shadows, env->desc->quality.shadow_size, &mv, mv.eye, &g);
     g.params[2] = 1.0f; /* no emission in the mirror image */
@@ -462,13 +518,13 @@ static bool mirror_record_one(prw_pass_ctx *c, mirror_state *m, const reflector 
     dv.clip_plane[0] = (float)(sign * r->n.x), dv.clip_plane[1] = (float)(sign * r->n.y);
     dv.clip_plane[2] = (float)(sign * r->n.z);
     dv.clip_plane[3] = (float)(sign * (prw_v3_dot(r->n, mv.eye) - r->d) - MIRROR_CLIP_OFFSET);
-    prw_gpu_image *hdr = prw_pass_image(c, HDR_NAMES[k]), *depth = prw_pass_image(c, DEPTH_NAMES[k]);
     VkRenderingAttachmentInfo ca = prw_pipes_color_attachment(hdr, NULL, VK_RESOLVE_MODE_NONE, 0);
     VkRenderingAttachmentInfo da = prw_pipes_depth_attachment(depth);
     /* only the part of the mirror image that mirror_add reads: the reflector's pixels, and for a glossy one
-     * its kernel's reach around them (mirror_add.frag caps the radius at a quarter of the view's height) */
-    bool glossy = env->scene->materials[r->material].roughness > MIRROR_MAX_ROUGHNESS;
-    VkRect2D area = reflector_rect(r, v, glossy ? 0.25 * v->height + 2 : 2, hdr->width, hdr->height);
+     * its kernel's reach (mirror_glossy.frag caps the radius at a quarter of the view's height) around the
+     * texels mirror_glossy computes (one texel beyond the reflector's pixels) */
+    double texel = (double)v->width / w;
+    VkRect2D area = reflector_rect(r, v, glossy ? 0.25 * v->height + 2 + 2 * texel : 2, w, h);
     VkRenderingInfo rinfo = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
                              .renderArea = area,
                              .layerCount = 1,
@@ -478,7 +534,7 @@ static bool mirror_record_one(prw_pass_ctx *c, mirror_state *m, const reflector 
     prw_draw_ctx dc = {.cmd = c->cmd, .kind = PRW_DRAW_COLOR, .view = &dv, .pipes = env->pipes, .recipe = &m->recipe,
                        .sg = env->sg, .layout = env->pipes->base_layout};
     prw_pass_begin_rendering(c, &rinfo);
-    prw_cmd_viewport(c->cmd, hdr->width, hdr->height);
+    prw_cmd_viewport(c->cmd, w, h);
     vkCmdSetScissor(c->cmd, 0, 1, &area);
     vkCmdPushConstants(c->cmd, env->pipes->base_layout, VK_SHADER_STAGE_ALL, PRW_CLIP_PUSH_OFFSET, 16, dv.clip_plane);
     prw_drawables_record(env->drawables, env, &dc);
@@ -513,14 +569,187 @@ const prw_pass prw_pass_mirror = {
     .record = mirror_record,
 };
 
+/* ---- mirror_glossy: the glossy reflectors' convolution, on the mirror image's grid ---- */
+
+typedef struct glossy_push {
+    float inv_view_proj[16];
+    float plane[4];  /* xyz: the reflector's unit normal, w: its material id (slot + 1) */
+    float glossy[4]; /* alpha, |eye - plane| in m, f_px = H / (2 tan(fov_y / 2)) in view pixels, taps */
+    float fwd[4];    /* xyz: the view axis (unit, world orientation), w: near plane distance */
+    float size[4];   /* the view's width, height; the mirror image's */
+} glossy_push;
+
+typedef struct glossy_state {
+    reflector_set set;
+    uint32_t images; /* mirror images in the graph */
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipe;
+    VkDescriptorSet sets[PRW_MAX_VIEWS][MIRROR_MAX_DRAWN]; /* mirror image k's */
+} glossy_state;
+
+static void glossy_setup(prw_setup *s)
+{
+    uint32_t n = in_graph(s);
+    if (!n) return;
+    const prw_render_env *env = prw_setup_env(s);
+    if (!any_glossy(env)) {
+        prw_setup_skip(s, "no glossy planar reflector in the scene");
+        return;
+    }
+    prw_image_decl d = mirror_decl(env);
+    uint32_t w = d.width, h = d.height;
+    if (d.size == PRW_SIZE_INTERNAL) w = env->desc->width, h = env->desc->height;
+    d.size = PRW_SIZE_FIXED;
+    glossy_size(env, w, h, &d.width, &d.height);
+    d.clear_at_create = true; /* mirror_add binds it also in frames that reflect only sharp mirrors */
+    for (uint32_t k = 0; k < n; k++) {
+        prw_setup_image(s, GLOSSY_NAMES[k], &d);
+        prw_setup_use(s, GLOSSY_NAMES[k], PRW_USE_COLOR);
+        prw_setup_use(s, HDR_NAMES[k], PRW_USE_SAMPLED);
+        prw_setup_use(s, DEPTH_NAMES[k], PRW_USE_SAMPLED);
+    }
+    prw_setup_use(s, "gbuf_id", PRW_USE_SAMPLED);
+}
+
+static bool glossy_create(const prw_pass_init *in, void **state, prw_error *e)
+{
+    const prw_render_env *env = in->env;
+    glossy_state *gs = prw_calloc(1, sizeof *gs);
+    *state = gs;
+    reflectors_find(env->scene, &env->desc->quality, env->lm->active, &gs->set);
+    gs->images = gs->set.count < max_drawn(env) ? gs->set.count : max_drawn(env);
+    VkDescriptorSetLayoutBinding b[3] = {
+        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    };
+    if (!prw_desc_layout_create(env->gpu, b, 3, &gs->set_layout, e) ||
+        !prw_pipeline_layout_create(env->gpu, &gs->set_layout, 1, sizeof(glossy_push), &gs->layout, e))
+        return false;
+    prw_graphics_desc d = {
+        .vs = prw_shader_tonemap_fs_vert(),
+        .fs = prw_shader_mirror_glossy_frag(),
+        .layout = gs->layout,
+        .color_formats = {prw_pipes_radiance_format(env)},
+        .color_count = 1,
+    };
+    if (!prw_pipeline_graphics(env->gpu, &d, &gs->pipe, e)) return false;
+    for (uint32_t v = 0; v < env->desc->max_views; v++)
+        for (uint32_t i = 0; i < gs->images; i++) {
+            if (!prw_desc_alloc(env->gpu, env->pool, gs->set_layout, &gs->sets[v][i], e)) return false;
+            const char *names[3] = {HDR_NAMES[i], DEPTH_NAMES[i], "gbuf_id"};
+            for (uint32_t k = 0; k < 3; k++) {
+                prw_gpu_image *img = prw_graph_image(in->graph, names[k], v);
+                if (!img) return prw_fail(e, "mirror_glossy: graph image %s missing", names[k]);
+                prw_desc_write_image(env->gpu, gs->sets[v][i], k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                     img->view,
+                                     prw_gpu_sampler(env->gpu, k == 0 ? PRW_SAMPLER_LINEAR_CLAMP : PRW_SAMPLER_NEAREST_CLAMP),
+                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+            }
+        }
+    return true;
+}
+
+static void glossy_destroy(const prw_pass_init *in, void *state)
+{
+    glossy_state *gs = state;
+    if (!gs) return;
+    VkDevice dev = prw_gpu_device(in->env->gpu);
+    if (gs->pipe) prw_pipeline_release(in->env->gpu, gs->pipe);
+    if (gs->layout) vkDestroyPipelineLayout(dev, gs->layout, NULL);
+    if (gs->set_layout) vkDestroyDescriptorSetLayout(dev, gs->set_layout, NULL);
+    free(gs);
+}
+
+static bool glossy_needed(const prw_pass_ctx *c, const char **why)
+{
+    const glossy_state *gs = c->state;
+    if (c->frame->mode != PRW_FRAME_LOOP) return (*why = "multiview and reprojected stereo frames not yet"), false;
+    int pick[MIRROR_MAX_DRAWN];
+    uint32_t n = reflectors_pick(&gs->set, c->env->scene, &c->frame->views[c->view], gs->images, pick, why);
+    for (uint32_t k = 0; k < n; k++)
+        if (is_glossy(c->env->scene, &gs->set.r[pick[k]])) return true;
+    if (n) *why = "no glossy reflector reflected in the view";
+    return false;
+}
+
+static bool glossy_record(prw_pass_ctx *c, prw_error *e)
+{
+    const prw_render_env *env = c->env;
+    glossy_state *gs = c->state;
+    const prw_view *v = &c->frame->views[c->view];
+    const char *why;
+    int pick[MIRROR_MAX_DRAWN];
+    uint32_t n = reflectors_pick(&gs->set, env->scene, v, gs->images, pick, &why);
+    if (n == 0) return prw_fail(e, "mirror_glossy: %s", why);
+    prw_mat4 vp = prw_view_globals_view_proj(v, v->eye); /* camera-relative, as the base pass draws */
+    prw_dmat4 vpd, inv;
+    for (int k = 0; k < 16; k++) vpd.m[k] = vp.m[k];
+    if (!prw_dm4_inverse(vpd, &inv)) return prw_fail(e, "mirror_glossy: singular view-projection");
+    prw_dvec3 f = prw_v3(-v->view.m[2], -v->view.m[6], -v->view.m[10]); /* -(third row): the view axis */
+    double fl = prw_v3_len(f);
+    for (uint32_t k = 0; k < n; k++) {
+        const reflector *r = &gs->set.r[pick[k]];
+        if (!is_glossy(env->scene, r)) continue;
+        prw_gpu_image *out = prw_pass_image(c, GLOSSY_NAMES[k]);
+        glossy_push pc;
+        for (int i = 0; i < 16; i++) pc.inv_view_proj[i] = (float)inv.m[i];
+        pc.plane[0] = (float)r->n.x, pc.plane[1] = (float)r->n.y, pc.plane[2] = (float)r->n.z;
+        pc.plane[3] = (float)(r->slot + 1);
+        pc.glossy[0] = prw_alpha_from_roughness(env->scene->materials[r->material].roughness);
+        pc.glossy[1] = (float)fabs(prw_v3_dot(r->n, v->eye) - r->d);
+        pc.glossy[2] = (float)(v->height / (v->tan_top - v->tan_bottom)); /* view pixels per unit tangent */
+        pc.glossy[3] = (float)env->desc->quality.kernel_taps;
+        pc.fwd[0] = (float)(f.x / fl), pc.fwd[1] = (float)(f.y / fl), pc.fwd[2] = (float)(f.z / fl);
+        pc.fwd[3] = (float)v->znear;
+        pc.size[0] = (float)v->width, pc.size[1] = (float)v->height;
+        pc.size[2] = (float)out->width, pc.size[3] = (float)out->height;
+        VkRenderingAttachmentInfo ca = {
+            .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
+            .imageView = out->view,
+            .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        };
+        /* the texels mirror_add reads: its reflector's pixels, one texel around */
+        VkRect2D area = reflector_rect(r, v, 2, out->width, out->height);
+        VkRenderingInfo rinfo = {.sType = VK_STRUCTURE_TYPE_RENDERING_INFO,
+                                 .renderArea = area,
+                                 .layerCount = 1,
+                                 .colorAttachmentCount = 1,
+                                 .pColorAttachments = &ca};
+        prw_pass_begin_rendering(c, &rinfo);
+        prw_cmd_viewport(c->cmd, out->width, out->height);
+        vkCmdSetScissor(c->cmd, 0, 1, &area);
+        vkCmdBindPipeline(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gs->pipe);
+        vkCmdBindDescriptorSets(c->cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gs->layout, 0, 1, &gs->sets[c->view][k], 0,
+                                NULL);
+        vkCmdPushConstants(c->cmd, gs->layout, VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
+        vkCmdDraw(c->cmd, 3, 1, 0, 0);
+        prw_pass_end_rendering(c);
+    }
+    return true;
+}
+
+const prw_pass prw_pass_mirror_glossy = {
+    .name = "mirror_glossy",
+    .flags = PRW_PASS_RADIANCE,
+    .scope = PRW_SCOPE_VIEW,
+    .setup = glossy_setup,
+    .create = glossy_create,
+    .destroy = glossy_destroy,
+    .needed = glossy_needed,
+    .record = glossy_record,
+};
+
 /* ---- mirror_add: Fresnel x the mirror image, into the radiance ---- */
 
 typedef struct mirror_push {
     float inv_view_proj[16];
     float base[4]; /* rgb base colour, a metallic */
     float misc[4]; /* specular, id, width, height */
-    float glossy[4]; /* alpha (0: sharp mirror), |eye - plane| in m, f_px = H / (2 tan(fov_y / 2)), taps */
-    float fwd[4];    /* xyz: the view axis (unit, world orientation), w: near plane distance */
+    float glossy[4]; /* x: alpha (0: sharp mirror) */
 } mirror_push;
 
 typedef struct mirror_dfg_ubo {
@@ -530,6 +759,7 @@ typedef struct mirror_dfg_ubo {
 typedef struct add_state {
     reflector_set set;
     uint32_t images; /* mirror images in the graph */
+    bool glossy;     /* the graph holds the mirror_glossy images */
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
     VkPipeline pipe;
@@ -543,9 +773,10 @@ static void add_setup(prw_setup *s)
 {
     uint32_t n = in_graph(s);
     if (!n) return;
+    bool glossy = any_glossy(prw_setup_env(s));
     for (uint32_t k = 0; k < n; k++) {
         prw_setup_use(s, HDR_NAMES[k], PRW_USE_SAMPLED);
-        prw_setup_use(s, DEPTH_NAMES[k], PRW_USE_SAMPLED);
+        if (glossy) prw_setup_use(s, GLOSSY_NAMES[k], PRW_USE_SAMPLED);
     }
     prw_setup_use(s, "gbuf_normal", PRW_USE_SAMPLED);
     prw_setup_use(s, "gbuf_id", PRW_USE_SAMPLED);
@@ -559,6 +790,7 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
     *state = a;
     reflectors_find(env->scene, &env->desc->quality, env->lm->active, &a->set);
     a->images = a->set.count < max_drawn(env) ? a->set.count : max_drawn(env);
+    a->glossy = any_glossy(env);
     VkDescriptorSetLayoutBinding b[5] = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
@@ -584,12 +816,13 @@ static bool add_create(const prw_pass_init *in, void **state, prw_error *e)
             VkDescriptorSet ds;
             if (!prw_desc_alloc(env->gpu, env->pool, a->set_layout, &a->sets[v][i], e)) return false;
             ds = a->sets[v][i];
-            const char *names[4] = {HDR_NAMES[i], "gbuf_normal", "gbuf_id", DEPTH_NAMES[i]};
+            /* binding 3, the convolved image, is not read without a glossy reflector: then the mirror image */
+            const char *names[4] = {HDR_NAMES[i], "gbuf_normal", "gbuf_id", a->glossy ? GLOSSY_NAMES[i] : HDR_NAMES[i]};
             for (uint32_t k = 0; k < 4; k++) {
                 prw_gpu_image *img = prw_graph_image(in->graph, names[k], v);
                 if (!img) return prw_fail(e, "mirror_add: graph image %s missing", names[k]);
                 prw_desc_write_image(env->gpu, ds, k, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img->view,
-                                     k == 0 ? prw_gpu_sampler(env->gpu, PRW_SAMPLER_LINEAR_CLAMP) : smp,
+                                     k == 0 || k == 3 ? prw_gpu_sampler(env->gpu, PRW_SAMPLER_LINEAR_CLAMP) : smp,
                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
             }
             if (!prw_buffer_create(env->gpu, sizeof(mirror_dfg_ubo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -639,17 +872,8 @@ static bool add_push(const prw_render_env *env, const reflector *r, const prw_vi
     pc.misc[0] = mat->specular, pc.misc[1] = (float)(r->slot + 1), pc.misc[2] = (float)out->width;
     pc.misc[3] = (float)out->height;
     memset(pc.glossy, 0, sizeof pc.glossy);
-    memset(pc.fwd, 0, sizeof pc.fwd);
-    if (mat->roughness > MIRROR_MAX_ROUGHNESS) {
+    if (is_glossy(env->scene, r)) {
         pc.glossy[0] = prw_alpha_from_roughness(mat->roughness);
-        pc.glossy[1] = (float)fabs(prw_v3_dot(r->n, v->eye) - r->d);
-        pc.glossy[2] = (float)(out->height / (v->tan_top - v->tan_bottom)); /* pixels per unit tangent */
-        pc.glossy[3] = (float)env->desc->quality.kernel_taps;
-        /* the view axis: the third row of the view matrix is -forward (right-handed look-at) */
-        prw_dvec3 f = prw_v3(-v->view.m[2], -v->view.m[6], -v->view.m[10]);
-        double fl = prw_v3_len(f);
-        pc.fwd[0] = (float)(f.x / fl), pc.fwd[1] = (float)(f.y / fl), pc.fwd[2] = (float)(f.z / fl);
-        pc.fwd[3] = (float)v->znear;
         memcpy(dfg->mapped, r->dfg, sizeof r->dfg);
     }
     *out_pc = pc;

@@ -4,7 +4,8 @@
 #ifdef PRW_HAVE_GLARE
 extern const prw_pass prw_pass_glare;
 #endif
-extern const prw_pass prw_pass_shadow, prw_pass_base, prw_pass_base_multiview, prw_pass_mirror, prw_pass_mirror_add,
+extern const prw_pass prw_pass_shadow, prw_pass_base, prw_pass_base_multiview, prw_pass_mirror, prw_pass_mirror_glossy,
+    prw_pass_mirror_add,
     prw_pass_reproject,
     prw_pass_downsample, prw_pass_floor, prw_pass_tm_stats, prw_pass_tonemap, prw_pass_compose, prw_pass_extra_work;
 
@@ -13,6 +14,7 @@ const prw_pass *const prw_passes_default[] = {
     &prw_pass_base,           /* emission + direct light per view (pass_base.c) */
     &prw_pass_base_multiview, /* the same for two views at once (pass_base_multiview.c) */
     &prw_pass_mirror,         /* planar mirror: the view reflected in the reflector's plane (pass_mirror.c) */
+    &prw_pass_mirror_glossy,  /* glossy reflectors: that image convolved by the GGX lobe (pass_mirror.c) */
     &prw_pass_mirror_add,     /* + Fresnel x that image in the reflector's pixels (pass_mirror.c) */
     &prw_pass_reproject,      /* stereo_reuse=reproject: the right eye from the left (pass_reproject.c) */
     &prw_pass_downsample,     /* N x N supersampling box filter (pass_downsample.c) */

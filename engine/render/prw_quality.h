@@ -60,6 +60,9 @@ typedef struct prw_quality {
                                    covering the most pixels, each with its own mirror image (1..4) */
     double mirror_scale;        /* planar reflectors (pass_mirror.c): the mirror images' resolution as a fraction of
                                    the view's (1, 0.5, 0.25, ...; 0.125..1), upsampled bilinearly where added */
+    double glossy_scale;        /* glossy planar reflectors (pass_mirror.c): their mirror image and its convolution
+                                   at this fraction of mirror_scale's resolution (0.125..1), the convolved image
+                                   upsampled bilinearly where added; sharp mirrors keep mirror_scale's */
     double reflection_skip;     /* planar reflectors (pass_mirror.c): a reflector is not reflected in a view when its
                                    estimated reflection is below this share of its own radiance (Meseth §11.3:
                                    0.05); 0: always reflected */

@@ -46,6 +46,8 @@ static const prw_knob_info g_knobs[] = {
         "planar reflectors reflected per view (those covering the most pixels; one mirror image each)"),
     F64(mirror_scale, 0.125, 1, true,
         "planar reflectors: mirror image resolution as a fraction of the view's (1, 0.5, 0.25; upsampled when added)"),
+    F64(glossy_scale, 0.125, 1, true,
+        "glossy planar reflectors: their mirror image and convolution at this fraction of mirror_scale's resolution"),
     F64(reflection_skip, 0, 1, true,
         "planar reflectors: skipped in a view when the estimated reflection is below this share of the surface's own "
         "radiance (0 = never)"),
@@ -109,16 +111,16 @@ static const struct {
     const char *name;
     prw_quality q;
 } g_presets[] = {
-    {"low", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 4, .msaa = 1, .shadow_size = 256, .supersample = 1, .radiance_bits = 16, .lod_pixel_tolerance = 4, .btf_clusters = 8,
+    {"low", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .glossy_scale = 0.5, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 4, .msaa = 1, .shadow_size = 256, .supersample = 1, .radiance_bits = 16, .lod_pixel_tolerance = 4, .btf_clusters = 8,
              .btf_components = 2, .ssdo_samples = 4, .ssdo_radius = 0.25, .vpl_count = 64, .ism_size = 64,
              .kernel_taps = 8, .envmap_size = 128, .billboard_error = 8, .radiosity_size = 64}},
-    {"medium", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 8, .msaa = 4, .shadow_size = 512, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 2, .btf_clusters = 16,
+    {"medium", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .glossy_scale = 0.5, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 8, .msaa = 4, .shadow_size = 512, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 2, .btf_clusters = 16,
                 .btf_components = 4, .ssdo_samples = 8, .ssdo_radius = 0.5, .vpl_count = 256, .ism_size = 128,
                 .kernel_taps = 16, .envmap_size = 256, .billboard_error = 4, .radiosity_size = 128}},
-    {"high", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 16, .msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
+    {"high", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .glossy_scale = 0.5, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 16, .msaa = 4, .shadow_size = 1024, .supersample = 1, .radiance_bits = 32, .lod_pixel_tolerance = 0.5, .btf_clusters = 32,
               .btf_components = 8, .ssdo_samples = 16, .ssdo_radius = 0.5, .vpl_count = 1024, .ism_size = 256,
               .kernel_taps = 32, .envmap_size = 512, .billboard_error = 2, .radiosity_size = 256}},
-    {"ultra", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 16, .msaa = 4, .shadow_size = 4096, .soft_shadows = 4, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
+    {"ultra", {.gi_lookups = 1, .mirror_recursion = 1, .glossy_max_roughness = 0.3, .max_reflectors = 2, .mirror_scale = 1, .glossy_scale = 1, .reflection_skip = 0.05, .probe_count = 4, .probe_size = 64, .emissive_lights = 16, .msaa = 4, .shadow_size = 4096, .soft_shadows = 4, .supersample = 2, .radiance_bits = 32, .lod_pixel_tolerance = 0.25, .btf_clusters = 64,
                .btf_components = 16, .ssdo_samples = 32, .ssdo_radius = 1, .vpl_count = 4096, .ism_size = 512,
                .kernel_taps = 64, .envmap_size = 1024, .billboard_error = 1, .radiosity_size = 512}},
 };
