@@ -12,7 +12,8 @@
 // 2 atan(3 alpha)) that the baked open cone (about b, half-angle asin(sqrt(f)), prw_gi.h) lets through,
 // both as Gaussians in angle (prw_env_specular_visible), read in that part's direction at its
 // roughness, times the cone's occupancy (the open solid angle over that of the cap the open directions
-// spread over: below 1 where the opening is not one disc); where there is no cone, V.  Specialisation PRW_SC_ENV = 0 (no environment): nothing.
+// spread over: below 1 where the opening is not one disc); where there is no cone, V.
+// Specialisation PRW_SC_ENV = 0 (no environment): nothing.
 // Mirror images (globals params.z = 1, pass_mirror.c) draw the term only in the light-map variants: a
 // static surface drawn there without its visibility would show the unoccluded environment.
 // Needs lights.glsl (ggx_view), gi_lightmap.glsl (prw_terms) and prw_constants.h.
@@ -83,8 +84,8 @@ vec4 prw_env_specular_visible(vec4 cone, vec3 n, vec3 r, float roughness, float 
     // tilted by b.n); 1 for one disc-like opening, less for a ring (a window partly hidden by an
     // object) or scattered openings, whose holes the disc would let through
     float rbar = clamp(lb / cone.w, 0.0, 1.0);
-    float tf = asin(sqrt(min(cone.w / max(dot(b, n), 0.05), 1.0)));
-    float q = clamp((1.0 - cos(tf)) / max(2.0 - 2.0 * rbar, 1e-6), 0.0, 1.0);
+    float cap_f = 1.0 - sqrt(1.0 - min(cone.w / max(dot(b, n), 0.05), 1.0)); // 1 - cos asin(sqrt(f / b.n))
+    float q = clamp(cap_f / max(2.0 - 2.0 * rbar, 1e-6), 0.0, 1.0);
     float tv = asin(sqrt(min(cone.w, 1.0)));
     float ts = min(2.0 * atan(3.0 * prw_alpha_from_roughness(roughness)), 1.5707963);
     float s2 = ts * ts * (1.0 / 4.6051702), c2 = 0.5 * tv * tv;
