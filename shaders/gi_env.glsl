@@ -11,7 +11,9 @@
 // The specular part takes instead the part of the specular lobe (about R, 90 % of it within
 // 2 atan(3 alpha)) that the baked open cone (about b, half-angle asin(sqrt(f)), prw_gi.h) lets through,
 // both as Gaussians in angle (prw_env_specular_visible), read in that part's direction at its
-// roughness; where there is no cone, V.  Specialisation PRW_SC_ENV = 0 (no environment): nothing.
+// roughness, times the cone's occupancy (the open solid angle over that of the cap the open directions
+// spread over: below 1 where the opening is not one disc); where there is no cone, V.
+// Specialisation PRW_SC_ENV = 0 (no environment): nothing.
 // Mirror images (globals params.z = 1, pass_mirror.c) draw the term only in the light-map variants: a
 // static surface drawn there without its visibility would show the unoccluded environment.
 // Needs lights.glsl (ggx_view), gi_lightmap.glsl (prw_terms) and prw_constants.h.
@@ -70,13 +72,20 @@ vec4 prw_env_cone()
 // exp(-max(d - tv, 0)^2 / (2 s2)) for r at angle d from b (a hard edge for a sharp lobe, the Gaussian's
 // fall-off for a wide one); the product's centre the direction to read the prefiltered levels in, its spread the roughness to
 // read them at (never above the surface's).  Out: dir (xyz), occlusion (w); *r_read the roughness.
-vec4 prw_env_specular_visible(vec4 cone, vec3 r, float roughness, float vis, out float r_read)
+vec4 prw_env_specular_visible(vec4 cone, vec3 n, vec3 r, float roughness, float vis, out float r_read)
 {
     r_read = roughness;
     if (cone.w < 0.0) return vec4(r, vis);
     float lb = length(cone.xyz);
     if (lb < 1e-5 || cone.w <= 0.0) return vec4(r, 0.0);
     vec3 b = cone.xyz / lb;
+    // how much of the bounding cone of the open directions is open: the cap about b whose uniform mean
+    // cosine is the open rays' |b| / f, against the open solid angle (the cosine-weighted fraction f,
+    // tilted by b.n); 1 for one disc-like opening, less for a ring (a window partly hidden by an
+    // object) or scattered openings, whose holes the disc would let through
+    float rbar = clamp(lb / cone.w, 0.0, 1.0);
+    float cap_f = 1.0 - sqrt(1.0 - min(cone.w / max(dot(b, n), 0.05), 1.0)); // 1 - cos asin(sqrt(f / b.n))
+    float q = clamp(cap_f / max(2.0 - 2.0 * rbar, 1e-6), 0.0, 1.0);
     float tv = asin(sqrt(min(cone.w, 1.0)));
     float ts = min(2.0 * atan(3.0 * prw_alpha_from_roughness(roughness)), 1.5707963);
     float s2 = ts * ts * (1.0 / 4.6051702), c2 = 0.5 * tv * tv;
@@ -87,7 +96,7 @@ vec4 prw_env_specular_visible(vec4 cone, vec3 r, float roughness, float vis, out
     vec3 dir = normalize(mix(r, b, s2 / (s2 + c2)) + 1e-6 * r);
     float te = sqrt(s2 * c2 / (s2 + c2) * 4.6051702); // the product's 90 % angle
     r_read = min(roughness, sqrt(tan(0.5 * te) * (1.0 / 3.0)));
-    return vec4(dir, clamp(occ, 0.0, 1.0));
+    return vec4(dir, clamp(occ * q, 0.0, 1.0));
 }
 
 vec3 prw_env_radiance(ggx_view w, vec3 n, vec3 v, vec3 base, float metallic, float roughness, float specular, float vis,
@@ -109,7 +118,7 @@ vec3 prw_env_radiance(ggx_view w, vec3 n, vec3 v, vec3 base, float metallic, flo
     vec3 fms_m = vec3(prw_F_ms(f0.r, w.ec_avg), prw_F_ms(f0.g, w.ec_avg), prw_F_ms(f0.b, w.ec_avg));
     vec3 e_m = base * ab.x + ab.y + fms_m * w.ec_o;
     float r_read;
-    vec4 sv = prw_env_specular_visible(cone, normalize(r_dir), rr, vis, r_read);
+    vec4 sv = prw_env_specular_visible(cone, n, normalize(r_dir), rr, vis, r_read);
     vec3 p = prw_env_prefiltered(sv.xyz, r_read) * sv.w;
     return (1.0 - m) * (vis * base * (1.0 - e_ds) * prw_env_irradiance(n) * (1.0 / 3.14159265358979) + e_ds * p) +
            m * e_m * p;

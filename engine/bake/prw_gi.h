@@ -76,7 +76,8 @@
  *   f = the fraction that escapes and b = the sum of their directions (world space, not normalised; 0
  *   when none escapes), stored as (b, f).  For cosine-weighted rays, a cone of half-angle t about n
  *   holds the fraction sin^2 t of them, so the renderer reads the open directions as the cone about
- *   b / |b| of half-angle asin(sqrt(f)).  Directions where the environment is black count as open
+ *   b / |b| of half-angle asin(sqrt(f)), and |b| / f (their mean resultant length) as how far they
+ *   spread: how much of the cap they span is open (shaders/gi_env.glsl).  Directions where the environment is black count as open
  *   (the test above cannot tell them apart); without an environment b = n, f = 1.
  * File (PRWGI001, little-endian; gi_file.c has the layout): read back with every count checked
  * against limits and the remaining bytes before any allocation, non-finite or negative values

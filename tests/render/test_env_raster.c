@@ -10,9 +10,11 @@
  *    Over the pixels where the filtered reference exceeds 1 % of the full reference, at the term's own
  *    metric exposure: relMSE and LDR-FLIP beyond noise (term_error.h; as test_gi_raster), printed
  *    against the issue's goal 0.05, which the term does NOT reach: a few pixels of the sharp reflectors
- *    (the mirror, the glossy floor and spheres) reflect the sun where the open cone lets it through and
- *    the window does not (the cone is a disc, the window a rectangle), relMSE 7.3 (FLIP at this exposure,
- *    EV100 about -2.6, saturates and reads below the noise for every image, so it checks nothing).
+ *    (the mirror, the glossy floor and spheres) reflect the sky or the sun where the open cone lets it
+ *    through and the window does not (the cone is a disc, the window a rectangle, and the blue sphere
+ *    hides part of it from the floor), relMSE 2.74 (7.33 before the cone's occupancy, gi_env.glsl; FLIP
+ *    at this exposure, EV100 about -2.6, saturates and reads below the noise for every image, so it
+ *    checks nothing; the reference's own relMSE noise, B vs A, is 1.50 at 256 spp).
  *    Asserted: relMSE beyond noise <= BOUND_RELMSE, and the median over the mask of the per-pixel
  *    luminance ratio raster / A within BOUND_MEDIAN of 1 (robust to those pixels and to the reference
  *    noise).  Controls: the visibility forced to 1 (no light maps) must fail the relMSE bound, the term
@@ -43,8 +45,8 @@
 #define W 128u
 #define H 72u
 #define GOAL 0.05        /* the goal for relMSE and LDR-FLIP beyond noise (printed, not reached) */
-#define BOUND_RELMSE 12.0 /* what the term reaches (7.3 at 256 spp, 2026-12-06), with margin */
-#define BOUND_MEDIAN 0.12 /* |median of the per-pixel luminance ratio raster / A - 1| (0.04 reached) */
+#define BOUND_RELMSE 4.0 /* what the term reaches (2.74 at 256 spp, 2026-12-06; 7.33 without the occupancy) */
+#define BOUND_MEDIAN 0.08 /* |median of the per-pixel luminance ratio raster / A - 1| (0.052 reached) */
 
 static unsigned long env_u(const char *name, unsigned long def)
 {
