@@ -355,8 +355,8 @@ int prw_cmd_render(int argc, char **argv)
             else if (!strcmp(t, "probes")) job.terms |= PRW_TERM_PROBES;
             else if (!strcmp(t, "indirect-glossy")) job.terms |= PRW_TERM_INDIRECT_GLOSSY;
             else if (!strcmp(t, "all")) job.terms |= PRW_TERM_ALL;
-            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment or all, or probes or "
-                                   "indirect-glossy",
+            else bad = true, prw_fail(&e, "--term '%s': expected direct, indirect-diffuse, environment, probes, "
+                                   "indirect-glossy or all",
                                    t);
         }
     }

@@ -19,7 +19,8 @@ layout(std140, set = 2, binding = 0) uniform prw_mv_block { mat4 view_proj[2]; v
 // the shading normal / roughness and the material id for later passes.  PRW_GLTF_EXT: the glTF
 // extension features (uv set 1, texture transforms; MASK discards below the cutoff, BLEND writes
 // alpha = coverage for the "over" blend of its pipeline); with PRW_GLTF_COAT the clear coat too.
-// PRW_GI: + the light maps' indirect diffuse (gi_lightmap.glsl, which also gates the terms drawn).
+// PRW_GI: + the light maps' indirect diffuse and rough surfaces' indirect glossy (gi_lightmap.glsl, which
+// also gates the terms drawn).
 // With an environment (PRW_SC_ENV): + the environment term (gi_env.glsl; not under a clear coat).
 // With reflection probes (PRW_SC_PROBES): + the probe term (gi_probe.glsl; not under a clear coat).
 

@@ -9,9 +9,11 @@
 // (the dielectric specular albedo of gi_env.glsl / gi_probe.glsl; e_avg its cosine-weighted mean, as in
 // prw_brdf_diffuse_terms): the incoming indirect radiance taken as uniform over the lobe, which a wide lobe
 // averages anyway; then the baked E_ind, weighted by 1 - e(mu_i) (prw_gi.h), is (1 - e_avg) times the
-// plain irradiance.  Below that roughness the probes (<= 0.5) and
-// the planar reflectors (glossy_max_roughness, default 0.3) carry the lobe's indirect light.  Metals are
-// left out (their albedo needs the split-sum table, bound only with an environment).
+// plain irradiance.  Below that roughness the probes (<= 0.5) carry the lobe's indirect light on the
+// probed curved objects and the planar reflectors on planes up to glossy_max_roughness (default 0.3);
+// planes between that and 0.5 and curved objects without a probe get none of it (a known gap), and a
+// plane above 0.5 with glossy_max_roughness > 0.5 gets it twice.  Metals are left out (their albedo
+// needs the split-sum table, bound only with an environment).
 // E_ind: ATLAS mode by a bicubic B-spline over the atlas layer (four bilinear taps, Sigg & Hadwiger
 // 2005; the baker dilates 2 texels around every chart, the reach of the B-spline), VERTEX mode
 // interpolated from the vertices.  Needs lights.glsl (ggx_view) and prw_constants.h.
@@ -67,7 +69,8 @@ vec4 prw_gi_cone()
 #endif
 
 // The radiance the pipeline's terms draw: direct (emission + direct light, computed by the caller)
-// and, in the PRW_GI variants, the light map's indirect diffuse seen along w (the view's fits).
+// and, in the PRW_GI variants, the light map's indirect diffuse seen along w (the view's fits) and the
+// rough unprobed surfaces' indirect glossy (probed: the material has a reflection probe).
 #define PRW_GI_GLOSSY_MIN_ROUGHNESS 0.5
 vec3 prw_terms_radiance(vec3 direct, ggx_view w, vec3 base, float metallic, float roughness, float specular,
                         bool probed)

@@ -7,7 +7,7 @@
 // per channel: metallic * Schlick(F0 = base) + (1 - metallic) * specular * exact dielectric Fresnel
 // (prw_brdf.h, the path tracer's model at roughness -> 0).  Elsewhere adds nothing.
 // Glossy reflector (pc.glossy.x = alpha > 0): the mirror image convolved by the reflected GGX lobe,
-// computed on the mirror image's grid by mirror_glossy.frag, read bilinearly, times the split-sum
+// computed on mirror_glossy.frag's reduced grid (view x mirror_scale x glossy_scale), read bilinearly, times the split-sum
 // reflectance per channel: metallic (base A + B) + (1 - metallic) specular (0.04 A + B).
 
 layout(set = 0, binding = 0) uniform sampler2D u_mirror;  // the mirrored view's radiance (the target's grid x mirror_scale)

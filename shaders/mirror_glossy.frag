@@ -1,7 +1,7 @@
 #version 450
 
 // Glossy planar reflector, the convolution (engine/render/pass_mirror.c, pass mirror_glossy): on the
-// mirror image's own grid (the view's times mirror_scale), the mirror image convolved by the reflected
+// reduced grid (the view's times mirror_scale x glossy_scale), the mirror image convolved by the reflected
 // GGX lobe (DESIGN.md §4); mirror_add.frag reads the result bilinearly at the view's pixels and weights
 // it by the split-sum reflectance.  A half vector tilted by theta_h moves the reflected ray by
 // ~2 theta_h, so the reflected point (z_r behind the reflection point along the ray, d_m its depth in

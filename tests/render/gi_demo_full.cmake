@@ -4,7 +4,7 @@
 # ref1) <= BOUND (0.05), read from `prw compare ref1 raster --ref2 ref2 --json`.
 # Controls, which must exceed the bound (so the check can fail): the frame without the GI lookups
 # (--preset "high,gi_lookups=0": no light maps, no probes) and the frame without the newest term
-# (--term direct,indirect-diffuse,probes: no indirect glossy of the rough surfaces).
+# (--term direct,indirect-diffuse,environment,probes: no indirect glossy of the rough surfaces).
 # Golden references (float32 EXR as prw reference writes them, tests/data/golden/), regenerated with:
 #   prw reference demo --size 128x72 --spp 1024 --seed 1 --out tests/data/golden/demo_gi_main_128x72_s1.exr
 #   prw reference demo --size 128x72 --spp 1024 --seed 2 --out tests/data/golden/demo_gi_main_128x72_s2.exr
@@ -77,8 +77,6 @@ render(full --preset ${PRESET})
 beyond(full full)
 render(nogi --preset ${PRESET},gi_lookups=0) # the same bake, not looked up
 beyond(nogi nogi)
-render(noglossy --preset ${PRESET} --term direct,indirect-diffuse,probes)
-beyond(noglossy nogl)
 if(NOT full LESS nogi)
   message(FATAL_ERROR "full GI (${full}) is not closer to the reference than the frame without GI lookups (${nogi})")
 endif()
@@ -86,6 +84,10 @@ if(LIGHT)
   message("light mode: the bound ${BOUND} is not checked (reduced bake)")
   return()
 endif()
+# Every term but the new one.  A --term list other than all also leaves out the planar reflections
+# (pass_mirror.c): the demo has no planar reflector today; if it gains one, this control drops it too.
+render(noglossy --preset ${PRESET} --term direct,indirect-diffuse,environment,probes)
+beyond(noglossy nogl)
 if(full GREATER bound)
   message(FATAL_ERROR "full GI: LDR-FLIP beyond noise ${full} / 1e6 > ${BOUND}")
 endif()

@@ -82,12 +82,12 @@ static bool write_sky(const char *path, prw_error *e)
 
 /* Both cases use the same file: it is synthesised and compressed once per process (most of the light
  * mode's time under the sanitizers went to compressing it twice). */
-static bool g_btf_written;
+static char g_btf_written[4096]; /* the path written, "" before */
 static prw_btf_average g_btf_avg;
 
 static bool write_btf(const char *path, prw_btf_average *avg, prw_error *e)
 {
-    if (g_btf_written) {
+    if (!strcmp(g_btf_written, path)) {
         *avg = g_btf_avg;
         return true;
     }
@@ -105,7 +105,7 @@ static bool write_btf(const char *path, prw_btf_average *avg, prw_error *e)
     p.has_average = false; /* no scale rule: the BTF everywhere */
     ok = prw_btf_packed_write(path, &p, e);
     prw_btf_packed_free(&p);
-    if (ok) g_btf_written = true, g_btf_avg = *avg;
+    if (ok && strlen(path) < sizeof g_btf_written) strcpy(g_btf_written, path), g_btf_avg = *avg;
     return ok;
 }
 
