@@ -40,13 +40,18 @@ void main()
 {
     vec2 s = pc.size.xy / pc.size.zw;  // view pixels per texel
     vec2 xy = gl_FragCoord.xy * s;     // this texel's centre in view pixels
-    // mask: a view pixel reads the texels within one texel of it (bilinear); gathers at +-s/2 view pixels
-    // see the 4 x 4 view pixels of that reach at mirror_scale 0.5 (a subset of them below it)
+    // mask: a view pixel reads the texels within one texel of it (bilinear), so this texel is needed when
+    // a reflector pixel lies within s view pixels of its centre: one gather (2 x 2 pixels) every 2 view
+    // pixels over that reach, ceil(s) per axis (2 x 2 gathers at s = 2, the default presets' product of
+    // mirror_scale and glossy_scale; fewer would leave a dark fringe at the reflector's edge below it)
     uvec4 id = uvec4(uint(pc.plane.w));
     bool hit = false;
-    for (int j = -1; j <= 1; j += 2)
-        for (int i = -1; i <= 1; i += 2)
-            hit = hit || any(equal(textureGather(u_id, (xy + 0.5 * s * vec2(i, j)) / pc.size.xy), id));
+    ivec2 ng = clamp(ivec2(ceil(s - 1e-3)), ivec2(1), ivec2(16));
+    for (int j = 0; j < ng.y && !hit; j++)
+        for (int i = 0; i < ng.x && !hit; i++) {
+            vec2 o = vec2(float(2 * i + 1 - ng.x), float(2 * j + 1 - ng.y)) * (s / vec2(ng));
+            hit = any(equal(textureGather(u_id, (xy + o) / pc.size.xy), id));
+        }
     if (!hit) {
         o_color = vec4(0.0);
         return;
