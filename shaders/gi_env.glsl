@@ -109,14 +109,12 @@ vec3 prw_env_radiance(ggx_view w, vec3 n, vec3 v, vec3 base, float metallic, flo
     float nv = dot(n, v);
     float mu = clamp(nv, 1e-4, 1.0);
     vec3 r_dir = 2.0 * nv * n - v;
-    float m = clamp(metallic, 0.0, 1.0), s = clamp(specular, 0.0, 1.0);
-    float e_ds = s * w.ed_o + prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg) * w.ec_o;
+    float m = clamp(metallic, 0.0, 1.0);
+    float e_ds = ggx_dielectric_albedo(w, specular);
     float n_dfg = float(textureSize(prw_env_dfg, 0).x);
     float rr = clamp(roughness, 0.0, 1.0);
     vec2 ab = textureLod(prw_env_dfg, vec3(mu, (rr * (n_dfg - 1.0) + 0.5) / n_dfg, 0.0), 0.0).rg;
-    vec3 f0 = base + (1.0 - base) * (1.0 / 21.0);
-    vec3 fms_m = vec3(prw_F_ms(f0.r, w.ec_avg), prw_F_ms(f0.g, w.ec_avg), prw_F_ms(f0.b, w.ec_avg));
-    vec3 e_m = base * ab.x + ab.y + fms_m * w.ec_o;
+    vec3 e_m = ggx_metal_albedo(w, base, ab);
     float r_read;
     vec4 sv = prw_env_specular_visible(cone, n, normalize(r_dir), rr, vis, r_read);
     vec3 p = prw_env_prefiltered(sv.xyz, r_read) * sv.w;

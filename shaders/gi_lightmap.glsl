@@ -84,9 +84,7 @@ vec3 prw_terms_radiance(vec3 direct, ggx_view w, vec3 base, float metallic, floa
             r += k * base * E;
         }
         if ((prw_terms & PRW_TERM_INDIRECT_GLOSSY) != 0 && !probed && roughness > PRW_GI_GLOSSY_MIN_ROUGHNESS) {
-            float s = clamp(specular, 0.0, 1.0);
-            float fms = prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg);
-            float e_ds = s * w.ed_o + fms * w.ec_o, e_avg = s * w.ed_avg + fms * w.ec_avg;
+            float e_ds = ggx_dielectric_albedo(w, specular), e_avg = ggx_dielectric_albedo_avg(w, specular);
             r += (1.0 - clamp(metallic, 0.0, 1.0)) * e_ds / (3.14159265358979 * max(1.0 - e_avg, 1e-3)) * E;
         }
     }

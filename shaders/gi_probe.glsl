@@ -53,13 +53,11 @@ vec3 prw_probe_radiance(ggx_view w, vec3 pos, vec3 n, vec3 v, vec3 base, float m
     float vv = clamp(acos(clamp(d.y, -1.0, 1.0)) * (1.0 / 3.14159265358979), 0.5 / H, 1.0 - 0.5 / H);
     vec3 P = mix(textureLod(prw_probe_levels, vec3(u, vv, l0 + k0), 0.0).rgb,
                  textureLod(prw_probe_levels, vec3(u, vv, l0 + k1), 0.0).rgb, k - k0);
-    float m = clamp(metallic, 0.0, 1.0), s = clamp(specular, 0.0, 1.0);
-    float e_ds = s * w.ed_o + prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg) * w.ec_o;
+    float m = clamp(metallic, 0.0, 1.0);
+    float e_ds = ggx_dielectric_albedo(w, specular);
     float n_dfg = float(textureSize(prw_probe_dfg, 0).x);
     vec2 ab = textureLod(prw_probe_dfg, vec3(mu, (rr * (n_dfg - 1.0) + 0.5) / n_dfg, 0.0), 0.0).rg;
-    vec3 f0 = base + (1.0 - base) * (1.0 / 21.0);
-    vec3 fms_m = vec3(prw_F_ms(f0.r, w.ec_avg), prw_F_ms(f0.g, w.ec_avg), prw_F_ms(f0.b, w.ec_avg));
-    vec3 e_m = base * ab.x + ab.y + fms_m * w.ec_o;
+    vec3 e_m = ggx_metal_albedo(w, base, ab);
     return ((1.0 - m) * e_ds + m * e_m) * P;
 }
 #endif

@@ -149,6 +149,26 @@ struct ggx_view {
     prw_ggx_row ec_row, ed_row;
 };
 
+// The specular lobe's directional albedo along w for the GI terms (gi_env, gi_probe, gi_lightmap): the
+// dielectric's, specular e_d + F_ms e_c (multiple scattering), and its cosine-weighted mean over the view
+// directions; the metal's, F0 A + B + F_ms(F0) e_c with (A, B) the split-sum table at mu and roughness.
+float ggx_dielectric_albedo(ggx_view w, float specular)
+{
+    float s = clamp(specular, 0.0, 1.0);
+    return s * w.ed_o + prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg) * w.ec_o;
+}
+float ggx_dielectric_albedo_avg(ggx_view w, float specular)
+{
+    float s = clamp(specular, 0.0, 1.0);
+    return s * w.ed_avg + prw_F_ms(s * PRW_DIELECTRIC_F_AVG, w.ec_avg) * w.ec_avg;
+}
+vec3 ggx_metal_albedo(ggx_view w, vec3 base, vec2 ab)
+{
+    vec3 f0 = base + (1.0 - base) * (1.0 / 21.0);
+    vec3 fms_m = vec3(prw_F_ms(f0.r, w.ec_avg), prw_F_ms(f0.g, w.ec_avg), prw_F_ms(f0.b, w.ec_avg));
+    return base * ab.x + ab.y + fms_m * w.ec_o;
+}
+
 // ... from the rows and averages of the roughness (computed here, or by the CPU for a material whose
 // roughness has no texture: material_gltf.glsl).
 ggx_view ggx_view_from(float NoV, prw_ggx_row ec_row, prw_ggx_row ed_row, float ec_avg, float ed_avg)
