@@ -19,6 +19,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bake_entry.h"
 #include "prw_cache.h"
 #include "prw_env.h"
 #include "prw_gi.h"
@@ -411,34 +412,27 @@ bool prw_probe_run(const prw_scene *s, const prw_probe_options *o, bool no_cache
     double t0 = prw_now();
     prw_probe_key(s, o, res->key);
     if (!no_cache) {
-        prw_error ce = {{0}};
-        if (prw_cache_path(PRW_PROBE_CACHE_KIND, res->key, "probe", false, res->cache_path, sizeof res->cache_path,
-                           &ce)) {
-            struct stat st;
-            if (stat(res->cache_path, &st) == 0) {
-                char *data = NULL;
-                size_t n = 0;
-                char k[33];
-                prw_probe_bake *b = NULL;
-                if (prw_read_file(res->cache_path, &data, &n, &ce) &&
-                    prw_probe_decode(data, n, res->cache_path, &b, k, &ce) && strcmp(k, res->key) == 0 &&
-                    selection_matches(s, o, b)) {
-                    free(data);
-                    res->cache_hit = true;
-                    res->seconds_total = prw_now() - t0;
-                    *out = b;
-                    return true;
-                }
-                if (b) {
-                    snprintf(ce.msg, sizeof ce.msg, "%.900s holds another key or other probes", res->cache_path);
-                    prw_probe_bake_destroy(b);
-                }
+        char *data = NULL;
+        size_t n = 0;
+        if (prw_bake_entry_read(PRW_PROBE_CACHE_KIND, res->key, "probe", res->cache_path, sizeof res->cache_path, &data, &n,
+                                res->warning, sizeof res->warning)) {
+            prw_error ce = {{0}};
+            char k[33];
+            prw_probe_bake *b = NULL;
+            if (prw_probe_decode(data, n, res->cache_path, &b, k, &ce) && strcmp(k, res->key) == 0 &&
+                selection_matches(s, o, b)) {
                 free(data);
-                snprintf(res->warning, sizeof res->warning, "cache entry unreadable, rebuilt: %.900s", ce.msg);
+                res->cache_hit = true;
+                res->seconds_total = prw_now() - t0;
+                *out = b;
+                return true;
             }
-        } else {
-            snprintf(res->warning, sizeof res->warning, "cache disabled: %.900s", ce.msg);
-            res->cache_path[0] = 0;
+            if (b) {
+                snprintf(ce.msg, sizeof ce.msg, "%.900s holds another key or other probes", res->cache_path);
+                prw_probe_bake_destroy(b);
+            }
+            free(data);
+            prw_bake_entry_rejected(&ce, res->warning, sizeof res->warning);
         }
     }
     prw_probe_bake *b = NULL;
@@ -448,10 +442,9 @@ bool prw_probe_run(const prw_scene *s, const prw_probe_options *o, bool no_cache
         uint8_t *data = NULL;
         size_t n = 0;
         prw_error we = {{0}};
-        if (prw_probe_encode(b, res->key, &data, &n, &we) &&
-            prw_cache_store(PRW_PROBE_CACHE_KIND, res->key, "probe", data, n, res->cache_path, sizeof res->cache_path,
-                            &we))
-            res->cache_written = true;
+        if (prw_probe_encode(b, res->key, &data, &n, &we))
+            res->cache_written = prw_bake_entry_store(PRW_PROBE_CACHE_KIND, res->key, "probe", data, n, res->cache_path,
+                                                      sizeof res->cache_path, res->warning, sizeof res->warning);
         else
             snprintf(res->warning, sizeof res->warning, "cache not written: %.900s", we.msg);
         free(data);
