@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fuzz_sealed.h"
 #include "prw_gi.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -44,17 +45,4 @@ static void one(const uint8_t *data, size_t size)
     prw_gi_bake_destroy(b);
 }
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
-{
-    if (size > 1 << 22) return 0;
-    one(data, size);
-    if (size >= 16) {
-        uint8_t *c = malloc(size);
-        memcpy(c, data, size);
-        uint64_t sum = prw_hash64(c, size - 8, 0);
-        for (int i = 0; i < 8; i++) c[size - 8 + i] = (uint8_t)(sum >> (8 * i));
-        one(c, size);
-        free(c);
-    }
-    return 0;
-}
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) { return prw_fuzz_sealed(data, size, one); }
